@@ -1,0 +1,247 @@
+#include "api/http_server.h"
+
+#include <chrono>
+
+#include <nlohmann/json.hpp>
+
+#include "api/controller_formats.h"
+#include "api/ingest_parsers.h"
+#include "api/json_mapping.h"
+#include "api/problem.h"
+#include "server/log.h"
+#include "server/time_format.h"
+
+namespace thermocomp::api {
+namespace {
+
+using nlohmann::json;
+using Req = httplib::Request;
+using Res = httplib::Response;
+
+constexpr const char* kBase = "/api/v1";
+thread_local std::chrono::steady_clock::time_point t_request_start;
+
+void WriteJson(Res& res, const json& body, int status = 200) {
+  res.status = status;
+  res.set_content(body.dump(), "application/json");
+}
+
+bool IsCsv(const Req& req) {
+  return req.get_header_value("Content-Type").rfind("text/csv", 0) == 0;
+}
+
+// 415 unless the body is JSON (or CSV where `csv_ok`).
+bool CheckMediaType(const Req& req, Res& res, bool csv_ok) {
+  const std::string type = req.get_header_value("Content-Type");
+  if (type.rfind("application/json", 0) == 0 || (csv_ok && IsCsv(req))) return true;
+  WriteProblem(res, 415, "Content-Type must be application/json" +
+                             std::string(csv_ok ? " or text/csv" : "") + ", got '" + type + "'");
+  return false;
+}
+
+// The actor recorded in the audit: the client address (tokens are not configured).
+std::string Actor(const Req& req) { return "http:" + req.remote_addr; }
+
+void WriteIngest(Res& res, const IngestResult& r) {
+  if (!r.status.ok()) return WriteProblem(res, r.status, r.errors);
+  WriteJson(res, {{"accepted", r.accepted}, {"duplicates", r.duplicates}});
+}
+
+std::optional<std::vector<std::string>> StringList(const json& body, const char* key,
+                                                   std::vector<FieldError>& errors) {
+  if (!body.contains(key)) return std::nullopt;
+  if (!body[key].is_array() || !std::all_of(body[key].begin(), body[key].end(),
+                                             [](const json& v) { return v.is_string(); })) {
+    errors.push_back({0, key, "must be an array of strings"});
+    return std::nullopt;
+  }
+  return body[key].get<std::vector<std::string>>();
+}
+
+}  // namespace
+
+HttpServer::HttpServer(App& app) : app_(app) { Routes(); }
+
+HttpServer::~HttpServer() { Stop(); }
+
+Status HttpServer::Start(const std::string& host, int port) {
+  const Config& c = app_.config();
+  // Every keep-alive connection holds a worker: size the pool for the line.
+  const int threads = c.http_threads;
+  server_.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+  server_.set_tcp_nodelay(true);
+  server_.set_payload_max_length(c.max_body_bytes);
+  server_.set_keep_alive_max_count(100000);
+  server_.set_keep_alive_timeout(60);
+  port_ = port == 0 ? server_.bind_to_any_port(host) : (server_.bind_to_port(host, port) ? port : -1);
+  if (port_ < 0) return Status::Unavailable("cannot listen on " + host + ":" + std::to_string(port));
+  thread_ = std::thread([this] { server_.listen_after_bind(); });
+  while (!server_.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  return Status::Ok();
+}
+
+void HttpServer::Stop() {
+  server_.stop();
+  if (thread_.joinable()) thread_.join();
+}
+
+void HttpServer::Routes() {
+  auto& s = server_;
+  s.set_pre_routing_handler([](const Req&, Res&) {
+    t_request_start = std::chrono::steady_clock::now();
+    return httplib::Server::HandlerResponse::Unhandled;
+  });
+  s.set_logger([this](const Req& req, const Res& res) {
+    double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_request_start).count();
+    app_.metrics().ObserveRequest(secs);
+    if (res.status >= 500) log::Error("request failed", "method=" + req.method + " path=" + req.path);
+  });
+  s.set_error_handler([](const Req&, Res& res) {
+    if (res.body.empty()) {
+      WriteProblem(res, res.status, res.status == 413 ? "request body too large" : "no such resource");
+    }
+  });
+  s.set_exception_handler([](const Req&, Res& res, std::exception_ptr ep) {
+    std::string what = "unexpected error";
+    try {
+      std::rethrow_exception(ep);
+    } catch (const std::exception& e) {
+      what = e.what();
+    } catch (...) {
+    }
+    log::Error("handler threw", "error=\"" + what + "\"");
+    WriteProblem(res, 500, what);
+  });
+
+  s.Get("/healthz", [](const Req&, Res& res) { WriteJson(res, {{"status", "ok"}}); });
+  s.Get("/readyz", [this](const Req&, Res& res) {
+    WriteJson(res, {{"status", "ready"}, {"schema_version", app_.db().schema_version()}});
+  });
+  s.Get("/metrics", [this](const Req&, Res& res) {
+    res.set_content(app_.metrics().Render(app_.ModelGauges()), "text/plain; version=0.0.4");
+  });
+
+  const std::string m = std::string(kBase) + "/machines/([A-Za-z0-9_.-]{1,64})";
+  const std::string axis = m + "/axes/([A-Z])";
+
+  s.Get(std::string(kBase) + "/machines", [this](const Req&, Res& res) {
+    json list = json::array();
+    for (const auto& mr : app_.machines().List()) list.push_back(MachineToJson(mr));
+    WriteJson(res, {{"machines", list}});
+  });
+  s.Get(m, [this](const Req& req, Res& res) {
+    auto mr = app_.machines().Find(req.matches[1]);
+    if (!mr) return WriteProblem(res, 404, "unknown machine '" + std::string(req.matches[1]) + "'");
+    json j = MachineToJson(*mr);
+    j.update(app_.machines().Summary(*mr));
+    WriteJson(res, j);
+  });
+  s.Put(m, [this](const Req& req, Res& res) {
+    if (!CheckMediaType(req, res, false)) return;
+    std::vector<FieldError> errors;
+    auto record = MachineFromJson(req.matches[1], req.body, errors);
+    if (!record) return WriteProblem(res, Status::InvalidArgument("invalid machine definition"), errors);
+    auto created = app_.machines().Register(*record, Actor(req), &errors);
+    if (!created.ok()) return WriteProblem(res, created.status(), errors);
+    (void)app_.compensation().Recompute(record->name);
+    WriteJson(res, MachineToJson(*app_.machines().Find(record->name)), *created ? 201 : 200);
+  });
+
+  s.Post(m + "/temperatures", [this](const Req& req, Res& res) {
+    if (!CheckMediaType(req, res, true)) return;
+    std::vector<TemperatureInput> samples;
+    std::vector<FieldError> errors;
+    bool ok = IsCsv(req) ? ParseTemperaturesCsv(req.body, samples, errors)
+                         : ParseTemperaturesJson(req.body, samples, errors);
+    if (!ok) {
+      app_.metrics().ingest_rejected++;
+      return WriteProblem(res, Status::InvalidArgument("malformed temperatures"), errors);
+    }
+    IngestResult r = app_.ingest().AddTemperatures(req.matches[1], samples, Actor(req));
+    if (r.status.ok()) {
+      app_.metrics().samples_accepted += r.accepted;
+      app_.metrics().samples_duplicate += r.duplicates;
+    } else {
+      app_.metrics().ingest_rejected++;
+    }
+    WriteIngest(res, r);
+  });
+  s.Post(m + "/probe-points", [this](const Req& req, Res& res) {
+    if (!CheckMediaType(req, res, true)) return;
+    std::vector<ProbePointInput> points;
+    std::vector<FieldError> errors;
+    bool ok = IsCsv(req) ? ParseProbePointsCsv(req.body, points, errors)
+                         : ParseProbePointsJson(req.body, points, errors);
+    if (!ok) {
+      app_.metrics().ingest_rejected++;
+      return WriteProblem(res, Status::InvalidArgument("malformed probe points"), errors);
+    }
+    IngestResult r = app_.ingest().AddProbePoints(req.matches[1], points, Actor(req));
+    if (r.status.ok()) app_.metrics().probe_points_accepted += r.accepted;
+    else app_.metrics().ingest_rejected++;
+    WriteIngest(res, r);
+  });
+
+  s.Post(axis + "/fit", [this](const Req& req, Res& res) {
+    FitRequest fr;
+    fr.actor = Actor(req);
+    if (!req.body.empty()) {
+      if (!CheckMediaType(req, res, false)) return;
+      json body = json::parse(req.body, nullptr, false);
+      std::vector<FieldError> errors;
+      if (body.is_discarded() || !body.is_object()) errors.push_back({0, "body", "must be a JSON object"});
+      else {
+        fr.inputs = StringList(body, "inputs", errors);
+        fr.holdout_runs = StringList(body, "holdout_runs", errors);
+      }
+      if (!errors.empty()) return WriteProblem(res, Status::InvalidArgument("invalid fit request"), errors);
+    }
+    auto report = app_.fits().Fit(req.matches[1], req.matches[2], fr);
+    if (!report.ok()) return WriteProblem(res, report.status());
+    app_.metrics().fits++;
+    WriteJson(res, *report, 201);
+  });
+  s.Get(axis + "/models", [this](const Req& req, Res& res) {
+    auto list = ListModels(app_, req.matches[1], req.matches[2]);
+    if (!list.ok()) return WriteProblem(res, list.status());
+    WriteJson(res, *list);
+  });
+  s.Get(axis + "/models/([0-9]{1,9})", [this](const Req& req, Res& res) {
+    auto one = GetModel(app_, req.matches[1], req.matches[2], std::stoi(req.matches[3]));
+    if (!one.ok()) return WriteProblem(res, one.status());
+    WriteJson(res, *one);
+  });
+  s.Post(axis + "/models/([0-9]{1,9})/activate", [this](const Req& req, Res& res) {
+    const int version = std::stoi(req.matches[3]);
+    Status st = app_.fits().Activate(req.matches[1], req.matches[2], version, Actor(req));
+    if (!st.ok()) return WriteProblem(res, st);
+    auto one = GetModel(app_, req.matches[1], req.matches[2], version);
+    WriteJson(res, one.ok() ? *one : json{{"version", version}});
+  });
+
+  s.Get(m + "/compensation", [this](const Req& req, Res& res) {
+    auto c = app_.compensation().Get(req.matches[1]);
+    if (!c.ok()) return WriteProblem(res, c.status());
+    const std::string format = req.get_param_value("format");
+    if (format.empty() || format == "json") return WriteJson(res, CompensationToJson(*c));
+    if (!KnownControllerFormat(format)) {
+      return WriteProblem(res, 400, "format: must be json, sinumerik, beckhoff, heidenhain, fanuc or linuxcnc",
+                          {{0, "format", "unknown format '" + format + "'"}});
+    }
+    res.set_content(RenderForController(*c, format), "text/plain");
+  });
+
+  s.Get(m + "/drift", [this](const Req& req, Res& res) {
+    HistoryQuery q;
+    std::vector<FieldError> errors;
+    if (!ParseHistoryQuery(req, q, errors)) {
+      return WriteProblem(res, Status::InvalidArgument("invalid drift query"), errors);
+    }
+    q.machine = req.matches[1];
+    auto h = app_.history().Drift(q);
+    if (!h.ok()) return WriteProblem(res, h.status());
+    WriteJson(res, *h);
+  });
+}
+
+}  // namespace thermocomp::api

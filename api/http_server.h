@@ -1,0 +1,35 @@
+// HttpServer: the v1 HTTP API (docs/api.md) on cpp-httplib. Handlers parse
+// and validate, call a service, and map the result to JSON; nothing else.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <thread>
+
+// server/app.h first: glibc's resolv.h (pulled in by httplib.h) defines
+// a macro `_res` that breaks Eigen's headers when they come after it.
+#include "server/app.h"
+
+#include <httplib.h>
+
+namespace thermocomp::api {
+
+class HttpServer {
+ public:
+  explicit HttpServer(App& app);
+  ~HttpServer();
+
+  // Binds host:port (port 0: an ephemeral port) and serves on a thread.
+  Status Start(const std::string& host, int port);
+  void Stop();
+  int port() const { return port_; }
+
+ private:
+  void Routes();
+  App& app_;
+  httplib::Server server_;
+  std::thread thread_;
+  int port_ = 0;
+};
+
+}  // namespace thermocomp::api

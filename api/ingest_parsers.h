@@ -1,0 +1,29 @@
+// Parsers of ingest bodies (JSON and CSV) into the service's inputs. They
+// check syntax and types only; the rules on content live in IngestService.
+// Shared by the HTTP routes and `thermocomp import`.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "server/ingest_service.h"
+
+namespace thermocomp::api {
+
+// RFC 3339 string or integer Unix milliseconds.
+std::optional<int64_t> ParseTs(const std::string& text);
+
+// Each returns false and fills `errors` (index = item or CSV data row,
+// 0-based) when the body is malformed.
+bool ParseTemperaturesJson(const std::string& body, std::vector<TemperatureInput>& out,
+                           std::vector<FieldError>& errors);
+// Long form "ts,sensor,value" or wide form "ts,<sensor>,<sensor>,...".
+bool ParseTemperaturesCsv(const std::string& body, std::vector<TemperatureInput>& out,
+                          std::vector<FieldError>& errors);
+bool ParseProbePointsJson(const std::string& body, std::vector<ProbePointInput>& out,
+                          std::vector<FieldError>& errors);
+// "ts,run,k,pos_X...,dev_X...,[sensor...]".
+bool ParseProbePointsCsv(const std::string& body, std::vector<ProbePointInput>& out,
+                         std::vector<FieldError>& errors);
+
+}  // namespace thermocomp::api

@@ -1,0 +1,26 @@
+// JSON <-> domain records for the HTTP API (docs/api.md).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "server/app.h"  // before httplib.h, see http_server.h
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+namespace thermocomp::api {
+
+nlohmann::json MachineToJson(const MachineRecord& m);
+// The body of PUT /machines/{m}; nullopt with errors when malformed.
+std::optional<MachineRecord> MachineFromJson(const std::string& name, const std::string& body,
+                                             std::vector<FieldError>& errors);
+nlohmann::json CompensationToJson(const MachineCompensation& c);
+StatusOr<nlohmann::json> ListModels(App& app, const std::string& machine, const std::string& axis);
+StatusOr<nlohmann::json> GetModel(App& app, const std::string& machine, const std::string& axis,
+                                  int version);
+// axis (required), from, to, max_points of GET /drift.
+bool ParseHistoryQuery(const httplib::Request& req, HistoryQuery& q, std::vector<FieldError>& errors);
+
+}  // namespace thermocomp::api

@@ -1,0 +1,21 @@
+// RFC 9457 problem details (application/problem+json), as api.md specifies:
+// type, title, status, detail and, for bad items in a batch, errors[].
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <httplib.h>
+
+#include "model/status.h"
+#include "server/ingest_service.h"
+
+namespace thermocomp::api {
+
+int HttpStatus(const Status& s);
+void WriteProblem(httplib::Response& res, int http_status, const std::string& detail,
+                  const std::vector<FieldError>& errors = {});
+void WriteProblem(httplib::Response& res, const Status& s,
+                  const std::vector<FieldError>& errors = {});
+
+}  // namespace thermocomp::api

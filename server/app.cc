@@ -1,0 +1,55 @@
+#include "server/app.h"
+
+#include "server/log.h"
+#include "storage/machine_store.h"
+#include "storage/model_store.h"
+
+namespace thermocomp {
+
+StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& clock) {
+  std::unique_ptr<App> app(new App(config, clock));
+  DatabaseOptions opt;
+  opt.synchronous = config.synchronous;
+  auto db = Database::Open(config.db_path, opt);
+  if (!db.ok()) return db.status();
+  app->db_ = std::move(db).value();
+  Database& d = *app->db_;
+  const Config& c = app->config_;
+  app->machines_ = std::make_unique<MachineService>(d, clock);
+  app->ingest_ = std::make_unique<IngestService>(d, clock);
+  app->fits_ = std::make_unique<FitService>(d, clock, c);
+  app->compensation_ = std::make_unique<CompensationService>(d, clock, c);
+  app->history_ = std::make_unique<HistoryService>(d, c);
+  app->scheduler_ = std::make_unique<RefitScheduler>(d, *app->fits_, clock, c);
+  App* self = app.get();
+  auto recompute = [self](const std::string& machine) {
+    if (Status s = self->compensation_->Recompute(machine); !s.ok()) {
+      log::Warn("compensation recompute failed", "machine=" + machine + " error=\"" + s.message() + "\"");
+    }
+  };
+  app->ingest_->SetListener(recompute);
+  app->fits_->SetListener(recompute);
+  log::Info("database open", "path=" + config.db_path +
+                                 " schema_version=" + std::to_string(d.schema_version()));
+  return app;
+}
+
+std::string App::ModelGauges() {
+  std::string out =
+      "# HELP thermocomp_model_age_seconds Age of the active model per axis.\n"
+      "# TYPE thermocomp_model_age_seconds gauge\n";
+  std::lock_guard<std::mutex> lock(db_->mutex());
+  ModelStore models(*db_);
+  const int64_t now = clock_.NowMs();
+  for (const auto& m : MachineStore(*db_).List()) {
+    for (const auto& a : m.axes) {
+      if (auto rec = models.Active(a.id)) {
+        out += "thermocomp_model_age_seconds{machine=\"" + m.name + "\",axis=\"" + a.name + "\"} " +
+               std::to_string((now - rec->created_ms) / 1000) + "\n";
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace thermocomp

@@ -1,0 +1,52 @@
+// App: the wiring of one thermocomp instance: the database, the services
+// and the scheduler, built from a Config. Sources (HTTP, import, DDS) and
+// sinks talk to the services, never to storage directly.
+#pragma once
+
+#include <memory>
+
+#include "server/clock.h"
+#include "server/compensation_service.h"
+#include "server/config.h"
+#include "server/fit_service.h"
+#include "server/history_service.h"
+#include "server/ingest_service.h"
+#include "server/machine_service.h"
+#include "server/metrics.h"
+#include "server/refit_scheduler.h"
+#include "storage/database.h"
+
+namespace thermocomp {
+
+class App {
+ public:
+  static StatusOr<std::unique_ptr<App>> Open(const Config& config, const Clock& clock);
+
+  const Config& config() const { return config_; }
+  const Clock& clock() const { return clock_; }
+  Database& db() { return *db_; }
+  MachineService& machines() { return *machines_; }
+  IngestService& ingest() { return *ingest_; }
+  FitService& fits() { return *fits_; }
+  CompensationService& compensation() { return *compensation_; }
+  HistoryService& history() { return *history_; }
+  RefitScheduler& scheduler() { return *scheduler_; }
+  Metrics& metrics() { return metrics_; }
+  // Gauges for /metrics that need the database (model age per axis).
+  std::string ModelGauges();
+
+ private:
+  App(const Config& config, const Clock& clock) : config_(config), clock_(clock) {}
+  Config config_;
+  const Clock& clock_;
+  std::unique_ptr<Database> db_;
+  std::unique_ptr<MachineService> machines_;
+  std::unique_ptr<IngestService> ingest_;
+  std::unique_ptr<FitService> fits_;
+  std::unique_ptr<CompensationService> compensation_;
+  std::unique_ptr<HistoryService> history_;
+  std::unique_ptr<RefitScheduler> scheduler_;
+  Metrics metrics_;
+};
+
+}  // namespace thermocomp

@@ -1,0 +1,149 @@
+#include "server/compensation_service.h"
+
+#include <cmath>
+
+#include "model/drift_model.h"
+#include "server/model_codec.h"
+#include "server/time_format.h"
+#include "storage/log_store.h"
+#include "storage/machine_store.h"
+#include "storage/model_store.h"
+#include "storage/probe_store.h"
+#include "storage/sample_store.h"
+
+namespace thermocomp {
+namespace {
+
+constexpr double kLogStepMm = 1e-4;
+constexpr int64_t kLogEveryMs = 60000;
+
+void Invalidate(AxisCompensation& a, std::string reason) {
+  a.valid = false;
+  a.offset_mm = 0;
+  a.clamped = false;
+  if (a.reason.empty()) a.reason = std::move(reason);
+}
+
+}  // namespace
+
+StatusOr<MachineCompensation> CompensationService::Compute(const std::string& name) {
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  auto machine = MachineStore(db_).Find(name);
+  if (!machine) return Status::NotFound("unknown machine '" + name + "'");
+  MachineCompensation mc;
+  mc.machine = name;
+  mc.controller = machine->controller;
+  mc.computed_at_ms = clock_.NowMs();
+  SampleStore samples(db_);
+  ModelStore models(db_);
+  auto datum = ProbeStore(db_).LatestDatum(machine->id);
+  for (const AxisRecord& axis : machine->axes) {
+    AxisCompensation a;
+    a.axis = axis.name;
+    a.reference_position_mm = axis.reference_position_mm;
+    auto active = models.Active(axis.id);
+    if (!active) {
+      Invalidate(a, "no active model");
+      mc.axes.push_back(a);
+      continue;
+    }
+    a.model_version = active->version;
+    auto model = DriftModelFromJson(active->model_json);
+    if (!model.ok()) {
+      Invalidate(a, model.status().message());
+      mc.axes.push_back(a);
+      continue;
+    }
+    if (!datum) {
+      Invalidate(a, "no datum point (k = 0) probed yet");
+      mc.axes.push_back(a);
+      continue;
+    }
+    a.datum_ts_ms = datum->ts_ms;
+    std::vector<double> terms;
+    for (const std::string& input : model->inputs) {
+      const SensorRecord* sensor = machine->FindSensor(input);
+      std::optional<FilterState> fs = sensor ? samples.LoadFilterState(sensor->id) : std::nullopt;
+      if (!fs) {
+        Invalidate(a, "no samples from input " + input);
+        break;
+      }
+      a.oldest_input_ms = std::min(a.oldest_input_ms.value_or(fs->last_ts_ms), fs->last_ts_ms);
+      if (fs->last_value < config_.plausible_min_c || fs->last_value > config_.plausible_max_c) {
+        Invalidate(a, "input " + input + " implausible: raw value outside plausible range");
+      } else if (std::fabs(fs->last_value - fs->state) > config_.max_step_c) {
+        Invalidate(a, "input " + input + " implausible: raw value jumps away from filtered value");
+      }
+      double ref;
+      if (auto it = datum->temperatures.find(input); it != datum->temperatures.end()) {
+        ref = it->second;
+      } else if (auto row = samples.AtOrBefore(sensor->id, datum->ts_ms);
+                 row && datum->ts_ms - row->ts_ms <= int64_t{config_.stale_after_s} * 1000) {
+        ref = row->filtered;
+      } else {
+        Invalidate(a, "no temperature of " + input + " at the datum");
+        break;
+      }
+      terms.push_back(fs->state - ref);
+    }
+    if (a.reason.empty()) {
+      Compensation c = Compensate(*model, terms, config_.range_margin);
+      a.predicted_drift_mm = c.predicted_drift_mm;
+      a.offset_mm = c.offset_mm;
+      a.clamped = c.clamped;
+      a.valid = c.valid;
+      a.extrapolating = c.extrapolating;
+      if (!c.valid) Invalidate(a, "prediction is not finite");
+    }
+    mc.axes.push_back(a);
+  }
+
+  // The served-offset log: changes and a heartbeat, not every recompute.
+  LogStore log(db_);
+  for (const AxisRecord& axis : machine->axes) {
+    const AxisCompensation* a = nullptr;
+    for (const auto& x : mc.axes) {
+      if (x.axis == axis.name) a = &x;
+    }
+    auto last = log.LatestCompensation(axis.id);
+    if (!last || last->valid != a->valid || std::fabs(last->offset_mm - a->offset_mm) > kLogStepMm ||
+        mc.computed_at_ms - last->ts_ms >= kLogEveryMs) {
+      log.AppendCompensation(axis.id, {mc.computed_at_ms, a->offset_mm, a->predicted_drift_mm,
+                                       a->valid, a->clamped, a->model_version});
+    }
+  }
+  return mc;
+}
+
+Status CompensationService::Recompute(const std::string& machine) {
+  auto mc = Compute(machine);
+  if (!mc.ok()) return mc.status();
+  auto ptr = std::make_shared<const MachineCompensation>(std::move(mc).value());
+  std::unique_lock lock(mutex_);
+  cache_[machine] = std::move(ptr);
+  return Status::Ok();
+}
+
+StatusOr<MachineCompensation> CompensationService::Get(const std::string& machine) {
+  std::shared_ptr<const MachineCompensation> cached;
+  {
+    std::shared_lock lock(mutex_);
+    if (auto it = cache_.find(machine); it != cache_.end()) cached = it->second;
+  }
+  if (!cached) {
+    if (Status s = Recompute(machine); !s.ok()) return s;
+    std::shared_lock lock(mutex_);
+    cached = cache_[machine];
+  }
+  MachineCompensation out = *cached;
+  const int64_t now = clock_.NowMs();
+  for (auto& a : out.axes) {
+    if (a.oldest_input_ms && now - *a.oldest_input_ms > int64_t{config_.stale_after_s} * 1000) {
+      a.stale = true;
+      Invalidate(a, "stale: no temperature since " + FormatRfc3339(*a.oldest_input_ms));
+    }
+  }
+  return out;
+}
+
+}  // namespace thermocomp

@@ -1,0 +1,67 @@
+// CompensationService: what each machine should write into its control now.
+// Recomputed when data or the active model changes (not per request) and
+// kept in memory; a request only checks staleness against the clock.
+// Every served offset is finite and within the axis clamp; when the value
+// cannot be trusted (no model, stale or implausible inputs) the axis is
+// served with valid=false and offset 0 and the reason.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <shared_mutex>
+#include <string>
+#include <vector>
+
+#include "server/clock.h"
+#include "server/config.h"
+#include "storage/database.h"
+
+namespace thermocomp {
+
+struct AxisCompensation {
+  std::string axis;
+  double offset_mm = 0;
+  double slope_um_per_m = 0;
+  double reference_position_mm = 0;
+  double predicted_drift_mm = 0;
+  bool clamped = false;
+  bool valid = false;
+  bool stale = false;
+  std::optional<int> model_version;
+  std::optional<int64_t> datum_ts_ms;
+  std::string datum_run;
+  std::string reason;  // why not valid; empty when valid
+  std::vector<std::string> extrapolating;
+  std::optional<int64_t> oldest_input_ms;  // newest sample of the least recent input
+};
+
+struct MachineCompensation {
+  std::string machine;
+  std::string controller;
+  int64_t computed_at_ms = 0;
+  std::vector<AxisCompensation> axes;
+};
+
+class CompensationService {
+ public:
+  CompensationService(Database& db, const Clock& clock, const Config& config)
+      : db_(db), clock_(clock), config_(config) {}
+
+  // Recomputes and caches the machine's compensation; logs a served value
+  // when it changed by more than 0.1 um, changed validity, or a minute passed.
+  Status Recompute(const std::string& machine);
+  // The cached compensation with staleness applied at `now`; NotFound for
+  // an unknown machine.
+  StatusOr<MachineCompensation> Get(const std::string& machine);
+
+ private:
+  StatusOr<MachineCompensation> Compute(const std::string& machine);
+  Database& db_;
+  const Clock& clock_;
+  const Config& config_;
+  std::shared_mutex mutex_;
+  std::map<std::string, std::shared_ptr<const MachineCompensation>> cache_;
+};
+
+}  // namespace thermocomp

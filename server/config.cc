@@ -1,0 +1,68 @@
+#include "server/config.h"
+
+#include <toml++/toml.h>
+
+namespace thermocomp {
+
+Status ParseListen(const std::string& listen, Config& c) {
+  auto colon = listen.rfind(':');
+  std::string host = colon == std::string::npos ? c.listen_host : listen.substr(0, colon);
+  std::string port = colon == std::string::npos ? listen : listen.substr(colon + 1);
+  try {
+    size_t used = 0;
+    int p = std::stoi(port, &used);
+    if (used != port.size() || p < 0 || p > 65535) throw std::out_of_range("port");
+    c.listen_port = p;
+  } catch (const std::exception&) {
+    return Status::InvalidArgument("listen: \"" + listen + "\" is not host:port");
+  }
+  if (!host.empty()) c.listen_host = host;
+  return Status::Ok();
+}
+
+StatusOr<Config> LoadConfig(const std::string& path) {
+  Config c;
+  if (path.empty()) return c;
+  toml::table t;
+  try {
+    t = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    return Status::InvalidArgument("config " + path + ": " + std::string(e.description()) +
+                                   " at line " + std::to_string(e.source().begin.line));
+  }
+  if (auto listen = t["server"]["listen"].value<std::string>()) {
+    if (Status s = ParseListen(*listen, c); !s.ok()) return s;
+  }
+  c.http_threads = t["server"]["threads"].value_or(c.http_threads);
+  c.max_body_bytes = t["server"]["max_body_bytes"].value_or<int64_t>(c.max_body_bytes);
+  c.db_path = t["database"]["path"].value_or(c.db_path);
+  c.synchronous = t["database"]["synchronous"].value_or(c.synchronous);
+  c.stale_after_s = t["compensation"]["stale_after_s"].value_or(c.stale_after_s);
+  c.plausible_min_c = t["compensation"]["plausible_min_c"].value_or(c.plausible_min_c);
+  c.plausible_max_c = t["compensation"]["plausible_max_c"].value_or(c.plausible_max_c);
+  c.max_step_c = t["compensation"]["max_step_c"].value_or(c.max_step_c);
+  c.range_margin = t["compensation"]["range_margin"].value_or(c.range_margin);
+  c.refit_interval_min = t["fit"]["interval_min"].value_or(c.refit_interval_min);
+  c.refit_after_new_runs = t["fit"]["after_new_runs"].value_or(c.refit_after_new_runs);
+  c.holdout_runs = t["fit"]["holdout_runs"].value_or(c.holdout_runs);
+  c.gross_error_mm = t["fit"]["gross_error_mm"].value_or(c.gross_error_mm);
+  c.selection.p_max = t["fit"]["p_max"].value_or(c.selection.p_max);
+  c.selection.vif_max = t["fit"]["vif_max"].value_or(c.selection.vif_max);
+  c.selection.outlier_threshold = t["fit"]["outlier_threshold"].value_or(c.selection.outlier_threshold);
+  c.selection.outliers_per_step = t["fit"]["outliers_per_step"].value_or(c.selection.outliers_per_step);
+  c.acceptance.min_r2 = t["fit"]["min_r2"].value_or(c.acceptance.min_r2);
+  c.acceptance.min_adj_r2 = t["fit"]["min_adj_r2"].value_or(c.acceptance.min_adj_r2);
+  c.acceptance.min_observations_per_term =
+      t["fit"]["min_observations_per_term"].value_or(c.acceptance.min_observations_per_term);
+  c.acceptance.min_validation_r2 =
+      t["fit"]["min_validation_r2"].value_or(c.acceptance.min_validation_r2);
+  c.log_level = t["log"]["level"].value_or(c.log_level);
+  c.dds_config = t["dds"]["config"].value_or(c.dds_config);
+
+  if (c.http_threads < 1) return Status::InvalidArgument("server.threads must be at least 1");
+  if (c.stale_after_s < 1) return Status::InvalidArgument("compensation.stale_after_s must be > 0");
+  if (c.holdout_runs < 1) return Status::InvalidArgument("fit.holdout_runs must be at least 1");
+  return c;
+}
+
+}  // namespace thermocomp

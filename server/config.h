@@ -1,0 +1,47 @@
+// Config: the server's settings, read from a TOML file (toml++) and
+// overridden from the command line. Every field has a working default, so
+// `thermocomp serve` runs without a file.
+#pragma once
+
+#include <string>
+
+#include "model/acceptance.h"
+#include "model/selection.h"
+#include "model/status.h"
+
+namespace thermocomp {
+
+struct Config {
+  // [server]
+  std::string listen_host = "127.0.0.1";
+  int listen_port = 8080;
+  int http_threads = 64;  // >= concurrent keep-alive clients (each holds a worker)
+  size_t max_body_bytes = 16 * 1024 * 1024;
+  // [database]
+  std::string db_path = "var/thermocomp.db";
+  std::string synchronous = "full";
+  // [compensation]
+  int stale_after_s = 300;
+  double plausible_min_c = -10.0;
+  double plausible_max_c = 80.0;
+  double max_step_c = 5.0;  // raw minus filtered beyond this: sensor fault
+  double range_margin = 0.1;
+  // [fit]
+  int refit_interval_min = 1440;  // 0: off
+  int refit_after_new_runs = 5;   // 0: off
+  int holdout_runs = 2;
+  double gross_error_mm = 0.1;    // |drift| at or above: chips in the hole, discarded
+  SelectionOptions selection;
+  AcceptanceRules acceptance;
+  // [log]
+  std::string log_level = "info";
+  // [dds]
+  std::string dds_config = "deploy/cyclonedds.xml";
+};
+
+// Reads `path`; an empty path yields the defaults.
+StatusOr<Config> LoadConfig(const std::string& path);
+// "host:port" or ":port" or "port".
+Status ParseListen(const std::string& listen, Config& config);
+
+}  // namespace thermocomp

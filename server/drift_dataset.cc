@@ -1,0 +1,104 @@
+#include "server/drift_dataset.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "storage/probe_store.h"
+#include "storage/sample_store.h"
+
+namespace thermocomp {
+namespace {
+
+constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
+
+double TemperatureAt(SampleStore& samples, const SensorRecord& sensor,
+                     const ProbePointRecord& p, int64_t max_gap_ms) {
+  if (auto it = p.temperatures.find(sensor.name); it != p.temperatures.end()) return it->second;
+  auto row = samples.AtOrBefore(sensor.id, p.ts_ms);
+  if (!row || p.ts_ms - row->ts_ms > max_gap_ms) return kUnknown;
+  return row->filtered;
+}
+
+}  // namespace
+
+DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const std::string& axis,
+                               double gross_error_mm, int64_t max_gap_ms) {
+  DriftDataset d;
+  for (const auto& s : machine.sensors) d.sensors.push_back(s.name);
+  SampleStore samples(db);
+  for (const RunRecord& run : ProbeStore(db).LoadRuns(machine.id)) {
+    const ProbePointRecord* datum = nullptr;
+    for (const auto& p : run.points) {
+      if (p.k == 0) datum = &p;
+    }
+    auto datum_axis = datum ? datum->axes.find(axis) : std::map<std::string, AxisValue>::const_iterator{};
+    if (!datum || datum_axis == datum->axes.end() || !datum_axis->second.deviation_mm) {
+      for (const auto& p : run.points) {
+        if (p.k > 0 && p.axes.count(axis)) ++d.skipped_no_datum;
+      }
+      continue;
+    }
+    std::vector<double> t0;
+    for (const auto& s : machine.sensors) t0.push_back(TemperatureAt(samples, s, *datum, max_gap_ms));
+    const int run_index = static_cast<int>(d.runs.size());
+    bool used = false;
+    for (const auto& p : run.points) {
+      auto it = p.axes.find(axis);
+      if (p.k == 0 || it == p.axes.end() || !it->second.deviation_mm) continue;
+      DriftRow row;
+      row.run = run_index;
+      row.k = p.k;
+      row.ts_ms = p.ts_ms;
+      row.drift_mm = *it->second.deviation_mm - *datum_axis->second.deviation_mm;
+      if (std::fabs(row.drift_mm) >= gross_error_mm) {
+        ++d.skipped_gross;
+        continue;
+      }
+      for (size_t j = 0; j < machine.sensors.size(); ++j) {
+        row.delta_t.push_back(TemperatureAt(samples, machine.sensors[j], p, max_gap_ms) - t0[j]);
+      }
+      d.rows.push_back(std::move(row));
+      used = true;
+    }
+    if (used) d.runs.push_back(run.name);
+  }
+  return d;
+}
+
+std::vector<int> DriftDataset::RowsOfRuns(const std::vector<std::string>& names,
+                                          bool invert) const {
+  std::vector<int> out;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    bool in = std::find(names.begin(), names.end(), runs[rows[i].run]) != names.end();
+    if (in != invert) out.push_back(static_cast<int>(i));
+  }
+  return out;
+}
+
+Observations DriftDataset::ToObservations(const std::vector<int>& row_ids,
+                                          const std::vector<std::string>& columns) const {
+  std::vector<int> cols;
+  for (const auto& c : columns) {
+    cols.push_back(static_cast<int>(std::find(sensors.begin(), sensors.end(), c) - sensors.begin()));
+  }
+  std::vector<int> usable;
+  for (int r : row_ids) {
+    bool ok = true;
+    for (int c : cols) ok = ok && c < static_cast<int>(sensors.size()) && std::isfinite(rows[r].delta_t[c]);
+    if (ok) usable.push_back(r);
+  }
+  Observations obs;
+  obs.names = columns;
+  obs.x.resize(usable.size(), cols.size());
+  obs.y.resize(usable.size());
+  for (size_t i = 0; i < usable.size(); ++i) {
+    const DriftRow& row = rows[usable[i]];
+    obs.y(i) = row.drift_mm;
+    for (size_t j = 0; j < cols.size(); ++j) obs.x(i, j) = row.delta_t[cols[j]];
+    obs.group.push_back(row.run);
+  }
+  return obs;
+}
+
+}  // namespace thermocomp

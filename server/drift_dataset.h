@@ -1,0 +1,44 @@
+// DriftDataset: the probe points of one axis turned into datum-relative
+// rows (methods.md §2): drift = deviation(pk) - deviation(p0) of the same
+// run, dT_i = T_i(pk) - T_i(p0) with T the filtered temperature (the point's
+// snapshot if it has one, else the archive's filtered value at its time).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "model/observations.h"
+#include "storage/database.h"
+#include "storage/records.h"
+
+namespace thermocomp {
+
+struct DriftRow {
+  int run = 0;  // index into DriftDataset::runs
+  int k = 0;
+  int64_t ts_ms = 0;
+  double drift_mm = 0;
+  std::vector<double> delta_t;  // per DriftDataset::sensors; NaN where unknown
+};
+
+struct DriftDataset {
+  std::vector<std::string> sensors;
+  std::vector<std::string> runs;  // ordered by the run's first time
+  std::vector<DriftRow> rows;
+  int skipped_gross = 0;       // |drift| >= gross error limit (chips in the hole)
+  int skipped_no_datum = 0;    // run without a p0 deviation on this axis
+
+  // Rows of the given runs (by name), or of all other runs when `invert`.
+  std::vector<int> RowsOfRuns(const std::vector<std::string>& runs, bool invert) const;
+  // Observations of `rows` with the named sensor columns; rows with an
+  // unknown temperature in any of them are left out.
+  Observations ToObservations(const std::vector<int>& rows,
+                              const std::vector<std::string>& columns) const;
+};
+
+// Caller holds db.mutex(). `max_gap_ms`: an archived sample older than this
+// at a probe time does not count as the temperature at that time.
+DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const std::string& axis,
+                               double gross_error_mm, int64_t max_gap_ms);
+
+}  // namespace thermocomp

@@ -1,0 +1,55 @@
+// FitService: fits a new model version of one axis from the archive, the
+// way methods.md §2 builds one: selection on the training runs, run-wise
+// cross-validation, validation on held-out runs, acceptance. A candidate
+// becomes active only if it passes and does no worse on the held-out runs
+// than the active model; otherwise it is stored as rejected with the
+// reason, and the active model stays. A failed fit never replaces a model.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "server/clock.h"
+#include "server/config.h"
+#include "storage/database.h"
+#include "storage/records.h"
+
+namespace thermocomp {
+
+struct FitRequest {
+  std::optional<std::vector<std::string>> inputs;        // default: the axis' declared inputs
+  std::optional<std::vector<std::string>> holdout_runs;  // default: the newest runs
+  std::string actor = "system";
+  std::string trigger = "manual";  // manual | schedule
+};
+
+class FitService {
+ public:
+  using Listener = std::function<void(const std::string& machine)>;
+  FitService(Database& db, const Clock& clock, const Config& config)
+      : db_(db), clock_(clock), config_(config) {}
+
+  // The stored report (with "version" and "status"), or NotFound /
+  // Unprocessable (too few points: nothing is stored).
+  StatusOr<nlohmann::json> Fit(const std::string& machine, const std::string& axis,
+                               const FitRequest& request);
+  // Makes a stored version the served one (manual activation or rollback).
+  Status Activate(const std::string& machine, const std::string& axis, int version,
+                  const std::string& actor);
+  // Stored versions of an axis, oldest first; NotFound for unknown names.
+  StatusOr<std::vector<ModelRecord>> Models(const std::string& machine, const std::string& axis);
+  StatusOr<ModelRecord> Model(const std::string& machine, const std::string& axis, int version);
+  void SetListener(Listener l) { listener_ = std::move(l); }
+
+ private:
+  Database& db_;
+  const Clock& clock_;
+  const Config& config_;
+  Listener listener_;
+};
+
+}  // namespace thermocomp

@@ -1,0 +1,92 @@
+#include "server/history_service.h"
+
+#include "model/drift_model.h"
+#include "model/thinning.h"
+#include "server/drift_dataset.h"
+#include "server/model_codec.h"
+#include "server/time_format.h"
+#include "storage/log_store.h"
+#include "storage/machine_store.h"
+#include "storage/model_store.h"
+
+namespace thermocomp {
+namespace {
+
+// One series as {"ts": [...], "<name>": [...]} after thinning on `values`.
+nlohmann::json Series(const std::vector<int64_t>& ts, const std::vector<double>& values,
+                      size_t max_points, std::vector<size_t>* kept = nullptr) {
+  std::vector<double> x(ts.begin(), ts.end());
+  std::vector<size_t> keep = ThinLttb(x, values, max_points);
+  nlohmann::json out = nlohmann::json::array();
+  for (size_t i : keep) out.push_back({{"ts", FormatRfc3339(ts[i])}, {"value_mm", values[i]}});
+  if (kept) *kept = keep;
+  return out;
+}
+
+}  // namespace
+
+StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  auto machine = MachineStore(db_).Find(q.machine);
+  if (!machine) return Status::NotFound("unknown machine '" + q.machine + "'");
+  const AxisRecord* axis = machine->FindAxis(q.axis);
+  if (!axis) return Status::NotFound("unknown axis '" + q.axis + "' on " + q.machine);
+  DriftDataset data = BuildDriftDataset(db_, *machine, q.axis, config_.gross_error_mm,
+                                        int64_t{config_.stale_after_s} * 1000);
+  std::optional<DriftModel> model;
+  std::optional<int> version;
+  if (auto active = ModelStore(db_).Active(axis->id)) {
+    if (auto m = DriftModelFromJson(active->model_json); m.ok()) {
+      model = *m;
+      version = active->version;
+    }
+  }
+  std::vector<int64_t> ts;
+  std::vector<double> measured, predicted, residual;
+  std::vector<std::string> runs;
+  for (const DriftRow& row : data.rows) {
+    if (row.ts_ms < q.from_ms || row.ts_ms > q.to_ms) continue;
+    ts.push_back(row.ts_ms);
+    measured.push_back(row.drift_mm);
+    runs.push_back(data.runs[row.run]);
+    double p = NAN;
+    if (model) {
+      std::vector<double> terms;
+      for (const auto& in : model->inputs) {
+        auto it = std::find(data.sensors.begin(), data.sensors.end(), in);
+        terms.push_back(it == data.sensors.end() ? NAN : row.delta_t[it - data.sensors.begin()]);
+      }
+      p = model->PredictDrift(terms);
+    }
+    predicted.push_back(p);
+    residual.push_back(row.drift_mm - p);
+  }
+  // Probe points are few; thin them together on the measured drift so the
+  // three series stay aligned point by point.
+  std::vector<size_t> keep = ThinLttb(std::vector<double>(ts.begin(), ts.end()), measured, q.max_points);
+  nlohmann::json points = nlohmann::json::array();
+  for (size_t i : keep) {
+    points.push_back({{"ts", FormatRfc3339(ts[i])},
+                      {"run", runs[i]},
+                      {"measured_mm", measured[i]},
+                      {"predicted_mm", FiniteOrNull(predicted[i])},
+                      {"residual_mm", FiniteOrNull(residual[i])}});
+  }
+  std::vector<int64_t> served_ts;
+  std::vector<double> served;
+  for (const auto& r : LogStore(db_).Compensation(axis->id, q.from_ms, q.to_ms)) {
+    served_ts.push_back(r.ts_ms);
+    served.push_back(r.offset_mm);
+  }
+  nlohmann::json out = {{"machine", q.machine},
+                        {"axis", q.axis},
+                        {"model_version", version ? nlohmann::json(*version) : nullptr},
+                        {"max_points", q.max_points},
+                        {"probe_points_total", ts.size()},
+                        {"probe_points", points},
+                        {"served_offset_total", served.size()},
+                        {"served_offset", Series(served_ts, served, q.max_points)}};
+  return out;
+}
+
+}  // namespace thermocomp

@@ -1,0 +1,42 @@
+// RefitScheduler: refits every axis with declared inputs when it is due:
+// every `refit_interval_min` (if a new run arrived since the last fit) or
+// after `refit_after_new_runs` new runs, or when the axis has no model yet.
+// Tick() does one pass; Start() runs Tick() every `period` on a thread.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+
+#include "server/clock.h"
+#include "server/config.h"
+#include "server/fit_service.h"
+#include "storage/database.h"
+
+namespace thermocomp {
+
+class RefitScheduler {
+ public:
+  RefitScheduler(Database& db, FitService& fits, const Clock& clock, const Config& config)
+      : db_(db), fits_(fits), clock_(clock), config_(config) {}
+  ~RefitScheduler() { Stop(); }
+
+  // One pass; returns the number of fits run.
+  int Tick();
+  void Start(std::chrono::milliseconds period);
+  void Stop();
+
+ private:
+  Database& db_;
+  FitService& fits_;
+  const Clock& clock_;
+  const Config& config_;
+  std::thread thread_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stop_ = false;
+};
+
+}  // namespace thermocomp

@@ -1,0 +1,132 @@
+#include "storage/database.h"
+
+#include "storage/migrator.h"
+
+namespace thermocomp {
+
+Statement::Statement(sqlite3* db, std::string_view sql) : db_(db) {
+  if (sqlite3_prepare_v2(db, sql.data(), static_cast<int>(sql.size()), &stmt_, nullptr) !=
+      SQLITE_OK) {
+    status_ = Status::Internal(std::string("prepare failed: ") + sqlite3_errmsg(db));
+    stmt_ = nullptr;
+  }
+}
+
+Statement::~Statement() { sqlite3_finalize(stmt_); }
+
+Statement& Statement::Bind(int i, int64_t v) {
+  sqlite3_bind_int64(stmt_, i, v);
+  return *this;
+}
+Statement& Statement::Bind(int i, double v) {
+  sqlite3_bind_double(stmt_, i, v);
+  return *this;
+}
+Statement& Statement::Bind(int i, std::string_view v) {
+  sqlite3_bind_text(stmt_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
+  return *this;
+}
+Statement& Statement::BindNull(int i) {
+  sqlite3_bind_null(stmt_, i);
+  return *this;
+}
+
+bool Statement::Step() {
+  if (!stmt_) return false;
+  int rc = sqlite3_step(stmt_);
+  if (rc == SQLITE_ROW) return true;
+  if (rc != SQLITE_DONE) {
+    status_ = rc == SQLITE_CONSTRAINT ? Status::Conflict(sqlite3_errmsg(db_))
+                                      : Status::Internal(sqlite3_errmsg(db_));
+  }
+  return false;
+}
+
+Status Statement::Run() {
+  while (Step()) {
+  }
+  return status_;
+}
+
+void Statement::Reset() {
+  sqlite3_reset(stmt_);
+  sqlite3_clear_bindings(stmt_);
+  status_ = Status::Ok();
+}
+
+std::string Statement::Text(int col) const {
+  const unsigned char* t = sqlite3_column_text(stmt_, col);
+  return t ? std::string(reinterpret_cast<const char*>(t), sqlite3_column_bytes(stmt_, col))
+           : std::string();
+}
+
+StatusOr<std::unique_ptr<Database>> Database::Open(const std::string& path,
+                                                   const DatabaseOptions& options) {
+  std::unique_ptr<Database> db(new Database());
+  db->path_ = path;
+  int rc = sqlite3_open_v2(path.c_str(), &db->db_,
+                           SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX,
+                           nullptr);
+  if (rc != SQLITE_OK) {
+    return Status::Unavailable("cannot open database " + path + ": " +
+                               (db->db_ ? sqlite3_errmsg(db->db_) : "out of memory"));
+  }
+  sqlite3_busy_timeout(db->db_, options.busy_timeout_ms);
+  if (options.synchronous != "full" && options.synchronous != "normal") {
+    return Status::InvalidArgument("database.synchronous must be \"full\" or \"normal\"");
+  }
+  for (const std::string& pragma :
+       {std::string("PRAGMA journal_mode=WAL"), std::string("PRAGMA foreign_keys=ON"),
+        "PRAGMA synchronous=" + options.synchronous}) {
+    Status s = db->Exec(pragma);
+    if (!s.ok()) return s;
+  }
+  auto version = Migrate(*db, EmbeddedMigrations(), options.migrate_to);
+  if (!version.ok()) return version.status();
+  db->schema_version_ = *version;
+  return db;
+}
+
+Database::~Database() { sqlite3_close_v2(db_); }
+
+Status Database::Exec(std::string_view sql) {
+  char* err = nullptr;
+  std::string s(sql);
+  if (sqlite3_exec(db_, s.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
+    std::string m = err ? err : "unknown error";
+    sqlite3_free(err);
+    return Status::Internal("SQL failed: " + m);
+  }
+  return Status::Ok();
+}
+
+Status Database::Backup(const std::string& dest_path) {
+  sqlite3* dest = nullptr;
+  if (sqlite3_open(dest_path.c_str(), &dest) != SQLITE_OK) {
+    sqlite3_close(dest);
+    return Status::InvalidArgument("cannot create backup file " + dest_path);
+  }
+  sqlite3_backup* b = sqlite3_backup_init(dest, "main", db_, "main");
+  if (!b) {
+    Status s = Status::Internal(std::string("backup failed: ") + sqlite3_errmsg(dest));
+    sqlite3_close(dest);
+    return s;
+  }
+  int rc;
+  // Copy in steps so writers are blocked only briefly each time.
+  do {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      rc = sqlite3_backup_step(b, 256);
+    }
+    if (rc == SQLITE_BUSY || rc == SQLITE_LOCKED) sqlite3_sleep(10);
+  } while (rc == SQLITE_OK || rc == SQLITE_BUSY || rc == SQLITE_LOCKED);
+  sqlite3_backup_finish(b);
+  Status s = rc == SQLITE_DONE ? Status::Ok()
+                               : Status::Internal(std::string("backup failed: ") +
+                                                  sqlite3_errmsg(dest));
+  sqlite3_close(dest);
+  return s;
+}
+
+}  // namespace thermocomp

@@ -1,0 +1,111 @@
+// Database: one SQLite connection in WAL mode with foreign keys and a busy
+// timeout, plus the small helpers the stores use (prepared statements,
+// transactions). Not thread-safe by itself: callers hold mutex() around a
+// unit of work, which also serialises writers as SQLite requires.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include <sqlite3.h>
+
+#include "model/status.h"
+
+namespace thermocomp {
+
+struct DatabaseOptions {
+  // "full": a commit survives power loss; "normal": it survives a crash of
+  // the process (WAL), not of the machine.
+  std::string synchronous = "full";
+  int busy_timeout_ms = 5000;
+  // Apply migrations up to this version only (tests of upgrades); 0 = all.
+  int migrate_to = 0;
+};
+
+// A prepared statement bound to its connection; finalised on destruction.
+class Statement {
+ public:
+  Statement(sqlite3* db, std::string_view sql);
+  ~Statement();
+  Statement(const Statement&) = delete;
+  Statement& operator=(const Statement&) = delete;
+
+  bool prepared() const { return stmt_ != nullptr; }
+  Statement& Bind(int i, int64_t v);
+  Statement& Bind(int i, double v);
+  Statement& Bind(int i, std::string_view v);
+  Statement& BindNull(int i);
+  Statement& Bind(int i, std::optional<double> v) { return v ? Bind(i, *v) : BindNull(i); }
+  // Runs one step: true while a row is available. Errors are kept in status().
+  bool Step();
+  // Steps to completion and returns the status.
+  Status Run();
+  void Reset();
+  int64_t Int(int col) const { return sqlite3_column_int64(stmt_, col); }
+  double Double(int col) const { return sqlite3_column_double(stmt_, col); }
+  bool IsNull(int col) const { return sqlite3_column_type(stmt_, col) == SQLITE_NULL; }
+  std::string Text(int col) const;
+  const Status& status() const { return status_; }
+
+ private:
+  sqlite3* db_;
+  sqlite3_stmt* stmt_ = nullptr;
+  Status status_;
+};
+
+class Database {
+ public:
+  // Opens (creating if absent) and migrates the database at `path`.
+  static StatusOr<std::unique_ptr<Database>> Open(const std::string& path,
+                                                  const DatabaseOptions& options = {});
+  ~Database();
+  Database(const Database&) = delete;
+  Database& operator=(const Database&) = delete;
+
+  sqlite3* handle() { return db_; }
+  std::mutex& mutex() { return mutex_; }
+  const std::string& path() const { return path_; }
+  int schema_version() const { return schema_version_; }
+
+  Status Exec(std::string_view sql);
+  Status Begin() { return Exec("BEGIN IMMEDIATE"); }
+  Status Commit() { return Exec("COMMIT"); }
+  void Rollback() { Exec("ROLLBACK"); }
+  int64_t LastInsertId() { return sqlite3_last_insert_rowid(db_); }
+  int Changes() { return sqlite3_changes(db_); }
+
+  // Online backup into `dest_path` while the database stays in use.
+  Status Backup(const std::string& dest_path);
+
+ private:
+  Database() = default;
+  sqlite3* db_ = nullptr;
+  std::string path_;
+  int schema_version_ = 0;
+  std::mutex mutex_;
+};
+
+// Rolls back unless Commit() was called: one write request = one transaction.
+class Transaction {
+ public:
+  explicit Transaction(Database& db) : db_(db), status_(db.Begin()) {}
+  ~Transaction() {
+    if (status_.ok() && !done_) db_.Rollback();
+  }
+  const Status& status() const { return status_; }
+  Status Commit() {
+    done_ = true;
+    return db_.Commit();
+  }
+
+ private:
+  Database& db_;
+  Status status_;
+  bool done_ = false;
+};
+
+}  // namespace thermocomp

@@ -1,0 +1,58 @@
+#include "storage/log_store.h"
+
+namespace thermocomp {
+
+Status LogStore::AppendCompensation(int64_t axis_id, const CompensationLogRow& r) {
+  Statement q(db_.handle(),
+              "INSERT OR REPLACE INTO compensation_log(axis_id, ts_ms, offset_mm, predicted_drift_mm,"
+              " valid, clamped, model_version) VALUES (?, ?, ?, ?, ?, ?, ?)");
+  q.Bind(1, axis_id).Bind(2, r.ts_ms).Bind(3, r.offset_mm).Bind(4, r.predicted_drift_mm)
+      .Bind(5, int64_t{r.valid}).Bind(6, int64_t{r.clamped});
+  if (r.model_version) {
+    q.Bind(7, int64_t{*r.model_version});
+  } else {
+    q.BindNull(7);
+  }
+  return q.Run();
+}
+
+std::vector<CompensationLogRow> LogStore::Compensation(int64_t axis_id, int64_t from_ms,
+                                                       int64_t to_ms) {
+  Statement q(db_.handle(),
+              "SELECT ts_ms, offset_mm, predicted_drift_mm, valid, clamped, model_version"
+              " FROM compensation_log WHERE axis_id = ? AND ts_ms >= ? AND ts_ms <= ? ORDER BY ts_ms");
+  q.Bind(1, axis_id).Bind(2, from_ms).Bind(3, to_ms);
+  std::vector<CompensationLogRow> out;
+  while (q.Step()) {
+    CompensationLogRow r{q.Int(0), q.Double(1), q.Double(2), q.Int(3) != 0, q.Int(4) != 0, {}};
+    if (!q.IsNull(5)) r.model_version = static_cast<int>(q.Int(5));
+    out.push_back(r);
+  }
+  return out;
+}
+
+std::optional<CompensationLogRow> LogStore::LatestCompensation(int64_t axis_id) {
+  Statement q(db_.handle(),
+              "SELECT ts_ms FROM compensation_log WHERE axis_id = ? ORDER BY ts_ms DESC LIMIT 1");
+  q.Bind(1, axis_id);
+  if (!q.Step()) return std::nullopt;
+  auto rows = Compensation(axis_id, q.Int(0), q.Int(0));
+  if (rows.empty()) return std::nullopt;
+  return rows.back();
+}
+
+Status LogStore::Audit(int64_t ts_ms, const std::string& actor, const std::string& action,
+                       const std::string& machine, int64_t count, const std::string& detail) {
+  Statement q(db_.handle(),
+              "INSERT INTO audit(ts_ms, actor, action, machine, count, detail) VALUES (?, ?, ?, ?, ?, ?)");
+  q.Bind(1, ts_ms).Bind(2, actor).Bind(3, action).Bind(4, machine).Bind(5, count).Bind(6, detail);
+  return q.Run();
+}
+
+int64_t LogStore::CountAudit(const std::string& action) {
+  Statement q(db_.handle(), "SELECT COUNT(*) FROM audit WHERE action = ?");
+  q.Bind(1, action);
+  return q.Step() ? q.Int(0) : 0;
+}
+
+}  // namespace thermocomp

@@ -1,0 +1,109 @@
+#include "storage/machine_store.h"
+
+#include <sstream>
+
+namespace thermocomp {
+namespace {
+
+std::string Join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ",") + x;
+  return s;
+}
+
+std::vector<std::string> Split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+}  // namespace
+
+StatusOr<bool> MachineStore::Upsert(const MachineRecord& m, int64_t now_ms) {
+  bool created = false;
+  int64_t id = 0;
+  {
+    Statement q(db_.handle(), "SELECT id FROM machines WHERE name = ?");
+    q.Bind(1, m.name);
+    if (q.Step()) id = q.Int(0);
+  }
+  if (id == 0) {
+    Statement ins(db_.handle(),
+                  "INSERT INTO machines(name, display_name, controller, created_ms, updated_ms)"
+                  " VALUES (?, ?, ?, ?, ?)");
+    ins.Bind(1, m.name).Bind(2, m.display_name).Bind(3, m.controller).Bind(4, now_ms).Bind(5, now_ms);
+    if (Status s = ins.Run(); !s.ok()) return s;
+    id = db_.LastInsertId();
+    created = true;
+  } else {
+    Statement up(db_.handle(),
+                 "UPDATE machines SET display_name = ?, controller = ?, updated_ms = ? WHERE id = ?");
+    up.Bind(1, m.display_name).Bind(2, m.controller).Bind(3, now_ms).Bind(4, id);
+    if (Status s = up.Run(); !s.ok()) return s;
+  }
+  Statement sensor(db_.handle(),
+                   "INSERT INTO sensors(machine_id, name, location, ewma_alpha) VALUES (?, ?, ?, ?)"
+                   " ON CONFLICT(machine_id, name) DO UPDATE SET location = excluded.location,"
+                   " ewma_alpha = excluded.ewma_alpha");
+  for (const auto& s : m.sensors) {
+    sensor.Reset();
+    sensor.Bind(1, id).Bind(2, s.name).Bind(3, s.location).Bind(4, s.ewma_alpha);
+    if (Status st = sensor.Run(); !st.ok()) return st;
+  }
+  Statement axis(db_.handle(),
+                 "INSERT INTO axes(machine_id, name, reference_position_mm, inputs, clamp_mm)"
+                 " VALUES (?, ?, ?, ?, ?) ON CONFLICT(machine_id, name) DO UPDATE SET"
+                 " reference_position_mm = excluded.reference_position_mm,"
+                 " inputs = excluded.inputs, clamp_mm = excluded.clamp_mm");
+  for (const auto& a : m.axes) {
+    axis.Reset();
+    axis.Bind(1, id).Bind(2, a.name).Bind(3, a.reference_position_mm).Bind(4, Join(a.inputs))
+        .Bind(5, a.clamp_mm);
+    if (Status st = axis.Run(); !st.ok()) return st;
+  }
+  return created;
+}
+
+std::optional<MachineRecord> MachineStore::Find(const std::string& name) {
+  MachineRecord m;
+  {
+    Statement q(db_.handle(), "SELECT id, display_name, controller FROM machines WHERE name = ?");
+    q.Bind(1, name);
+    if (!q.Step()) return std::nullopt;
+    m.id = q.Int(0);
+    m.name = name;
+    m.display_name = q.Text(1);
+    m.controller = q.Text(2);
+  }
+  Statement s(db_.handle(),
+              "SELECT id, name, location, ewma_alpha FROM sensors WHERE machine_id = ? ORDER BY id");
+  s.Bind(1, m.id);
+  while (s.Step()) m.sensors.push_back({s.Int(0), s.Text(1), s.Text(2), s.Double(3)});
+  Statement a(db_.handle(),
+              "SELECT id, name, reference_position_mm, inputs, clamp_mm FROM axes"
+              " WHERE machine_id = ? ORDER BY name");
+  a.Bind(1, m.id);
+  while (a.Step()) {
+    m.axes.push_back({a.Int(0), a.Text(1), a.Double(2), Split(a.Text(3)), a.Double(4)});
+  }
+  return m;
+}
+
+std::vector<MachineRecord> MachineStore::List() {
+  std::vector<std::string> names;
+  {
+    Statement q(db_.handle(), "SELECT name FROM machines ORDER BY name");
+    while (q.Step()) names.push_back(q.Text(0));
+  }
+  std::vector<MachineRecord> out;
+  for (const auto& n : names) {
+    if (auto m = Find(n)) out.push_back(std::move(*m));
+  }
+  return out;
+}
+
+}  // namespace thermocomp

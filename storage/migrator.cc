@@ -1,0 +1,46 @@
+#include "storage/migrator.h"
+
+#include <chrono>
+
+#include "storage/database.h"
+
+namespace thermocomp {
+
+StatusOr<int> Migrate(Database& db, const std::vector<Migration>& migrations, int up_to) {
+  Status s = db.Exec(
+      "CREATE TABLE IF NOT EXISTS schema_migrations ("
+      " version INTEGER PRIMARY KEY, name TEXT NOT NULL, applied_ms INTEGER NOT NULL)");
+  if (!s.ok()) return s;
+  int current = 0;
+  {
+    Statement q(db.handle(), "SELECT COALESCE(MAX(version), 0) FROM schema_migrations");
+    if (q.Step()) current = static_cast<int>(q.Int(0));
+    if (!q.status().ok()) return q.status();
+  }
+  const int newest = migrations.empty() ? 0 : migrations.back().version;
+  if (current > newest) {
+    return Status::FailedPrecondition(
+        "database " + db.path() + " has schema version " + std::to_string(current) +
+        ", newer than this binary understands (" + std::to_string(newest) +
+        "); run a newer thermocomp or restore a backup");
+  }
+  for (const Migration& m : migrations) {
+    if (m.version <= current || (up_to > 0 && m.version > up_to)) continue;
+    Transaction tx(db);
+    if (!tx.status().ok()) return tx.status();
+    s = db.Exec(m.sql);
+    if (!s.ok()) return Status::Internal("migration " + m.name + ": " + s.message());
+    Statement rec(db.handle(),
+                  "INSERT INTO schema_migrations(version, name, applied_ms) VALUES (?, ?, ?)");
+    const int64_t now = std::chrono::duration_cast<std::chrono::milliseconds>(
+                            std::chrono::system_clock::now().time_since_epoch())
+                            .count();
+    rec.Bind(1, int64_t{m.version}).Bind(2, m.name).Bind(3, now);
+    if (s = rec.Run(); !s.ok()) return s;
+    if (s = tx.Commit(); !s.ok()) return s;
+    current = m.version;
+  }
+  return current;
+}
+
+}  // namespace thermocomp

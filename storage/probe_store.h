@@ -1,0 +1,33 @@
+// ProbeStore: production runs and their touch-probe points.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "storage/database.h"
+#include "storage/records.h"
+
+namespace thermocomp {
+
+class ProbeStore {
+ public:
+  explicit ProbeStore(Database& db) : db_(db) {}
+
+  // The run's id, creating the run (first seen at ts) when it is new.
+  StatusOr<int64_t> EnsureRun(int64_t machine_id, const std::string& run, int64_t ts_ms);
+  std::optional<ProbePointRecord> FindPoint(int64_t run_id, int k);
+  // `sensor_ids` maps the snapshot's sensor names to ids.
+  Status InsertPoint(int64_t run_id, const ProbePointRecord& point,
+                     const std::map<std::string, int64_t>& sensor_ids);
+  // All runs of a machine ordered by first time, with their points.
+  std::vector<RunRecord> LoadRuns(int64_t machine_id);
+  int64_t CountPoints(int64_t machine_id);
+  int CountRunsSince(int64_t machine_id, int64_t since_ms);
+  // The newest datum point (k = 0) of the machine, by time.
+  std::optional<ProbePointRecord> LatestDatum(int64_t machine_id);
+
+ private:
+  Database& db_;
+};
+
+}  // namespace thermocomp

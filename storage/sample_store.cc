@@ -1,0 +1,79 @@
+#include "storage/sample_store.h"
+
+namespace thermocomp {
+
+SampleStore::SampleStore(Database& db)
+    : db_(db),
+      insert_(db.handle(), "INSERT INTO samples(sensor_id, ts_ms, value, filtered) VALUES (?, ?, ?, ?)"),
+      at_or_before_(db.handle(),
+                    "SELECT ts_ms, value, filtered FROM samples WHERE sensor_id = ? AND ts_ms <= ?"
+                    " ORDER BY ts_ms DESC LIMIT 1") {}
+
+std::optional<FilterState> SampleStore::LoadFilterState(int64_t sensor_id) {
+  Statement q(db_.handle(),
+              "SELECT last_ts_ms, last_value, state FROM filter_state WHERE sensor_id = ?");
+  q.Bind(1, sensor_id);
+  if (!q.Step()) return std::nullopt;
+  return FilterState{q.Int(0), q.Double(1), q.Double(2)};
+}
+
+Status SampleStore::SaveFilterState(int64_t sensor_id, const FilterState& s) {
+  Statement q(db_.handle(),
+              "INSERT INTO filter_state(sensor_id, last_ts_ms, last_value, state) VALUES (?, ?, ?, ?)"
+              " ON CONFLICT(sensor_id) DO UPDATE SET last_ts_ms = excluded.last_ts_ms,"
+              " last_value = excluded.last_value, state = excluded.state");
+  q.Bind(1, sensor_id).Bind(2, s.last_ts_ms).Bind(3, s.last_value).Bind(4, s.state);
+  return q.Run();
+}
+
+Status SampleStore::Insert(int64_t sensor_id, const SampleRow& row) {
+  insert_.Reset();
+  insert_.Bind(1, sensor_id).Bind(2, row.ts_ms).Bind(3, row.value).Bind(4, row.filtered);
+  return insert_.Run();
+}
+
+std::optional<double> SampleStore::ValueAt(int64_t sensor_id, int64_t ts_ms) {
+  Statement q(db_.handle(), "SELECT value FROM samples WHERE sensor_id = ? AND ts_ms = ?");
+  q.Bind(1, sensor_id).Bind(2, ts_ms);
+  if (!q.Step()) return std::nullopt;
+  return q.Double(0);
+}
+
+std::optional<SampleRow> SampleStore::Before(int64_t sensor_id, int64_t ts_ms) {
+  return AtOrBefore(sensor_id, ts_ms - 1);
+}
+
+std::optional<SampleRow> SampleStore::AtOrBefore(int64_t sensor_id, int64_t ts_ms) {
+  at_or_before_.Reset();
+  at_or_before_.Bind(1, sensor_id).Bind(2, ts_ms);
+  if (!at_or_before_.Step()) return std::nullopt;
+  SampleRow r{at_or_before_.Int(0), at_or_before_.Double(1), at_or_before_.Double(2)};
+  at_or_before_.Reset();
+  return r;
+}
+
+std::vector<SampleRow> SampleStore::Range(int64_t sensor_id, int64_t from_ms, int64_t to_ms) {
+  Statement q(db_.handle(),
+              "SELECT ts_ms, value, filtered FROM samples WHERE sensor_id = ? AND ts_ms >= ?"
+              " AND ts_ms <= ? ORDER BY ts_ms");
+  q.Bind(1, sensor_id).Bind(2, from_ms).Bind(3, to_ms);
+  std::vector<SampleRow> out;
+  while (q.Step()) out.push_back({q.Int(0), q.Double(1), q.Double(2)});
+  return out;
+}
+
+Status SampleStore::UpdateFiltered(int64_t sensor_id, int64_t ts_ms, double filtered) {
+  Statement q(db_.handle(), "UPDATE samples SET filtered = ? WHERE sensor_id = ? AND ts_ms = ?");
+  q.Bind(1, filtered).Bind(2, sensor_id).Bind(3, ts_ms);
+  return q.Run();
+}
+
+int64_t SampleStore::CountForMachine(int64_t machine_id) {
+  Statement q(db_.handle(),
+              "SELECT COUNT(*) FROM samples WHERE sensor_id IN"
+              " (SELECT id FROM sensors WHERE machine_id = ?)");
+  q.Bind(1, machine_id);
+  return q.Step() ? q.Int(0) : 0;
+}
+
+}  // namespace thermocomp
