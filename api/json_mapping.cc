@@ -24,6 +24,8 @@ json MachineToJson(const MachineRecord& m) {
           {"sensors", sensors}, {"axes", axes}};
 }
 
+std::string MachineToJsonText(const MachineRecord& m) { return MachineToJson(m).dump(2); }
+
 std::optional<MachineRecord> MachineFromJson(const std::string& name, const std::string& body,
                                              std::vector<FieldError>& errors) {
   json j = json::parse(body, nullptr, false);

@@ -13,6 +13,8 @@
 namespace thermocomp::api {
 
 nlohmann::json MachineToJson(const MachineRecord& m);
+// The PUT body that registers `m` (for files the simulator writes).
+std::string MachineToJsonText(const MachineRecord& m);
 // The body of PUT /machines/{m}; nullopt with errors when malformed.
 std::optional<MachineRecord> MachineFromJson(const std::string& name, const std::string& body,
                                              std::vector<FieldError>& errors);

@@ -60,6 +60,7 @@ class StatusOr {
   const T* operator->() const { return &value_; }
   T* operator->() { return &value_; }
   const T& operator*() const& { return value_; }
+  T& operator*() & { return value_; }
 
  private:
   Status status_;

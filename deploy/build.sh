@@ -1,0 +1,6 @@
+#!/usr/bin/env bash
+# Configures and builds into build/ (Release with debug info), both cores.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" > /dev/null
+cmake --build build -j "$(nproc)" "${THERMOCOMP_TARGETS[@]/#/--target=}"

@@ -1,0 +1,13 @@
+// The thermocomp subcommands: serve, import, fit, simulate, demo, backup.
+// Each returns a process exit code (0 ok, 1 failed, 2 usage).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace thermocomp {
+
+std::string Usage();
+int RunCommand(const std::string& name, const std::vector<std::string>& args);
+
+}  // namespace thermocomp

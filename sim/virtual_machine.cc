@@ -1,0 +1,103 @@
+#include "sim/virtual_machine.h"
+
+#include <cmath>
+
+namespace thermocomp {
+namespace {
+
+constexpr int64_t kMinute = 60000;
+constexpr int64_t kDay = 24 * 60 * kMinute;
+constexpr double kPi = 3.14159265358979323846;
+
+// First-order approach of x towards target over dt minutes with time constant tau.
+double Lag(double x, double target, double tau_min) {
+  return target + (x - target) * std::exp(-1.0 / tau_min);
+}
+
+}  // namespace
+
+VirtualMachine::VirtualMachine(const SimOptions& o)
+    : opt_(o), rng_(o.seed), now_ms_(o.start_ms - o.start_ms % kMinute) {
+  air_offset_ = 0.5 * unit_(rng_);
+  const double air = AirTemperature();
+  n_ = {air, air, air, air, air, air, air, air};
+}
+
+MachineRecord VirtualMachine::Definition(const std::string& name) {
+  MachineRecord m;
+  m.name = name;
+  m.display_name = "Simulated HMC " + name;
+  m.controller = "sinumerik";
+  m.sensors = {{0, "Tsp", "spindle housing", 0.40},  {0, "Tco", "spindle-cooling glycol", 0.40},
+               {0, "Tcu", "Y column, upper", 0.30},  {0, "Tcb", "Y column, base", 0.20},
+               {0, "Tbed", "bed under the column", 0.15}, {0, "Tenv", "shop air", 0.20},
+               {0, "Tbase", "machine base", 0.10}};
+  m.axes = {{0, "X", 0.0, {"Tbed", "Tcb", "Tenv"}, 0.03},
+            {0, "Y", 0.0, {"Tco", "Tcb", "Tbed"}, 0.03}};
+  return m;
+}
+
+double VirtualMachine::AirTemperature() const {
+  const double day_fraction = static_cast<double>(now_ms_ % kDay) / kDay;
+  // Warmest mid-afternoon, coldest before dawn.
+  return 20.0 + air_offset_ + 1.8 * std::sin(2 * kPi * (day_fraction - 0.375));
+}
+
+bool VirtualMachine::InRun() const { return run_k_ >= 0; }
+
+double VirtualMachine::TrueDriftY() const {
+  return -0.0126 * (n_.colbase - 20.0) + 0.0098 * (n_.bed - 20.0) - 0.0025 * (n_.coolant - 20.0);
+}
+
+double VirtualMachine::TrueDriftX() const { return 0.0030 * (n_.bed - 20.0); }
+
+void VirtualMachine::Step(std::vector<TemperatureInput>& samples,
+                          std::vector<ProbePointInput>& points) {
+  now_ms_ += kMinute;
+  const int minute_of_day = static_cast<int>((now_ms_ % kDay) / kMinute);
+  // Production: runs start every 4 h from 06:00 to 18:00 and last 3 h.
+  const bool run_starts = minute_of_day >= 360 && minute_of_day <= 1080 && minute_of_day % 240 == 120;
+  if (run_starts) {
+    ++run_counter_;
+    run_k_ = 0;
+    run_start_ms_ = now_ms_;
+    run_name_ = "R" + std::to_string(run_counter_);
+    spindle_load_ = 0.3 + 0.7 * std::uniform_real_distribution<double>(0, 1)(rng_);
+  } else if (InRun() && now_ms_ - run_start_ms_ > 180 * kMinute) {
+    run_k_ = -1;
+  }
+  const bool cutting = InRun();
+  n_.air = AirTemperature();
+  n_.spindle = Lag(n_.spindle, n_.air + (cutting ? 14.0 * spindle_load_ : 0.0), 25);
+  n_.drives = Lag(n_.drives, n_.air + (cutting ? 8.0 : 0.5), 40);
+  n_.coolant = Lag(n_.coolant, 0.75 * n_.air + 0.25 * n_.spindle + 0.2, 30);
+  n_.column = Lag(n_.column, 0.6 * n_.air + 0.4 * n_.spindle, 90);
+  n_.colbase = Lag(n_.colbase, 0.6 * n_.air + 0.4 * n_.drives, 120);
+  n_.bed = Lag(n_.bed, 0.5 * n_.air + 0.5 * n_.coolant, 150);
+  n_.base = Lag(n_.base, n_.air, 400);
+
+  auto sense = [&](const char* sensor, double t) {
+    samples.push_back({sensor, now_ms_, std::round((t + opt_.sensor_noise_c * unit_(rng_)) * 100) / 100});
+  };
+  sense("Tsp", n_.spindle);
+  sense("Tco", n_.coolant);
+  sense("Tcu", n_.column);
+  sense("Tcb", n_.colbase);
+  sense("Tbed", n_.bed);
+  sense("Tenv", n_.air + 0.1 * unit_(rng_));
+  sense("Tbase", n_.base);
+
+  if (InRun() && (now_ms_ - run_start_ms_) % (15 * kMinute) == 0) {
+    ProbePointInput p;
+    p.run = run_name_;
+    p.k = run_k_++;
+    p.ts_ms = now_ms_;
+    // Deviation of the datum hole: true drift plus probe noise (mm).
+    p.axes["X"] = {350.0, TrueDriftX() + opt_.probe_noise_mm * unit_(rng_)};
+    p.axes["Y"] = {120.0, TrueDriftY() + opt_.probe_noise_mm * unit_(rng_)};
+    p.axes["Z"] = {-40.0, std::nullopt};
+    points.push_back(std::move(p));
+  }
+}
+
+}  // namespace thermocomp
