@@ -1,0 +1,165 @@
+// The whole path over real HTTP: register, post (JSON, long and wide CSV),
+// fit, compensation (JSON and controller formats), history, models, metrics.
+#include "tests/app_fixture.h"  // first: Eigen before httplib.h (see api/http_server.h)
+
+#include <cmath>
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include "server/time_format.h"
+
+
+namespace thermocomp {
+namespace {
+
+using nlohmann::json;
+
+class HttpEndToEndTest : public testing::AppFixture {
+ protected:
+  void SetUp() override {
+    AppFixture::SetUp();
+    StartHttp();
+    client_ = std::make_unique<httplib::Client>("127.0.0.1", http_->port());
+  }
+  json GetJson(const std::string& path, int expect = 200) {
+    auto r = client_->Get(path.c_str());
+    EXPECT_TRUE(r);
+    if (!r) return {};
+    EXPECT_EQ(r->status, expect) << path << " " << r->body;
+    return json::parse(r->body);
+  }
+  std::unique_ptr<httplib::Client> client_;
+};
+
+TEST_F(HttpEndToEndTest, RegisterPostFitCompensateHistory) {
+  // A line of history fed through the services, then a live datum over HTTP.
+  VirtualMachine vm = Simulate("m2", 12);
+  const std::string base = "/api/v1/machines/m2";
+
+  json machine = GetJson(base);
+  EXPECT_EQ(machine["controller"], "sinumerik");
+  EXPECT_GT(machine["samples"].get<int64_t>(), 100000);
+
+  auto fit = client_->Post((base + "/axes/Y/fit").c_str(), "", "application/json");
+  ASSERT_TRUE(fit);
+  ASSERT_EQ(fit->status, 201) << fit->body;
+  json report = json::parse(fit->body);
+  EXPECT_EQ(report["status"], "active") << report["reason"];
+  EXPECT_GT(report["r2"].get<double>(), 0.85);
+  EXPECT_TRUE(report["terms"].contains("Tcb"));
+  EXPECT_LT(report["validation"]["rmse_mm"].get<double>(), 0.003);
+  EXPECT_EQ(report["cross_validation"]["method"], "leave-one-run-out");
+
+  // New data arrives over HTTP in all three shapes: a fresh datum now, then
+  // temperatures a few minutes later.
+  const int64_t now = clock_.NowMs();
+  json datum = {{"points", {{{"run", "LIVE1"}, {"k", 0}, {"ts", FormatRfc3339(now)},
+                            {"deviation", {{"Y", 0.001}}}}}}};
+  auto r = client_->Post((base + "/probe-points").c_str(), datum.dump(), "application/json");
+  ASSERT_EQ(r->status, 200) << r->body;
+  clock_.Advance(120000);
+  std::string long_csv = "ts,sensor,value\n";
+  std::string wide_csv = "ts,Tsp,Tco,Tcu,Tcb,Tbed,Tenv,Tbase\n";
+  json samples = {{"samples", json::array()}};
+  for (const char* s : {"Tsp", "Tco", "Tcu", "Tcb", "Tbed", "Tenv", "Tbase"}) {
+    samples["samples"].push_back({{"sensor", s}, {"ts", now + 60000}, {"value", 22.0}});
+    long_csv += std::to_string(now + 120000) + "," + s + ",24.0\n";
+  }
+  wide_csv += FormatRfc3339(now + 180000) + ",26,26,26,26,26,26,26\n";
+  clock_.Advance(120000);
+  r = client_->Post((base + "/temperatures").c_str(), samples.dump(), "application/json");
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(json::parse(r->body)["accepted"], 7);
+  r = client_->Post((base + "/temperatures").c_str(), long_csv, "text/csv");
+  ASSERT_EQ(r->status, 200) << r->body;
+  r = client_->Post((base + "/temperatures").c_str(), wide_csv, "text/csv");
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(json::parse(r->body)["accepted"], 7);
+  // The same again: duplicates, nothing stored twice.
+  r = client_->Post((base + "/temperatures").c_str(), wide_csv, "text/csv");
+  EXPECT_EQ(json::parse(r->body)["duplicates"], 7);
+
+  json comp = GetJson(base + "/compensation");
+  json y;
+  for (const auto& a : comp["axes"]) {
+    if (a["axis"] == "Y") y = a;
+  }
+  ASSERT_FALSE(y.is_null());
+  EXPECT_TRUE(y["valid"].get<bool>()) << y;
+  EXPECT_FALSE(y["stale"].get<bool>());
+  EXPECT_EQ(y["model_version"], report["version"]);
+  EXPECT_NEAR(y["offset_mm"].get<double>(), -y["predicted_drift_mm"].get<double>(), 1e-12);
+  EXPECT_LE(std::fabs(y["offset_mm"].get<double>()), 0.03);
+  EXPECT_EQ(y["datum_ts"], FormatRfc3339(now));
+  // Independent check of the law: intercept + sum(b_i * (Tf_i - Tref_i)).
+  // Temperatures jumped from the datum's filtered values to 26 degC through
+  // the filters, so the prediction must differ from the intercept.
+  EXPECT_NE(y["predicted_drift_mm"].get<double>(), report["coefficients"]["intercept"].get<double>());
+
+  auto sin = client_->Get((base + "/compensation?format=sinumerik").c_str());
+  ASSERT_EQ(sin->status, 200);
+  char expected[64];
+  std::snprintf(expected, sizeof expected, "$SA_TEMP_COMP_ABS_VALUE[Y]=%.6f", y["offset_mm"].get<double>());
+  EXPECT_NE(sin->body.find(expected), std::string::npos) << sin->body;
+  for (const char* f : {"beckhoff", "heidenhain", "fanuc", "linuxcnc"}) {
+    auto fr = client_->Get((base + "/compensation?format=" + f).c_str());
+    EXPECT_EQ(fr->status, 200) << f;
+    EXPECT_FALSE(fr->body.empty()) << f;
+  }
+  auto fanuc = client_->Get((base + "/compensation?format=fanuc").c_str());
+  EXPECT_NE(fanuc->body.find("#5202="), std::string::npos);
+
+  // Compensation becomes stale without new temperatures.
+  clock_.Advance(10 * 60000);
+  json stale = GetJson(base + "/compensation");
+  for (const auto& a : stale["axes"]) {
+    if (a["axis"] == "Y") {
+      EXPECT_TRUE(a["stale"].get<bool>());
+      EXPECT_FALSE(a["valid"].get<bool>());
+      EXPECT_EQ(a["offset_mm"], 0.0);
+    }
+  }
+
+  json history = GetJson(base + "/drift?axis=Y&max_points=50");
+  EXPECT_LE(history["probe_points"].size(), 50u);
+  EXPECT_GT(history["probe_points_total"].get<int>(), 50);
+  EXPECT_FALSE(history["probe_points"][0]["predicted_mm"].is_null());
+  EXPECT_GE(history["served_offset"].size(), 1u);
+
+  json models = GetJson(base + "/axes/Y/models");
+  ASSERT_EQ(models["models"].size(), 1u);
+  EXPECT_EQ(models["models"][0]["status"], "active");
+
+  auto metrics = client_->Get("/metrics");
+  EXPECT_NE(metrics->body.find("thermocomp_samples_accepted_total 21"), std::string::npos) << metrics->body;
+  EXPECT_NE(metrics->body.find("thermocomp_model_age_seconds{machine=\"m2\",axis=\"Y\"}"), std::string::npos);
+  EXPECT_EQ(GetJson("/readyz")["status"], "ready");
+}
+
+TEST_F(HttpEndToEndTest, RejectedRefitKeepsActiveModelAndRollbackWorks) {
+  Simulate("m3", 12);
+  const std::string base = "/api/v1/machines/m3/axes/Y";
+  auto first = client_->Post((base + "/fit").c_str(), "", "application/json");
+  ASSERT_EQ(first->status, 201);
+  ASSERT_EQ(json::parse(first->body)["status"], "active");
+  // A model from the ambient sensor alone cannot pass: stored as rejected.
+  auto bad = client_->Post((base + "/fit").c_str(), R"({"inputs": ["Tbase"]})", "application/json");
+  ASSERT_EQ(bad->status, 201) << bad->body;
+  json rejected = json::parse(bad->body);
+  EXPECT_EQ(rejected["status"], "rejected");
+  EXPECT_FALSE(rejected["reason"].get<std::string>().empty());
+  json models = GetJson(base + "/models");
+  EXPECT_EQ(models["models"][0]["status"], "active");
+  EXPECT_EQ(models["models"][1]["status"], "rejected");
+  // Manual activation (e.g. a rollback) makes v2 active and retires v1.
+  auto act = client_->Post((base + "/models/2/activate").c_str(), "", "application/json");
+  ASSERT_EQ(act->status, 200) << act->body;
+  models = GetJson(base + "/models");
+  EXPECT_EQ(models["models"][0]["status"], "retired");
+  EXPECT_EQ(models["models"][1]["status"], "active");
+  EXPECT_EQ(client_->Post((base + "/models/9/activate").c_str(), "", "application/json")->status, 404);
+}
+
+}  // namespace
+}  // namespace thermocomp

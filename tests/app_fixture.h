@@ -1,0 +1,91 @@
+// A real App on a fresh SQLite file in a temporary directory, with a manual
+// clock, optionally serving HTTP on an ephemeral loopback port.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "api/http_server.h"
+#include "server/app.h"
+#include "sim/virtual_machine.h"
+
+namespace thermocomp::testing {
+
+inline std::filesystem::path TempDir() {
+  std::random_device rd;
+  auto dir = std::filesystem::temp_directory_path() /
+             ("thermocomp-test-" + std::to_string(rd()) + std::to_string(rd()));
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+// 2026-03-02T00:00:00Z
+constexpr int64_t kT0 = 1772409600000;
+
+class AppFixture : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = TempDir();
+    config_.db_path = (dir_ / "thermocomp.db").string();
+    config_.synchronous = "normal";
+    config_.http_threads = 8;
+    Configure(config_);
+    auto app = App::Open(config_, clock_);
+    ASSERT_TRUE(app.ok()) << app.status().ToString();
+    app_ = std::move(app).value();
+  }
+  virtual void Configure(Config&) {}
+  void TearDown() override {
+    if (http_) http_->Stop();
+    http_.reset();
+    app_.reset();
+    std::filesystem::remove_all(dir_);
+  }
+  void StartHttp() {
+    http_ = std::make_unique<api::HttpServer>(*app_);
+    ASSERT_TRUE(http_->Start("127.0.0.1", 0).ok());
+  }
+  // Registers a simulated machine and feeds it `days` of history ending at
+  // the clock's time. Returns the virtual machine for the true drift.
+  VirtualMachine Simulate(const std::string& name, int days, uint64_t seed = 3) {
+    std::vector<FieldError> errors;
+    EXPECT_TRUE(app_->machines().Register(VirtualMachine::Definition(name), "test", &errors).ok());
+    VirtualMachine vm({name, seed, clock_.NowMs() - int64_t{days} * 86400000});
+    std::vector<TemperatureInput> s;
+    std::vector<ProbePointInput> p;
+    while (vm.now_ms() + 60000 <= clock_.NowMs()) {
+      vm.Step(s, p);
+      if (s.size() >= 7 * 600) Flush(name, s, p);
+    }
+    Flush(name, s, p);
+    return vm;
+  }
+  void Flush(const std::string& name, std::vector<TemperatureInput>& s,
+             std::vector<ProbePointInput>& p) {
+    if (!s.empty()) {
+      ASSERT_TRUE(app_->ingest().AddTemperatures(name, s, "test").status.ok());
+    }
+    if (!p.empty()) {
+      ASSERT_TRUE(app_->ingest().AddProbePoints(name, p, "test").status.ok());
+    }
+    s.clear();
+    p.clear();
+  }
+  int64_t Count(const std::string& sql) {
+    std::lock_guard<std::mutex> lock(app_->db().mutex());
+    Statement q(app_->db().handle(), sql);
+    return q.Step() ? q.Int(0) : -1;
+  }
+
+  std::filesystem::path dir_;
+  Config config_;
+  ManualClock clock_{kT0 + 14 * 86400000LL};
+  std::unique_ptr<App> app_;
+  std::unique_ptr<api::HttpServer> http_;
+};
+
+}  // namespace thermocomp::testing
