@@ -15,11 +15,12 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
   app->db_ = std::move(db).value();
   Database& d = *app->db_;
   const Config& c = app->config_;
-  app->machines_ = std::make_unique<MachineService>(d, clock);
-  app->ingest_ = std::make_unique<IngestService>(d, clock);
-  app->fits_ = std::make_unique<FitService>(d, clock, c);
+  ProbeTemperatureCache* cache = &app->probe_temperatures_;
+  app->machines_ = std::make_unique<MachineService>(d, clock, cache);
+  app->ingest_ = std::make_unique<IngestService>(d, clock, cache);
+  app->fits_ = std::make_unique<FitService>(d, clock, c, cache);
   app->compensation_ = std::make_unique<CompensationService>(d, clock, c);
-  app->history_ = std::make_unique<HistoryService>(d, c);
+  app->history_ = std::make_unique<HistoryService>(d, c, cache);
   app->scheduler_ = std::make_unique<RefitScheduler>(d, *app->fits_, clock, c);
   App* self = app.get();
   auto recompute = [self](const std::string& machine) {

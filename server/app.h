@@ -13,6 +13,7 @@
 #include "server/ingest_service.h"
 #include "server/machine_service.h"
 #include "server/metrics.h"
+#include "server/probe_temperature_cache.h"
 #include "server/refit_scheduler.h"
 #include "storage/database.h"
 
@@ -47,6 +48,7 @@ class App {
   std::unique_ptr<HistoryService> history_;
   std::unique_ptr<RefitScheduler> scheduler_;
   Metrics metrics_;
+  ProbeTemperatureCache probe_temperatures_;
 };
 
 }  // namespace thermocomp

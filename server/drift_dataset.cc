@@ -12,18 +12,34 @@ namespace {
 
 constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
 
-double TemperatureAt(SampleStore& samples, const SensorRecord& sensor,
-                     const ProbePointRecord& p, int64_t max_gap_ms) {
-  if (auto it = p.temperatures.find(sensor.name); it != p.temperatures.end()) return it->second;
-  auto row = samples.AtOrBefore(sensor.id, p.ts_ms);
-  if (!row || p.ts_ms - row->ts_ms > max_gap_ms) return kUnknown;
-  return row->filtered;
+// Filtered temperature of every sensor at the point: its snapshot where it
+// has one, else the archive's filtered value (cached), else NaN.
+std::vector<double> TemperaturesAt(SampleStore& samples, const MachineRecord& machine,
+                                   const ProbePointRecord& p, int64_t max_gap_ms,
+                                   ProbeTemperatureCache* cache) {
+  std::optional<std::vector<double>> archive;
+  if (cache) archive = cache->Get(p.id, machine.sensors.size());
+  if (!archive) {
+    archive.emplace();
+    for (const auto& sensor : machine.sensors) {
+      auto row = samples.AtOrBefore(sensor.id, p.ts_ms);
+      archive->push_back(row && p.ts_ms - row->ts_ms <= max_gap_ms ? row->filtered : kUnknown);
+    }
+    if (cache) cache->Put(machine.id, p.id, p.ts_ms, *archive);
+  }
+  for (size_t j = 0; j < machine.sensors.size(); ++j) {
+    if (auto it = p.temperatures.find(machine.sensors[j].name); it != p.temperatures.end()) {
+      (*archive)[j] = it->second;
+    }
+  }
+  return *archive;
 }
 
 }  // namespace
 
 DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const std::string& axis,
-                               double gross_error_mm, int64_t max_gap_ms) {
+                               double gross_error_mm, int64_t max_gap_ms,
+                               ProbeTemperatureCache* cache) {
   DriftDataset d;
   for (const auto& s : machine.sensors) d.sensors.push_back(s.name);
   SampleStore samples(db);
@@ -39,8 +55,7 @@ DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const
       }
       continue;
     }
-    std::vector<double> t0;
-    for (const auto& s : machine.sensors) t0.push_back(TemperatureAt(samples, s, *datum, max_gap_ms));
+    const std::vector<double> t0 = TemperaturesAt(samples, machine, *datum, max_gap_ms, cache);
     const int run_index = static_cast<int>(d.runs.size());
     bool used = false;
     for (const auto& p : run.points) {
@@ -55,9 +70,8 @@ DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const
         ++d.skipped_gross;
         continue;
       }
-      for (size_t j = 0; j < machine.sensors.size(); ++j) {
-        row.delta_t.push_back(TemperatureAt(samples, machine.sensors[j], p, max_gap_ms) - t0[j]);
-      }
+      const std::vector<double> t = TemperaturesAt(samples, machine, p, max_gap_ms, cache);
+      for (size_t j = 0; j < t.size(); ++j) row.delta_t.push_back(t[j] - t0[j]);
       d.rows.push_back(std::move(row));
       used = true;
     }

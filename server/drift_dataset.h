@@ -9,6 +9,7 @@
 
 #include "model/observations.h"
 #include "storage/database.h"
+#include "server/probe_temperature_cache.h"
 #include "storage/records.h"
 
 namespace thermocomp {
@@ -37,8 +38,10 @@ struct DriftDataset {
 };
 
 // Caller holds db.mutex(). `max_gap_ms`: an archived sample older than this
-// at a probe time does not count as the temperature at that time.
+// at a probe time does not count as the temperature at that time. `cache`
+// (optional) holds archive temperatures at probe points between calls.
 DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const std::string& axis,
-                               double gross_error_mm, int64_t max_gap_ms);
+                               double gross_error_mm, int64_t max_gap_ms,
+                               ProbeTemperatureCache* cache = nullptr);
 
 }  // namespace thermocomp

@@ -74,7 +74,7 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
   }
 
   DriftDataset data = BuildDriftDataset(db_, *machine, axis_name, config_.gross_error_mm,
-                                        int64_t{config_.stale_after_s} * 1000);
+                                        int64_t{config_.stale_after_s} * 1000, cache_);
   std::vector<std::string> holdout;
   if (req.holdout_runs) {
     holdout = *req.holdout_runs;

@@ -15,6 +15,7 @@
 
 #include "server/clock.h"
 #include "server/config.h"
+#include "server/probe_temperature_cache.h"
 #include "storage/database.h"
 #include "storage/records.h"
 
@@ -30,8 +31,9 @@ struct FitRequest {
 class FitService {
  public:
   using Listener = std::function<void(const std::string& machine)>;
-  FitService(Database& db, const Clock& clock, const Config& config)
-      : db_(db), clock_(clock), config_(config) {}
+  FitService(Database& db, const Clock& clock, const Config& config,
+             ProbeTemperatureCache* cache = nullptr)
+      : db_(db), clock_(clock), config_(config), cache_(cache) {}
 
   // The stored report (with "version" and "status"), or NotFound /
   // Unprocessable (too few points: nothing is stored).
@@ -49,6 +51,7 @@ class FitService {
   Database& db_;
   const Clock& clock_;
   const Config& config_;
+  ProbeTemperatureCache* cache_;
   Listener listener_;
 };
 

@@ -32,7 +32,7 @@ StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
   const AxisRecord* axis = machine->FindAxis(q.axis);
   if (!axis) return Status::NotFound("unknown axis '" + q.axis + "' on " + q.machine);
   DriftDataset data = BuildDriftDataset(db_, *machine, q.axis, config_.gross_error_mm,
-                                        int64_t{config_.stale_after_s} * 1000);
+                                        int64_t{config_.stale_after_s} * 1000, cache_);
   std::optional<DriftModel> model;
   std::optional<int> version;
   if (auto active = ModelStore(db_).Active(axis->id)) {
@@ -72,11 +72,24 @@ StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
                       {"predicted_mm", FiniteOrNull(predicted[i])},
                       {"residual_mm", FiniteOrNull(residual[i])}});
   }
+  // The served offset: raw rows when they are few enough, else the hourly
+  // envelope (two extreme points per hour) thinned like the raw series.
   std::vector<int64_t> served_ts;
   std::vector<double> served;
-  for (const auto& r : LogStore(db_).Compensation(axis->id, q.from_ms, q.to_ms)) {
-    served_ts.push_back(r.ts_ms);
-    served.push_back(r.offset_mm);
+  LogStore log(db_);
+  std::string served_source = "log";
+  auto [first, last] = log.CompensationExtent(axis->id, q.from_ms, q.to_ms);
+  if (last - first > static_cast<int64_t>(q.max_points) * 3600000 / 2) {
+    served_source = "hourly envelope";
+    for (const auto& [ts, v] : log.CompensationEnvelope(axis->id, q.from_ms, q.to_ms)) {
+      served_ts.push_back(ts);
+      served.push_back(v);
+    }
+  } else {
+    for (const auto& r : log.Compensation(axis->id, q.from_ms, q.to_ms)) {
+      served_ts.push_back(r.ts_ms);
+      served.push_back(r.offset_mm);
+    }
   }
   nlohmann::json out = {{"machine", q.machine},
                         {"axis", q.axis},
@@ -84,6 +97,7 @@ StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
                         {"max_points", q.max_points},
                         {"probe_points_total", ts.size()},
                         {"probe_points", points},
+                        {"served_offset_source", served_source},
                         {"served_offset_total", served.size()},
                         {"served_offset", Series(served_ts, served, q.max_points)}};
   return out;

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "server/config.h"
+#include "server/probe_temperature_cache.h"
 #include "storage/database.h"
 
 namespace thermocomp {
@@ -19,12 +20,14 @@ struct HistoryQuery {
 
 class HistoryService {
  public:
-  HistoryService(Database& db, const Config& config) : db_(db), config_(config) {}
+  HistoryService(Database& db, const Config& config, ProbeTemperatureCache* cache = nullptr)
+      : db_(db), config_(config), cache_(cache) {}
   StatusOr<nlohmann::json> Drift(const HistoryQuery& q);
 
  private:
   Database& db_;
   const Config& config_;
+  ProbeTemperatureCache* cache_;
 };
 
 }  // namespace thermocomp

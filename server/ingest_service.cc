@@ -149,6 +149,11 @@ IngestResult IngestService::AddTemperatures(const std::string& machine_name,
     return Rejected({}, st);
   }
   if (Status st = tx.Commit(); !st.ok()) return Rejected({}, st);
+  if (cache_ && result.accepted > 0) {
+    int64_t earliest = INT64_MAX;
+    for (const auto& s : samples) earliest = std::min(earliest, s.ts_ms);
+    cache_->InvalidateFrom(machine->id, earliest);
+  }
   lock.unlock();
   if (listener_ && result.accepted > 0) listener_(machine_name);
   return result;

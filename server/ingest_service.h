@@ -11,6 +11,7 @@
 
 #include "model/status.h"
 #include "server/clock.h"
+#include "server/probe_temperature_cache.h"
 #include "storage/database.h"
 #include "storage/records.h"
 
@@ -57,7 +58,8 @@ bool ValidAxisName(const std::string& axis);  // X Y Z A B C U V W
 class IngestService {
  public:
   using Listener = std::function<void(const std::string& machine)>;
-  IngestService(Database& db, const Clock& clock) : db_(db), clock_(clock) {}
+  IngestService(Database& db, const Clock& clock, ProbeTemperatureCache* cache = nullptr)
+      : db_(db), clock_(clock), cache_(cache) {}
 
   IngestResult AddTemperatures(const std::string& machine,
                                const std::vector<TemperatureInput>& samples,
@@ -72,6 +74,7 @@ class IngestService {
   Status CheckTs(int64_t ts_ms) const;
   Database& db_;
   const Clock& clock_;
+  ProbeTemperatureCache* cache_;
   Listener listener_;
 };
 

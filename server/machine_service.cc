@@ -66,6 +66,7 @@ StatusOr<bool> MachineService::Register(const MachineRecord& m, const std::strin
   if (!created.ok()) return created.status();
   if (Status s = LogStore(db_).Audit(clock_.NowMs(), actor, "machine", m.name, 1); !s.ok()) return s;
   if (Status s = tx.Commit(); !s.ok()) return s;
+  if (cache_ && existing) cache_->InvalidateMachine(existing->id);  // the sensor list may have changed
   return *created;
 }
 

@@ -6,6 +6,7 @@
 
 #include "server/clock.h"
 #include "server/ingest_service.h"
+#include "server/probe_temperature_cache.h"
 #include "storage/database.h"
 #include "storage/records.h"
 
@@ -13,7 +14,8 @@ namespace thermocomp {
 
 class MachineService {
  public:
-  MachineService(Database& db, const Clock& clock) : db_(db), clock_(clock) {}
+  MachineService(Database& db, const Clock& clock, ProbeTemperatureCache* cache = nullptr)
+      : db_(db), clock_(clock), cache_(cache) {}
 
   // Validates and stores; errors name the field. Returns true if created.
   StatusOr<bool> Register(const MachineRecord& machine, const std::string& actor,
@@ -26,6 +28,7 @@ class MachineService {
  private:
   Database& db_;
   const Clock& clock_;
+  ProbeTemperatureCache* cache_;
 };
 
 }  // namespace thermocomp

@@ -1,4 +1,6 @@
-# Writes OUT: a table of {version, name, sql} from the migration FILES.
+# Writes OUT: a table of {version, name, sql} from DIR/NNNN_*.sql, in order.
+file(GLOB FILES ${DIR}/[0-9][0-9][0-9][0-9]_*.sql)
+list(SORT FILES)
 set(body "// Generated from migrations/*.sql by embed_migrations.cmake. Do not edit.\n")
 string(APPEND body "#include \"storage/migrator.h\"\nnamespace thermocomp {\n")
 string(APPEND body "const std::vector<Migration>& EmbeddedMigrations() {\n  static const std::vector<Migration> m = {\n")

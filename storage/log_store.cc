@@ -13,7 +13,37 @@ Status LogStore::AppendCompensation(int64_t axis_id, const CompensationLogRow& r
   } else {
     q.BindNull(7);
   }
-  return q.Run();
+  if (Status s = q.Run(); !s.ok()) return s;
+  Statement up(db_.handle(),
+               "INSERT INTO compensation_rollup(axis_id, bucket_ms, n, min_mm, min_ts_ms, max_mm, max_ts_ms)"
+               " VALUES (?1, ?2 / 3600000 * 3600000, 1, ?3, ?2, ?3, ?2)"
+               " ON CONFLICT(axis_id, bucket_ms) DO UPDATE SET n = n + 1,"
+               " min_ts_ms = CASE WHEN excluded.min_mm < min_mm THEN excluded.min_ts_ms ELSE min_ts_ms END,"
+               " min_mm = MIN(min_mm, excluded.min_mm),"
+               " max_ts_ms = CASE WHEN excluded.max_mm > max_mm THEN excluded.max_ts_ms ELSE max_ts_ms END,"
+               " max_mm = MAX(max_mm, excluded.max_mm)");
+  up.Bind(1, axis_id).Bind(2, r.ts_ms).Bind(3, r.offset_mm);
+  return up.Run();
+}
+
+std::vector<std::pair<int64_t, double>> LogStore::CompensationEnvelope(int64_t axis_id,
+                                                                       int64_t from_ms,
+                                                                       int64_t to_ms) {
+  Statement q(db_.handle(),
+              "SELECT min_ts_ms, min_mm, max_ts_ms, max_mm FROM compensation_rollup"
+              " WHERE axis_id = ? AND bucket_ms >= ? / 3600000 * 3600000 AND bucket_ms <= ?"
+              " ORDER BY bucket_ms");
+  q.Bind(1, axis_id).Bind(2, from_ms).Bind(3, to_ms);
+  std::vector<std::pair<int64_t, double>> out;
+  while (q.Step()) {
+    std::pair<int64_t, double> lo{q.Int(0), q.Double(1)}, hi{q.Int(2), q.Double(3)};
+    if (hi.first < lo.first) std::swap(lo, hi);
+    for (const auto& p : {lo, hi}) {
+      if (p.first < from_ms || p.first > to_ms) continue;
+      if (out.empty() || out.back().first != p.first) out.push_back(p);
+    }
+  }
+  return out;
 }
 
 std::vector<CompensationLogRow> LogStore::Compensation(int64_t axis_id, int64_t from_ms,
@@ -39,6 +69,22 @@ std::optional<CompensationLogRow> LogStore::LatestCompensation(int64_t axis_id) 
   auto rows = Compensation(axis_id, q.Int(0), q.Int(0));
   if (rows.empty()) return std::nullopt;
   return rows.back();
+}
+
+std::pair<int64_t, int64_t> LogStore::CompensationExtent(int64_t axis_id, int64_t from_ms,
+                                                        int64_t to_ms) {
+  // Two index seeks; MIN and MAX together over a range would scan it.
+  Statement first(db_.handle(),
+                  "SELECT ts_ms FROM compensation_log WHERE axis_id = ? AND ts_ms >= ? AND ts_ms <= ?"
+                  " ORDER BY ts_ms LIMIT 1");
+  first.Bind(1, axis_id).Bind(2, from_ms).Bind(3, to_ms);
+  if (!first.Step()) return {0, 0};
+  Statement last(db_.handle(),
+                 "SELECT ts_ms FROM compensation_log WHERE axis_id = ? AND ts_ms >= ? AND ts_ms <= ?"
+                 " ORDER BY ts_ms DESC LIMIT 1");
+  last.Bind(1, axis_id).Bind(2, from_ms).Bind(3, to_ms);
+  last.Step();
+  return {first.Int(0), last.Int(0)};
 }
 
 Status LogStore::Audit(int64_t ts_ms, const std::string& actor, const std::string& action,

@@ -92,7 +92,7 @@ TEST(CrashTest, AcknowledgedSamplesSurviveKill9) {
   waitpid(server, nullptr, 0);
   for (auto& t : writers) t.join();
   const int acked[2] = {acked_batches[0], acked_batches[1]};
-  ASSERT_GT(acked[0] + acked[1], 40);
+  ASSERT_GE(acked[0] + acked[1], 40);
 
   server = StartServer(db, port);
   ASSERT_GT(server, 0);
