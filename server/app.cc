@@ -22,14 +22,11 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
   app->compensation_ = std::make_unique<CompensationService>(d, clock, c);
   app->history_ = std::make_unique<HistoryService>(d, c, cache);
   app->scheduler_ = std::make_unique<RefitScheduler>(d, *app->fits_, clock, c);
-  App* self = app.get();
-  auto recompute = [self](const std::string& machine) {
-    if (Status s = self->compensation_->Recompute(machine); !s.ok()) {
-      log::Warn("compensation recompute failed", "machine=" + machine + " error=\"" + s.message() + "\"");
-    }
-  };
-  app->ingest_->SetListener(recompute);
-  app->fits_->SetListener(recompute);
+  CompensationService* compensation = app->compensation_.get();
+  auto changed = [compensation](const std::string& machine) { compensation->MarkChanged(machine); };
+  app->ingest_->SetListener(changed);
+  app->fits_->SetListener(changed);
+  compensation->Start();
   log::Info("database open", "path=" + config.db_path +
                                  " schema_version=" + std::to_string(d.schema_version()));
   return app;

@@ -124,7 +124,47 @@ Status CompensationService::Recompute(const std::string& machine) {
   return Status::Ok();
 }
 
+void CompensationService::Start() {
+  worker_ = std::thread([this] {
+    std::unique_lock<std::mutex> lock(dirty_mutex_);
+    while (true) {
+      dirty_cv_.wait(lock, [this] { return stop_ || !dirty_.empty(); });
+      if (stop_) return;
+      std::set<std::string> batch;
+      batch.swap(dirty_);
+      lock.unlock();
+      for (const auto& m : batch) (void)Recompute(m);
+      lock.lock();
+    }
+  });
+}
+
+void CompensationService::Stop() {
+  {
+    std::lock_guard<std::mutex> lock(dirty_mutex_);
+    stop_ = true;
+  }
+  dirty_cv_.notify_all();
+  if (worker_.joinable()) worker_.join();
+}
+
+void CompensationService::MarkChanged(const std::string& machine) {
+  {
+    std::lock_guard<std::mutex> lock(dirty_mutex_);
+    dirty_.insert(machine);
+  }
+  dirty_cv_.notify_one();
+}
+
 StatusOr<MachineCompensation> CompensationService::Get(const std::string& machine) {
+  bool changed;
+  {
+    std::lock_guard<std::mutex> lock(dirty_mutex_);
+    changed = dirty_.erase(machine) > 0;
+  }
+  if (changed) {
+    if (Status s = Recompute(machine); !s.ok()) return s;
+  }
   std::shared_ptr<const MachineCompensation> cached;
   {
     std::shared_lock lock(mutex_);

@@ -1,12 +1,18 @@
 // CompensationService: what each machine should write into its control now.
 // Recomputed when data or the active model changes (not per request) and
 // kept in memory; a request only checks staleness against the clock.
+// Changes are marked by MarkChanged() and recomputed by a worker thread,
+// coalescing bursts, so ingest does not wait for it; Get() recomputes
+// first if the machine has a change the worker has not reached yet.
 // Every served offset is finite and within the axis clamp; when the value
 // cannot be trusted (no model, stale or implausible inputs) the axis is
 // served with valid=false and offset 0 and the reason.
 #pragma once
 
+#include <condition_variable>
 #include <map>
+#include <set>
+#include <thread>
 #include <memory>
 #include <optional>
 #include <shared_mutex>
@@ -47,6 +53,12 @@ class CompensationService {
  public:
   CompensationService(Database& db, const Clock& clock, const Config& config)
       : db_(db), clock_(clock), config_(config) {}
+  ~CompensationService() { Stop(); }
+
+  void Start();  // the recompute worker
+  void Stop();
+  // The machine's data or model changed; recompute soon.
+  void MarkChanged(const std::string& machine);
 
   // Recomputes and caches the machine's compensation; logs a served value
   // when it changed by more than 0.1 um, changed validity, or a minute passed.
@@ -62,6 +74,11 @@ class CompensationService {
   const Config& config_;
   std::shared_mutex mutex_;
   std::map<std::string, std::shared_ptr<const MachineCompensation>> cache_;
+  std::mutex dirty_mutex_;
+  std::condition_variable dirty_cv_;
+  std::set<std::string> dirty_;
+  bool stop_ = false;
+  std::thread worker_;
 };
 
 }  // namespace thermocomp

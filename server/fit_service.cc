@@ -195,7 +195,7 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
   if (!version.ok()) return version.status();
   report["version"] = *version;
   {
-    Statement up(db_.handle(), "UPDATE models SET report_json = ? WHERE axis_id = ? AND version = ?");
+    Statement up(db_, "UPDATE models SET report_json = ? WHERE axis_id = ? AND version = ?");
     up.Bind(1, report.dump()).Bind(2, axis->id).Bind(3, int64_t{*version});
     if (Status s = up.Run(); !s.ok()) return s;
   }

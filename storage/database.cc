@@ -12,7 +12,19 @@ Statement::Statement(sqlite3* db, std::string_view sql) : db_(db) {
   }
 }
 
-Statement::~Statement() { sqlite3_finalize(stmt_); }
+Statement::Statement(Database& db, std::string_view sql)
+    : db_(db.handle()), cache_(&db), sql_(sql) {
+  stmt_ = db.Acquire(sql_);
+  if (!stmt_) status_ = Status::Internal(std::string("prepare failed: ") + sqlite3_errmsg(db_));
+}
+
+Statement::~Statement() {
+  if (cache_ && stmt_) {
+    cache_->Release(sql_, stmt_);
+  } else {
+    sqlite3_finalize(stmt_);
+  }
+}
 
 Statement& Statement::Bind(int i, int64_t v) {
   sqlite3_bind_int64(stmt_, i, v);
@@ -87,7 +99,34 @@ StatusOr<std::unique_ptr<Database>> Database::Open(const std::string& path,
   return db;
 }
 
-Database::~Database() { sqlite3_close_v2(db_); }
+Database::~Database() {
+  for (auto& [sql, list] : idle_statements_) {
+    for (sqlite3_stmt* s : list) sqlite3_finalize(s);
+  }
+  sqlite3_close_v2(db_);
+}
+
+sqlite3_stmt* Database::Acquire(const std::string& sql) {
+  auto it = idle_statements_.find(sql);
+  if (it != idle_statements_.end() && !it->second.empty()) {
+    sqlite3_stmt* s = it->second.back();
+    it->second.pop_back();
+    return s;
+  }
+  sqlite3_stmt* s = nullptr;
+  if (sqlite3_prepare_v3(db_, sql.data(), static_cast<int>(sql.size()), SQLITE_PREPARE_PERSISTENT,
+                         &s, nullptr) != SQLITE_OK) {
+    sqlite3_finalize(s);
+    return nullptr;
+  }
+  return s;
+}
+
+void Database::Release(const std::string& sql, sqlite3_stmt* stmt) {
+  sqlite3_reset(stmt);
+  sqlite3_clear_bindings(stmt);
+  idle_statements_[sql].push_back(stmt);
+}
 
 Status Database::Exec(std::string_view sql) {
   char* err = nullptr;

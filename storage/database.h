@@ -10,6 +10,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
+#include <vector>
 
 #include <sqlite3.h>
 
@@ -26,10 +28,16 @@ struct DatabaseOptions {
   int migrate_to = 0;
 };
 
-// A prepared statement bound to its connection; finalised on destruction.
+class Database;
+
+// A prepared statement. Made from a Database, it is borrowed from the
+// connection's statement cache and returned (reset) on destruction, so a
+// statement is compiled once per connection, not once per request. Made
+// from a raw handle, it is owned and finalised.
 class Statement {
  public:
   Statement(sqlite3* db, std::string_view sql);
+  Statement(Database& db, std::string_view sql);
   ~Statement();
   Statement(const Statement&) = delete;
   Statement& operator=(const Statement&) = delete;
@@ -54,6 +62,8 @@ class Statement {
  private:
   sqlite3* db_;
   sqlite3_stmt* stmt_ = nullptr;
+  Database* cache_ = nullptr;
+  std::string sql_;
   Status status_;
 };
 
@@ -81,8 +91,14 @@ class Database {
   // Online backup into `dest_path` while the database stays in use.
   Status Backup(const std::string& dest_path);
 
+  // The statement cache behind Statement(Database&, sql). A statement in
+  // use is not handed out twice: a nested use of the same SQL gets its own.
+  sqlite3_stmt* Acquire(const std::string& sql);
+  void Release(const std::string& sql, sqlite3_stmt* stmt);
+
  private:
   Database() = default;
+  std::unordered_map<std::string, std::vector<sqlite3_stmt*>> idle_statements_;
   sqlite3* db_ = nullptr;
   std::string path_;
   int schema_version_ = 0;

@@ -3,7 +3,7 @@
 namespace thermocomp {
 
 Status LogStore::AppendCompensation(int64_t axis_id, const CompensationLogRow& r) {
-  Statement q(db_.handle(),
+  Statement q(db_,
               "INSERT OR REPLACE INTO compensation_log(axis_id, ts_ms, offset_mm, predicted_drift_mm,"
               " valid, clamped, model_version) VALUES (?, ?, ?, ?, ?, ?, ?)");
   q.Bind(1, axis_id).Bind(2, r.ts_ms).Bind(3, r.offset_mm).Bind(4, r.predicted_drift_mm)
@@ -14,7 +14,7 @@ Status LogStore::AppendCompensation(int64_t axis_id, const CompensationLogRow& r
     q.BindNull(7);
   }
   if (Status s = q.Run(); !s.ok()) return s;
-  Statement up(db_.handle(),
+  Statement up(db_,
                "INSERT INTO compensation_rollup(axis_id, bucket_ms, n, min_mm, min_ts_ms, max_mm, max_ts_ms)"
                " VALUES (?1, ?2 / 3600000 * 3600000, 1, ?3, ?2, ?3, ?2)"
                " ON CONFLICT(axis_id, bucket_ms) DO UPDATE SET n = n + 1,"
@@ -29,7 +29,7 @@ Status LogStore::AppendCompensation(int64_t axis_id, const CompensationLogRow& r
 std::vector<std::pair<int64_t, double>> LogStore::CompensationEnvelope(int64_t axis_id,
                                                                        int64_t from_ms,
                                                                        int64_t to_ms) {
-  Statement q(db_.handle(),
+  Statement q(db_,
               "SELECT min_ts_ms, min_mm, max_ts_ms, max_mm FROM compensation_rollup"
               " WHERE axis_id = ? AND bucket_ms >= ? / 3600000 * 3600000 AND bucket_ms <= ?"
               " ORDER BY bucket_ms");
@@ -48,7 +48,7 @@ std::vector<std::pair<int64_t, double>> LogStore::CompensationEnvelope(int64_t a
 
 std::vector<CompensationLogRow> LogStore::Compensation(int64_t axis_id, int64_t from_ms,
                                                        int64_t to_ms) {
-  Statement q(db_.handle(),
+  Statement q(db_,
               "SELECT ts_ms, offset_mm, predicted_drift_mm, valid, clamped, model_version"
               " FROM compensation_log WHERE axis_id = ? AND ts_ms >= ? AND ts_ms <= ? ORDER BY ts_ms");
   q.Bind(1, axis_id).Bind(2, from_ms).Bind(3, to_ms);
@@ -62,7 +62,7 @@ std::vector<CompensationLogRow> LogStore::Compensation(int64_t axis_id, int64_t 
 }
 
 std::optional<CompensationLogRow> LogStore::LatestCompensation(int64_t axis_id) {
-  Statement q(db_.handle(),
+  Statement q(db_,
               "SELECT ts_ms FROM compensation_log WHERE axis_id = ? ORDER BY ts_ms DESC LIMIT 1");
   q.Bind(1, axis_id);
   if (!q.Step()) return std::nullopt;
@@ -74,12 +74,12 @@ std::optional<CompensationLogRow> LogStore::LatestCompensation(int64_t axis_id) 
 std::pair<int64_t, int64_t> LogStore::CompensationExtent(int64_t axis_id, int64_t from_ms,
                                                         int64_t to_ms) {
   // Two index seeks; MIN and MAX together over a range would scan it.
-  Statement first(db_.handle(),
+  Statement first(db_,
                   "SELECT ts_ms FROM compensation_log WHERE axis_id = ? AND ts_ms >= ? AND ts_ms <= ?"
                   " ORDER BY ts_ms LIMIT 1");
   first.Bind(1, axis_id).Bind(2, from_ms).Bind(3, to_ms);
   if (!first.Step()) return {0, 0};
-  Statement last(db_.handle(),
+  Statement last(db_,
                  "SELECT ts_ms FROM compensation_log WHERE axis_id = ? AND ts_ms >= ? AND ts_ms <= ?"
                  " ORDER BY ts_ms DESC LIMIT 1");
   last.Bind(1, axis_id).Bind(2, from_ms).Bind(3, to_ms);
@@ -89,14 +89,14 @@ std::pair<int64_t, int64_t> LogStore::CompensationExtent(int64_t axis_id, int64_
 
 Status LogStore::Audit(int64_t ts_ms, const std::string& actor, const std::string& action,
                        const std::string& machine, int64_t count, const std::string& detail) {
-  Statement q(db_.handle(),
+  Statement q(db_,
               "INSERT INTO audit(ts_ms, actor, action, machine, count, detail) VALUES (?, ?, ?, ?, ?, ?)");
   q.Bind(1, ts_ms).Bind(2, actor).Bind(3, action).Bind(4, machine).Bind(5, count).Bind(6, detail);
   return q.Run();
 }
 
 int64_t LogStore::CountAudit(const std::string& action) {
-  Statement q(db_.handle(), "SELECT COUNT(*) FROM audit WHERE action = ?");
+  Statement q(db_, "SELECT COUNT(*) FROM audit WHERE action = ?");
   q.Bind(1, action);
   return q.Step() ? q.Int(0) : 0;
 }

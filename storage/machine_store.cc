@@ -27,12 +27,12 @@ StatusOr<bool> MachineStore::Upsert(const MachineRecord& m, int64_t now_ms) {
   bool created = false;
   int64_t id = 0;
   {
-    Statement q(db_.handle(), "SELECT id FROM machines WHERE name = ?");
+    Statement q(db_, "SELECT id FROM machines WHERE name = ?");
     q.Bind(1, m.name);
     if (q.Step()) id = q.Int(0);
   }
   if (id == 0) {
-    Statement ins(db_.handle(),
+    Statement ins(db_,
                   "INSERT INTO machines(name, display_name, controller, created_ms, updated_ms)"
                   " VALUES (?, ?, ?, ?, ?)");
     ins.Bind(1, m.name).Bind(2, m.display_name).Bind(3, m.controller).Bind(4, now_ms).Bind(5, now_ms);
@@ -40,12 +40,12 @@ StatusOr<bool> MachineStore::Upsert(const MachineRecord& m, int64_t now_ms) {
     id = db_.LastInsertId();
     created = true;
   } else {
-    Statement up(db_.handle(),
+    Statement up(db_,
                  "UPDATE machines SET display_name = ?, controller = ?, updated_ms = ? WHERE id = ?");
     up.Bind(1, m.display_name).Bind(2, m.controller).Bind(3, now_ms).Bind(4, id);
     if (Status s = up.Run(); !s.ok()) return s;
   }
-  Statement sensor(db_.handle(),
+  Statement sensor(db_,
                    "INSERT INTO sensors(machine_id, name, location, ewma_alpha) VALUES (?, ?, ?, ?)"
                    " ON CONFLICT(machine_id, name) DO UPDATE SET location = excluded.location,"
                    " ewma_alpha = excluded.ewma_alpha");
@@ -54,7 +54,7 @@ StatusOr<bool> MachineStore::Upsert(const MachineRecord& m, int64_t now_ms) {
     sensor.Bind(1, id).Bind(2, s.name).Bind(3, s.location).Bind(4, s.ewma_alpha);
     if (Status st = sensor.Run(); !st.ok()) return st;
   }
-  Statement axis(db_.handle(),
+  Statement axis(db_,
                  "INSERT INTO axes(machine_id, name, reference_position_mm, inputs, clamp_mm)"
                  " VALUES (?, ?, ?, ?, ?) ON CONFLICT(machine_id, name) DO UPDATE SET"
                  " reference_position_mm = excluded.reference_position_mm,"
@@ -71,7 +71,7 @@ StatusOr<bool> MachineStore::Upsert(const MachineRecord& m, int64_t now_ms) {
 std::optional<MachineRecord> MachineStore::Find(const std::string& name) {
   MachineRecord m;
   {
-    Statement q(db_.handle(), "SELECT id, display_name, controller FROM machines WHERE name = ?");
+    Statement q(db_, "SELECT id, display_name, controller FROM machines WHERE name = ?");
     q.Bind(1, name);
     if (!q.Step()) return std::nullopt;
     m.id = q.Int(0);
@@ -79,11 +79,11 @@ std::optional<MachineRecord> MachineStore::Find(const std::string& name) {
     m.display_name = q.Text(1);
     m.controller = q.Text(2);
   }
-  Statement s(db_.handle(),
+  Statement s(db_,
               "SELECT id, name, location, ewma_alpha FROM sensors WHERE machine_id = ? ORDER BY id");
   s.Bind(1, m.id);
   while (s.Step()) m.sensors.push_back({s.Int(0), s.Text(1), s.Text(2), s.Double(3)});
-  Statement a(db_.handle(),
+  Statement a(db_,
               "SELECT id, name, reference_position_mm, inputs, clamp_mm FROM axes"
               " WHERE machine_id = ? ORDER BY name");
   a.Bind(1, m.id);
@@ -96,7 +96,7 @@ std::optional<MachineRecord> MachineStore::Find(const std::string& name) {
 std::vector<MachineRecord> MachineStore::List() {
   std::vector<std::string> names;
   {
-    Statement q(db_.handle(), "SELECT name FROM machines ORDER BY name");
+    Statement q(db_, "SELECT name FROM machines ORDER BY name");
     while (q.Step()) names.push_back(q.Text(0));
   }
   std::vector<MachineRecord> out;

@@ -15,17 +15,17 @@ ModelRecord Read(const Statement& q) {
 StatusOr<int> ModelStore::Insert(int64_t axis_id, const ModelRecord& r) {
   int version = 1;
   {
-    Statement q(db_.handle(), "SELECT COALESCE(MAX(version), 0) + 1 FROM models WHERE axis_id = ?");
+    Statement q(db_, "SELECT COALESCE(MAX(version), 0) + 1 FROM models WHERE axis_id = ?");
     q.Bind(1, axis_id);
     if (q.Step()) version = static_cast<int>(q.Int(0));
   }
   if (r.status == "active") {
-    Statement retire(db_.handle(),
+    Statement retire(db_,
                      "UPDATE models SET status = 'retired' WHERE axis_id = ? AND status = 'active'");
     retire.Bind(1, axis_id);
     if (Status s = retire.Run(); !s.ok()) return s;
   }
-  Statement ins(db_.handle(),
+  Statement ins(db_,
                 "INSERT INTO models(axis_id, version, status, reason, created_ms, model_json,"
                 " report_json) VALUES (?, ?, ?, ?, ?, ?, ?)");
   ins.Bind(1, axis_id).Bind(2, int64_t{version}).Bind(3, r.status).Bind(4, r.reason)
@@ -35,7 +35,7 @@ StatusOr<int> ModelStore::Insert(int64_t axis_id, const ModelRecord& r) {
 }
 
 std::vector<ModelRecord> ModelStore::List(int64_t axis_id) {
-  Statement q(db_.handle(), std::string(kColumns) + "WHERE axis_id = ? ORDER BY version");
+  Statement q(db_, std::string(kColumns) + "WHERE axis_id = ? ORDER BY version");
   q.Bind(1, axis_id);
   std::vector<ModelRecord> out;
   while (q.Step()) out.push_back(Read(q));
@@ -43,21 +43,21 @@ std::vector<ModelRecord> ModelStore::List(int64_t axis_id) {
 }
 
 std::optional<ModelRecord> ModelStore::Get(int64_t axis_id, int version) {
-  Statement q(db_.handle(), std::string(kColumns) + "WHERE axis_id = ? AND version = ?");
+  Statement q(db_, std::string(kColumns) + "WHERE axis_id = ? AND version = ?");
   q.Bind(1, axis_id).Bind(2, int64_t{version});
   if (!q.Step()) return std::nullopt;
   return Read(q);
 }
 
 std::optional<ModelRecord> ModelStore::Active(int64_t axis_id) {
-  Statement q(db_.handle(), std::string(kColumns) + "WHERE axis_id = ? AND status = 'active'");
+  Statement q(db_, std::string(kColumns) + "WHERE axis_id = ? AND status = 'active'");
   q.Bind(1, axis_id);
   if (!q.Step()) return std::nullopt;
   return Read(q);
 }
 
 std::optional<int64_t> ModelStore::LatestCreated(int64_t axis_id) {
-  Statement q(db_.handle(), "SELECT MAX(created_ms) FROM models WHERE axis_id = ?");
+  Statement q(db_, "SELECT MAX(created_ms) FROM models WHERE axis_id = ?");
   q.Bind(1, axis_id);
   if (!q.Step() || q.IsNull(0)) return std::nullopt;
   return q.Int(0);
@@ -67,11 +67,11 @@ Status ModelStore::Activate(int64_t axis_id, int version) {
   if (!Get(axis_id, version)) {
     return Status::NotFound("model version " + std::to_string(version) + " does not exist");
   }
-  Statement retire(db_.handle(),
+  Statement retire(db_,
                    "UPDATE models SET status = 'retired' WHERE axis_id = ? AND status = 'active'");
   retire.Bind(1, axis_id);
   if (Status s = retire.Run(); !s.ok()) return s;
-  Statement act(db_.handle(), "UPDATE models SET status = 'active' WHERE axis_id = ? AND version = ?");
+  Statement act(db_, "UPDATE models SET status = 'active' WHERE axis_id = ? AND version = ?");
   act.Bind(1, axis_id).Bind(2, int64_t{version});
   return act.Run();
 }

@@ -4,18 +4,18 @@ namespace thermocomp {
 
 StatusOr<int64_t> ProbeStore::EnsureRun(int64_t machine_id, const std::string& run,
                                         int64_t ts_ms) {
-  Statement q(db_.handle(), "SELECT id, first_ts_ms FROM runs WHERE machine_id = ? AND name = ?");
+  Statement q(db_, "SELECT id, first_ts_ms FROM runs WHERE machine_id = ? AND name = ?");
   q.Bind(1, machine_id).Bind(2, run);
   if (q.Step()) {
     int64_t id = q.Int(0);
     if (ts_ms < q.Int(1)) {
-      Statement up(db_.handle(), "UPDATE runs SET first_ts_ms = ? WHERE id = ?");
+      Statement up(db_, "UPDATE runs SET first_ts_ms = ? WHERE id = ?");
       up.Bind(1, ts_ms).Bind(2, id);
       if (Status s = up.Run(); !s.ok()) return s;
     }
     return id;
   }
-  Statement ins(db_.handle(), "INSERT INTO runs(machine_id, name, first_ts_ms) VALUES (?, ?, ?)");
+  Statement ins(db_, "INSERT INTO runs(machine_id, name, first_ts_ms) VALUES (?, ?, ?)");
   ins.Bind(1, machine_id).Bind(2, run).Bind(3, ts_ms);
   if (Status s = ins.Run(); !s.ok()) return s;
   return db_.LastInsertId();
@@ -24,14 +24,14 @@ StatusOr<int64_t> ProbeStore::EnsureRun(int64_t machine_id, const std::string& r
 std::optional<ProbePointRecord> ProbeStore::FindPoint(int64_t run_id, int k) {
   ProbePointRecord p;
   {
-    Statement q(db_.handle(), "SELECT id, ts_ms FROM probe_points WHERE run_id = ? AND k = ?");
+    Statement q(db_, "SELECT id, ts_ms FROM probe_points WHERE run_id = ? AND k = ?");
     q.Bind(1, run_id).Bind(2, int64_t{k});
     if (!q.Step()) return std::nullopt;
     p.id = q.Int(0);
     p.ts_ms = q.Int(1);
     p.k = k;
   }
-  Statement a(db_.handle(),
+  Statement a(db_,
               "SELECT axis, position_mm, deviation_mm FROM probe_axis_values WHERE point_id = ?");
   a.Bind(1, p.id);
   while (a.Step()) {
@@ -40,7 +40,7 @@ std::optional<ProbePointRecord> ProbeStore::FindPoint(int64_t run_id, int k) {
     if (!a.IsNull(2)) v.deviation_mm = a.Double(2);
     p.axes[a.Text(0)] = v;
   }
-  Statement t(db_.handle(),
+  Statement t(db_,
               "SELECT s.name, t.value FROM probe_temperatures t JOIN sensors s ON s.id = t.sensor_id"
               " WHERE t.point_id = ?");
   t.Bind(1, p.id);
@@ -50,11 +50,11 @@ std::optional<ProbePointRecord> ProbeStore::FindPoint(int64_t run_id, int k) {
 
 Status ProbeStore::InsertPoint(int64_t run_id, const ProbePointRecord& p,
                                const std::map<std::string, int64_t>& sensor_ids) {
-  Statement ins(db_.handle(), "INSERT INTO probe_points(run_id, k, ts_ms) VALUES (?, ?, ?)");
+  Statement ins(db_, "INSERT INTO probe_points(run_id, k, ts_ms) VALUES (?, ?, ?)");
   ins.Bind(1, run_id).Bind(2, int64_t{p.k}).Bind(3, p.ts_ms);
   if (Status s = ins.Run(); !s.ok()) return s;
   const int64_t id = db_.LastInsertId();
-  Statement a(db_.handle(),
+  Statement a(db_,
               "INSERT INTO probe_axis_values(point_id, axis, position_mm, deviation_mm)"
               " VALUES (?, ?, ?, ?)");
   for (const auto& [axis, v] : p.axes) {
@@ -62,7 +62,7 @@ Status ProbeStore::InsertPoint(int64_t run_id, const ProbePointRecord& p,
     a.Bind(1, id).Bind(2, axis).Bind(3, v.position_mm).Bind(4, v.deviation_mm);
     if (Status s = a.Run(); !s.ok()) return s;
   }
-  Statement t(db_.handle(),
+  Statement t(db_,
               "INSERT INTO probe_temperatures(point_id, sensor_id, value) VALUES (?, ?, ?)");
   for (const auto& [sensor, value] : p.temperatures) {
     t.Reset();
@@ -76,7 +76,7 @@ std::vector<RunRecord> ProbeStore::LoadRuns(int64_t machine_id) {
   std::vector<RunRecord> runs;
   std::map<int64_t, size_t> run_index;
   {
-    Statement q(db_.handle(),
+    Statement q(db_,
                 "SELECT id, name, first_ts_ms FROM runs WHERE machine_id = ? ORDER BY first_ts_ms, id");
     q.Bind(1, machine_id);
     while (q.Step()) {
@@ -86,7 +86,7 @@ std::vector<RunRecord> ProbeStore::LoadRuns(int64_t machine_id) {
   }
   std::map<int64_t, std::pair<size_t, size_t>> point_index;  // point id -> (run, point)
   {
-    Statement q(db_.handle(),
+    Statement q(db_,
                 "SELECT p.id, p.run_id, p.k, p.ts_ms FROM probe_points p JOIN runs r ON r.id = p.run_id"
                 " WHERE r.machine_id = ? ORDER BY p.run_id, p.k");
     q.Bind(1, machine_id);
@@ -101,7 +101,7 @@ std::vector<RunRecord> ProbeStore::LoadRuns(int64_t machine_id) {
     }
   }
   {
-    Statement q(db_.handle(),
+    Statement q(db_,
                 "SELECT v.point_id, v.axis, v.position_mm, v.deviation_mm FROM probe_axis_values v"
                 " JOIN probe_points p ON p.id = v.point_id JOIN runs r ON r.id = p.run_id"
                 " WHERE r.machine_id = ?");
@@ -115,7 +115,7 @@ std::vector<RunRecord> ProbeStore::LoadRuns(int64_t machine_id) {
     }
   }
   {
-    Statement q(db_.handle(),
+    Statement q(db_,
                 "SELECT t.point_id, s.name, t.value FROM probe_temperatures t"
                 " JOIN sensors s ON s.id = t.sensor_id WHERE s.machine_id = ?");
     q.Bind(1, machine_id);
@@ -128,7 +128,7 @@ std::vector<RunRecord> ProbeStore::LoadRuns(int64_t machine_id) {
 }
 
 int64_t ProbeStore::CountPoints(int64_t machine_id) {
-  Statement q(db_.handle(),
+  Statement q(db_,
               "SELECT COUNT(*) FROM probe_points p JOIN runs r ON r.id = p.run_id"
               " WHERE r.machine_id = ?");
   q.Bind(1, machine_id);
@@ -136,7 +136,7 @@ int64_t ProbeStore::CountPoints(int64_t machine_id) {
 }
 
 int ProbeStore::CountRunsSince(int64_t machine_id, int64_t since_ms) {
-  Statement q(db_.handle(), "SELECT COUNT(*) FROM runs WHERE machine_id = ? AND first_ts_ms > ?");
+  Statement q(db_, "SELECT COUNT(*) FROM runs WHERE machine_id = ? AND first_ts_ms > ?");
   q.Bind(1, machine_id).Bind(2, since_ms);
   return q.Step() ? static_cast<int>(q.Int(0)) : 0;
 }
@@ -144,7 +144,7 @@ int ProbeStore::CountRunsSince(int64_t machine_id, int64_t since_ms) {
 std::optional<ProbePointRecord> ProbeStore::LatestDatum(int64_t machine_id) {
   int64_t run_id = 0;
   {
-    Statement q(db_.handle(),
+    Statement q(db_,
                 "SELECT p.run_id FROM probe_points p JOIN runs r ON r.id = p.run_id"
                 " WHERE r.machine_id = ? AND p.k = 0 ORDER BY p.ts_ms DESC, p.id DESC LIMIT 1");
     q.Bind(1, machine_id);

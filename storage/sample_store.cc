@@ -2,15 +2,8 @@
 
 namespace thermocomp {
 
-SampleStore::SampleStore(Database& db)
-    : db_(db),
-      insert_(db.handle(), "INSERT INTO samples(sensor_id, ts_ms, value, filtered) VALUES (?, ?, ?, ?)"),
-      at_or_before_(db.handle(),
-                    "SELECT ts_ms, value, filtered FROM samples WHERE sensor_id = ? AND ts_ms <= ?"
-                    " ORDER BY ts_ms DESC LIMIT 1") {}
-
 std::optional<FilterState> SampleStore::LoadFilterState(int64_t sensor_id) {
-  Statement q(db_.handle(),
+  Statement q(db_,
               "SELECT last_ts_ms, last_value, state FROM filter_state WHERE sensor_id = ?");
   q.Bind(1, sensor_id);
   if (!q.Step()) return std::nullopt;
@@ -18,7 +11,7 @@ std::optional<FilterState> SampleStore::LoadFilterState(int64_t sensor_id) {
 }
 
 Status SampleStore::SaveFilterState(int64_t sensor_id, const FilterState& s) {
-  Statement q(db_.handle(),
+  Statement q(db_,
               "INSERT INTO filter_state(sensor_id, last_ts_ms, last_value, state) VALUES (?, ?, ?, ?)"
               " ON CONFLICT(sensor_id) DO UPDATE SET last_ts_ms = excluded.last_ts_ms,"
               " last_value = excluded.last_value, state = excluded.state");
@@ -27,13 +20,13 @@ Status SampleStore::SaveFilterState(int64_t sensor_id, const FilterState& s) {
 }
 
 Status SampleStore::Insert(int64_t sensor_id, const SampleRow& row) {
-  insert_.Reset();
-  insert_.Bind(1, sensor_id).Bind(2, row.ts_ms).Bind(3, row.value).Bind(4, row.filtered);
-  return insert_.Run();
+  Statement q(db_, "INSERT INTO samples(sensor_id, ts_ms, value, filtered) VALUES (?, ?, ?, ?)");
+  q.Bind(1, sensor_id).Bind(2, row.ts_ms).Bind(3, row.value).Bind(4, row.filtered);
+  return q.Run();
 }
 
 std::optional<double> SampleStore::ValueAt(int64_t sensor_id, int64_t ts_ms) {
-  Statement q(db_.handle(), "SELECT value FROM samples WHERE sensor_id = ? AND ts_ms = ?");
+  Statement q(db_, "SELECT value FROM samples WHERE sensor_id = ? AND ts_ms = ?");
   q.Bind(1, sensor_id).Bind(2, ts_ms);
   if (!q.Step()) return std::nullopt;
   return q.Double(0);
@@ -44,16 +37,16 @@ std::optional<SampleRow> SampleStore::Before(int64_t sensor_id, int64_t ts_ms) {
 }
 
 std::optional<SampleRow> SampleStore::AtOrBefore(int64_t sensor_id, int64_t ts_ms) {
-  at_or_before_.Reset();
-  at_or_before_.Bind(1, sensor_id).Bind(2, ts_ms);
-  if (!at_or_before_.Step()) return std::nullopt;
-  SampleRow r{at_or_before_.Int(0), at_or_before_.Double(1), at_or_before_.Double(2)};
-  at_or_before_.Reset();
-  return r;
+  Statement q(db_,
+              "SELECT ts_ms, value, filtered FROM samples WHERE sensor_id = ? AND ts_ms <= ?"
+              " ORDER BY ts_ms DESC LIMIT 1");
+  q.Bind(1, sensor_id).Bind(2, ts_ms);
+  if (!q.Step()) return std::nullopt;
+  return SampleRow{q.Int(0), q.Double(1), q.Double(2)};
 }
 
 std::vector<SampleRow> SampleStore::Range(int64_t sensor_id, int64_t from_ms, int64_t to_ms) {
-  Statement q(db_.handle(),
+  Statement q(db_,
               "SELECT ts_ms, value, filtered FROM samples WHERE sensor_id = ? AND ts_ms >= ?"
               " AND ts_ms <= ? ORDER BY ts_ms");
   q.Bind(1, sensor_id).Bind(2, from_ms).Bind(3, to_ms);
@@ -63,13 +56,13 @@ std::vector<SampleRow> SampleStore::Range(int64_t sensor_id, int64_t from_ms, in
 }
 
 Status SampleStore::UpdateFiltered(int64_t sensor_id, int64_t ts_ms, double filtered) {
-  Statement q(db_.handle(), "UPDATE samples SET filtered = ? WHERE sensor_id = ? AND ts_ms = ?");
+  Statement q(db_, "UPDATE samples SET filtered = ? WHERE sensor_id = ? AND ts_ms = ?");
   q.Bind(1, filtered).Bind(2, sensor_id).Bind(3, ts_ms);
   return q.Run();
 }
 
 int64_t SampleStore::CountForMachine(int64_t machine_id) {
-  Statement q(db_.handle(),
+  Statement q(db_,
               "SELECT COUNT(*) FROM samples WHERE sensor_id IN"
               " (SELECT id FROM sensors WHERE machine_id = ?)");
   q.Bind(1, machine_id);

@@ -12,7 +12,7 @@ namespace thermocomp {
 
 class SampleStore {
  public:
-  explicit SampleStore(Database& db);
+  explicit SampleStore(Database& db) : db_(db) {}
 
   std::optional<FilterState> LoadFilterState(int64_t sensor_id);
   Status SaveFilterState(int64_t sensor_id, const FilterState& state);
@@ -31,8 +31,6 @@ class SampleStore {
 
  private:
   Database& db_;
-  Statement insert_;
-  Statement at_or_before_;
 };
 
 }  // namespace thermocomp
