@@ -96,9 +96,14 @@ void HttpServer::Routes() {
     app_.metrics().ObserveRequest(secs);
     if (res.status >= 500) log::Error("request failed", "method=" + req.method + " path=" + req.path);
   });
-  s.set_error_handler([](const Req&, Res& res) {
-    if (res.body.empty()) {
-      WriteProblem(res, res.status, res.status == 413 ? "request body too large" : "no such resource");
+  s.set_error_handler([](const Req& req, Res& res) {
+    if (!res.body.empty()) return;
+    switch (res.status) {
+      case 404: return WriteProblem(res, 404, "no such resource: " + req.method + " " + req.path);
+      case 413: return WriteProblem(res, 413, "request body too large");
+      case 400:
+        return WriteProblem(res, 400, "malformed HTTP request (a POST needs Content-Length, e.g. curl -d '')");
+      default: return WriteProblem(res, res.status, "request failed");
     }
   });
   s.set_exception_handler([](const Req&, Res& res, std::exception_ptr ep) {

@@ -43,7 +43,7 @@ DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const
   DriftDataset d;
   for (const auto& s : machine.sensors) d.sensors.push_back(s.name);
   SampleStore samples(db);
-  for (const RunRecord& run : ProbeStore(db).LoadRuns(machine.id)) {
+  for (const RunRecord& run : ProbeStore(db).LoadAxisRuns(machine.id, axis)) {
     const ProbePointRecord* datum = nullptr;
     for (const auto& p : run.points) {
       if (p.k == 0) datum = &p;

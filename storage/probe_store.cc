@@ -72,56 +72,40 @@ Status ProbeStore::InsertPoint(int64_t run_id, const ProbePointRecord& p,
   return Status::Ok();
 }
 
-std::vector<RunRecord> ProbeStore::LoadRuns(int64_t machine_id) {
+std::vector<RunRecord> ProbeStore::LoadAxisRuns(int64_t machine_id, const std::string& axis) {
   std::vector<RunRecord> runs;
-  std::map<int64_t, size_t> run_index;
   {
     Statement q(db_,
-                "SELECT id, name, first_ts_ms FROM runs WHERE machine_id = ? ORDER BY first_ts_ms, id");
-    q.Bind(1, machine_id);
+                "SELECT r.id, r.name, r.first_ts_ms, p.id, p.k, p.ts_ms, v.position_mm, v.deviation_mm"
+                " FROM runs r JOIN probe_points p ON p.run_id = r.id"
+                " JOIN probe_axis_values v ON v.point_id = p.id AND v.axis = ?"
+                " WHERE r.machine_id = ? AND v.deviation_mm IS NOT NULL"
+                " ORDER BY r.first_ts_ms, r.id, p.k");
+    q.Bind(1, axis).Bind(2, machine_id);
     while (q.Step()) {
-      run_index[q.Int(0)] = runs.size();
-      runs.push_back({q.Int(0), q.Text(1), q.Int(2), {}});
-    }
-  }
-  std::map<int64_t, std::pair<size_t, size_t>> point_index;  // point id -> (run, point)
-  {
-    Statement q(db_,
-                "SELECT p.id, p.run_id, p.k, p.ts_ms FROM probe_points p JOIN runs r ON r.id = p.run_id"
-                " WHERE r.machine_id = ? ORDER BY p.run_id, p.k");
-    q.Bind(1, machine_id);
-    while (q.Step()) {
-      size_t r = run_index[q.Int(1)];
-      point_index[q.Int(0)] = {r, runs[r].points.size()};
+      if (runs.empty() || runs.back().id != q.Int(0)) runs.push_back({q.Int(0), q.Text(1), q.Int(2), {}});
       ProbePointRecord p;
-      p.id = q.Int(0);
-      p.k = static_cast<int>(q.Int(2));
-      p.ts_ms = q.Int(3);
-      runs[r].points.push_back(std::move(p));
+      p.id = q.Int(3);
+      p.k = static_cast<int>(q.Int(4));
+      p.ts_ms = q.Int(5);
+      AxisValue& v = p.axes[axis];
+      if (!q.IsNull(6)) v.position_mm = q.Double(6);
+      v.deviation_mm = q.Double(7);
+      runs.back().points.push_back(std::move(p));
     }
   }
-  {
-    Statement q(db_,
-                "SELECT v.point_id, v.axis, v.position_mm, v.deviation_mm FROM probe_axis_values v"
-                " JOIN probe_points p ON p.id = v.point_id JOIN runs r ON r.id = p.run_id"
-                " WHERE r.machine_id = ?");
-    q.Bind(1, machine_id);
-    while (q.Step()) {
-      auto [r, i] = point_index[q.Int(0)];
-      AxisValue v;
-      if (!q.IsNull(2)) v.position_mm = q.Double(2);
-      if (!q.IsNull(3)) v.deviation_mm = q.Double(3);
-      runs[r].points[i].axes[q.Text(1)] = v;
-    }
-  }
-  {
-    Statement q(db_,
-                "SELECT t.point_id, s.name, t.value FROM probe_temperatures t"
-                " JOIN sensors s ON s.id = t.sensor_id WHERE s.machine_id = ?");
-    q.Bind(1, machine_id);
-    while (q.Step()) {
-      auto [r, i] = point_index[q.Int(0)];
-      runs[r].points[i].temperatures[q.Text(1)] = q.Double(2);
+  // Snapshots are rare (imports); read them only for points that have one.
+  Statement t(db_,
+              "SELECT t.point_id, s.name, t.value FROM probe_temperatures t"
+              " JOIN sensors s ON s.id = t.sensor_id WHERE s.machine_id = ? ORDER BY t.point_id");
+  t.Bind(1, machine_id);
+  std::map<int64_t, std::map<std::string, double>> snapshots;
+  while (t.Step()) snapshots[t.Int(0)][t.Text(1)] = t.Double(2);
+  if (!snapshots.empty()) {
+    for (auto& run : runs) {
+      for (auto& p : run.points) {
+        if (auto it = snapshots.find(p.id); it != snapshots.end()) p.temperatures = std::move(it->second);
+      }
     }
   }
   return runs;
