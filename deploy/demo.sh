@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash deploy/install-deps.sh
 export CYCLONEDDS_URI="file://$PWD/deploy/cyclonedds.xml"
-THERMOCOMP_TARGETS=(thermocomp) bash deploy/build.sh
+THERMOCOMP_TARGET=thermocomp bash deploy/build.sh
 port="${THERMOCOMP_PORT:-8080}"
 db=var/demo.db
 mkdir -p var

@@ -20,7 +20,7 @@ VirtualMachine::VirtualMachine(const SimOptions& o)
     : opt_(o), rng_(o.seed), now_ms_(o.start_ms - o.start_ms % kMinute) {
   air_offset_ = 0.5 * unit_(rng_);
   const double air = AirTemperature();
-  n_ = {air, air, air, air, air, air, air, air};
+  n_ = {air, air, air, air, air, air, air, air, air};
 }
 
 MachineRecord VirtualMachine::Definition(const std::string& name) {
@@ -55,25 +55,31 @@ void VirtualMachine::Step(std::vector<TemperatureInput>& samples,
                           std::vector<ProbePointInput>& points) {
   now_ms_ += kMinute;
   const int minute_of_day = static_cast<int>((now_ms_ % kDay) / kMinute);
-  // Production: runs start every 4 h from 06:00 to 18:00 and last 3 h.
-  const bool run_starts = minute_of_day >= 360 && minute_of_day <= 1080 && minute_of_day % 240 == 120;
+  // Production around the clock, as on an FMS line: a 3 h run starts every
+  // 4 h (02:00, 06:00, ... 22:00), an hour of setup and idling in between.
+  const bool run_starts = minute_of_day % 240 == 120;
   if (run_starts) {
     ++run_counter_;
     run_k_ = 0;
     run_start_ms_ = now_ms_;
     run_name_ = "R" + std::to_string(run_counter_);
-    spindle_load_ = 0.3 + 0.7 * std::uniform_real_distribution<double>(0, 1)(rng_);
+    // Each program loads spindle and axes differently.
+    std::uniform_real_distribution<double> load(0.2, 1.0);
+    spindle_load_ = load(rng_);
+    x_load_ = load(rng_);
+    y_load_ = load(rng_);
   } else if (InRun() && now_ms_ - run_start_ms_ > 180 * kMinute) {
     run_k_ = -1;
   }
   const bool cutting = InRun();
   n_.air = AirTemperature();
   n_.spindle = Lag(n_.spindle, n_.air + (cutting ? 14.0 * spindle_load_ : 0.0), 25);
-  n_.drives = Lag(n_.drives, n_.air + (cutting ? 8.0 : 0.5), 40);
+  n_.x_drive = Lag(n_.x_drive, n_.air + (cutting ? 10.0 * x_load_ : 0.5), 40);
+  n_.y_drive = Lag(n_.y_drive, n_.air + (cutting ? 10.0 * y_load_ : 0.5), 40);
   n_.coolant = Lag(n_.coolant, 0.75 * n_.air + 0.25 * n_.spindle + 0.2, 30);
   n_.column = Lag(n_.column, 0.6 * n_.air + 0.4 * n_.spindle, 90);
-  n_.colbase = Lag(n_.colbase, 0.6 * n_.air + 0.4 * n_.drives, 120);
-  n_.bed = Lag(n_.bed, 0.5 * n_.air + 0.5 * n_.coolant, 150);
+  n_.colbase = Lag(n_.colbase, 0.6 * n_.air + 0.4 * n_.y_drive, 120);
+  n_.bed = Lag(n_.bed, 0.6 * n_.air + 0.4 * n_.x_drive, 150);
   n_.base = Lag(n_.base, n_.air, 400);
 
   auto sense = [&](const char* sensor, double t) {

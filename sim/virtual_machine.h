@@ -1,13 +1,15 @@
 // VirtualMachine: a lumped thermal model of a horizontal machining centre
 // that produces what a real one sends: temperatures every 60 s with sensor
-// noise, and touch-probe points of production runs (datum p0 at the start,
-// then every 15 min) with probe noise. The true drift is known, so tests
+// noise, and touch-probe points of production runs (a 3 h run every 4 h
+// around the clock; datum p0 at the start, then every 15 min) with probe
+// noise. The true drift is known, so tests
 // and the demo can check what the fitted model recovers.
 //
-// Heat sources: spindle (on while a run machines, load varies per run),
-// axis drives, coolant (follows spindle heat and shop air), shop air with a
-// daily cycle. Structural nodes follow a weighted mix of the sources with
-// their own time constants (column 90, column base 120, bed 150, base 400 min).
+// Heat sources: spindle and the X and Y drives (on while a run machines,
+// each with its own load per run), coolant (follows spindle heat and shop
+// air), shop air with a daily cycle. Structural nodes follow a weighted mix
+// of the sources with their own time constants: column 90 min (spindle),
+// column base 120 min (Y drive), bed 150 min (X drive), base 400 min (air).
 // True drift (mm): Y = -0.0126 dT_colbase + 0.0098 dT_bed - 0.0025 dT_coolant,
 //                  X =  0.0030 dT_bed, relative to 20 degC.
 #pragma once
@@ -45,7 +47,7 @@ class VirtualMachine {
 
  private:
   struct Nodes {
-    double spindle, drives, coolant, air, column, colbase, bed, base;
+    double spindle, x_drive, y_drive, coolant, air, column, colbase, bed, base;
   };
   double AirTemperature() const;
   bool InRun() const;
@@ -55,7 +57,7 @@ class VirtualMachine {
   std::normal_distribution<double> unit_{0.0, 1.0};
   int64_t now_ms_;
   Nodes n_{};
-  double spindle_load_ = 0.5;
+  double spindle_load_ = 0.5, x_load_ = 0.5, y_load_ = 0.5;
   int run_counter_ = 0;
   int run_k_ = -1;
   std::string run_name_;
