@@ -29,6 +29,7 @@ Observations Observations::Subset(const std::vector<int>& rows,
     out.y(i) = y(rows[i]);
     for (size_t j = 0; j < cols.size(); ++j) out.x(i, j) = x(rows[i], cols[j]);
     out.group.push_back(group.empty() ? 0 : group[rows[i]]);
+    if (!source.empty()) out.source.push_back(source[rows[i]]);
   }
   return out;
 }

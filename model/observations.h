@@ -15,6 +15,7 @@ struct Observations {
   Eigen::VectorXd y;               // n
   std::vector<std::string> names;  // p column names
   std::vector<int> group;          // n run indices, for leave-one-run-out CV
+  std::vector<int> source;         // n caller's row ids (optional), kept by Subset
 
   int rows() const { return static_cast<int>(y.size()); }
   int ColumnIndex(const std::string& name) const;

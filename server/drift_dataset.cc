@@ -111,6 +111,7 @@ Observations DriftDataset::ToObservations(const std::vector<int>& row_ids,
     obs.y(i) = row.drift_mm;
     for (size_t j = 0; j < cols.size(); ++j) obs.x(i, j) = row.delta_t[cols[j]];
     obs.group.push_back(row.run);
+    obs.source.push_back(usable[i]);
   }
   return obs;
 }

@@ -7,6 +7,7 @@
 #include "model/acceptance.h"
 #include "model/cross_validation.h"
 #include "model/drift_model.h"
+#include "model/residual_checks.h"
 #include "model/selection.h"
 #include "server/drift_dataset.h"
 #include "server/log.h"
@@ -104,6 +105,7 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
   Observations kept = train.Subset(sel->rows, sel->terms);
   DriftModel model = DriftModel::FromFit(fit, kept.x, kept.names, axis->clamp_mm);
   auto cv = LeaveOneRunOut(kept);
+  auto checks = CheckResiduals(kept.x, kept.y, fit);
   Errors validation = Evaluate(model, test);
   std::optional<double> validation_r2;
   if (validation.n > 0) validation_r2 = validation.r2;
@@ -131,6 +133,32 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
     reason = buf;
   } else if (active_errors) {
     reason += "; held-out RMSE not worse than active version " + std::to_string(*active_version);
+  }
+
+  // The largest standardized residuals, named by run and point.
+  std::vector<int> by_size(fit.n);
+  for (int i = 0; i < fit.n; ++i) by_size[i] = i;
+  const Eigen::VectorXd& r = fit.standardized_residuals;
+  std::stable_sort(by_size.begin(), by_size.end(),
+                   [&](int a, int b) { return std::fabs(r(a)) > std::fabs(r(b)); });
+  nlohmann::json largest = nlohmann::json::array();
+  for (int i = 0; i < std::min(fit.n, 5); ++i) {
+    const DriftRow& row = data.rows[kept.source[by_size[i]]];
+    largest.push_back({{"run", data.runs[row.run]}, {"k", row.k}, {"ts", FormatRfc3339(row.ts_ms)},
+                       {"value", r(by_size[i])}});
+  }
+  nlohmann::json residuals = {
+      {"standardized_max_abs", fit.n ? r.cwiseAbs().maxCoeff() : 0.0},
+      {"standardized_over_2", (r.array().abs() > 2).count()},
+      {"largest", largest}};
+  if (checks.ok()) {
+    residuals["skewness"] = checks->skewness;
+    residuals["excess_kurtosis"] = checks->excess_kurtosis;
+    residuals["normal"] = checks->normal;
+    residuals["goldfeld_quandt"] = {{"f", FiniteOrNull(checks->goldfeld_quandt)},
+                                    {"p", FiniteOrNull(checks->goldfeld_quandt_p)},
+                                    {"df", {checks->gq_df1, checks->gq_df2}}};
+    residuals["homoscedastic"] = checks->homoscedastic;
   }
 
   nlohmann::json removed_terms = nlohmann::json::array();
@@ -165,6 +193,7 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
       {"f_p", FiniteOrNull(fit.f_p)},
       {"durbin_watson", fit.durbin_watson},
       {"terms", TermsJson(fit)},
+      {"residuals", residuals},
       {"removed_terms", removed_terms},
       {"removed_outliers", sel->outlier_rows.size()},
       {"outlier_steps", sel->outlier_steps},

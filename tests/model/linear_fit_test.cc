@@ -1,4 +1,5 @@
 #include "model/linear_fit.h"
+#include "model/residual_checks.h"
 
 #include <cmath>
 
@@ -106,6 +107,8 @@ class StudyReferenceTest : public ::testing::Test {
     ExpectRel(prefix + ".dw", fit.durbin_watson);
     ExpectRel(prefix + ".rstandard.1", fit.standardized_residuals(0));
     ExpectRel(prefix + ".rstandard.max_abs", fit.standardized_residuals.cwiseAbs().maxCoeff());
+    ExpectRel(prefix + ".skewness", Skewness(fit.residuals));
+    ExpectRel(prefix + ".excess_kurtosis", ExcessKurtosis(fit.residuals));
     for (const auto& t : fit.terms) {
       ExpectRel(prefix + "." + t.name + ".estimate", t.estimate);
       ExpectRel(prefix + "." + t.name + ".std_error", t.std_error);
@@ -124,6 +127,12 @@ TEST_F(StudyReferenceTest, FullModelMatchesR) {
   ASSERT_TRUE(fit.ok());
   ASSERT_EQ(fit->terms.size(), 9u);
   ExpectFit("full", *fit);
+  auto checks = CheckResiduals(obs.x, obs.y, *fit);
+  ASSERT_TRUE(checks.ok());
+  ExpectRel("full.gq", checks->goldfeld_quandt);
+  ExpectRel("full.gq_p", checks->goldfeld_quandt_p);
+  EXPECT_FALSE(checks->normal);  // excess kurtosis 31.9: the outliers are still in
+  EXPECT_FALSE(checks->homoscedastic);
 }
 
 TEST_F(StudyReferenceTest, TwoTermModelMatchesR) {
@@ -132,6 +141,23 @@ TEST_F(StudyReferenceTest, TwoTermModelMatchesR) {
   auto fit = FitLinear(small.x, small.y, small.names);
   ASSERT_TRUE(fit.ok());
   ExpectFit("small", *fit);
+  auto checks = CheckResiduals(small.x, small.y, *fit);
+  ASSERT_TRUE(checks.ok());
+  ExpectRel("small.gq", checks->goldfeld_quandt);
+  ExpectRel("small.gq_p", checks->goldfeld_quandt_p);
+}
+
+TEST(ResidualChecksTest, HandComputedMoments) {
+  Eigen::VectorXd symmetric(5);
+  symmetric << -2, -1, 0, 1, 2;  // m2 = 2, m3 = 0, m4 = 6.8
+  EXPECT_NEAR(Skewness(symmetric), 0.0, 1e-15);
+  EXPECT_NEAR(ExcessKurtosis(symmetric), 6.8 / 4 - 3, 1e-12);
+  Eigen::VectorXd lopsided(4);
+  // A two-point distribution with p = 1/4: skewness (1 - 2p)/sqrt(pq) = 2/sqrt(3),
+  // excess kurtosis (1 - 6pq)/(pq) = -2/3.
+  lopsided << 0, 0, 0, 3;
+  EXPECT_NEAR(Skewness(lopsided), 2 / std::sqrt(3.0), 1e-12);
+  EXPECT_NEAR(ExcessKurtosis(lopsided), -2.0 / 3.0, 1e-12);
 }
 
 }  // namespace

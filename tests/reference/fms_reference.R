@@ -1,7 +1,7 @@
 # Independent reference for the model tests: R's lm(), car::vif() and the
 # selection procedure of methods.md section 2, on the measured study data.
 # Regenerate with:  Rscript tests/reference/fms_reference.R shared/data/fms_datum_drift.csv > tests/reference/fms_reference.txt
-# (Debian packages r-base-core and r-cran-car). The C++ tests read the .txt only.
+# (Debian packages r-base-core, r-cran-car, r-cran-lmtest). The C++ tests read the .txt only.
 args <- commandArgs(trailingOnly = TRUE)
 d <- read.csv(if (length(args) > 0) args[1] else "../shared/data/fms_datum_drift.csv")
 sensors <- c("dT_co", "dT_cl", "dT_x1", "dT_x2", "dT_env", "dT_y1", "dT_y2", "dT_z")
@@ -39,6 +39,12 @@ dump_fit <- function(prefix, f, terms) {
   r <- rstandard(f)
   out(paste0(prefix, ".rstandard.1"), r[[1]])
   out(paste0(prefix, ".rstandard.max_abs"), max(abs(r)))
+  m2 <- mean((e - mean(e))^2)
+  out(paste0(prefix, ".skewness"), mean((e - mean(e))^3) / m2^1.5)
+  out(paste0(prefix, ".excess_kurtosis"), mean((e - mean(e))^4) / m2^2 - 3)
+  gq <- lmtest::gqtest(f, fraction = 0.2, order.by = fitted(f))
+  out(paste0(prefix, ".gq"), gq$statistic)
+  out(paste0(prefix, ".gq_p"), gq$p.value)
 }
 
 # Backward elimination: while any VIF >= 5 drop, among those, the term with
