@@ -39,8 +39,6 @@ bool CheckMediaType(const Req& req, Res& res, bool csv_ok) {
   return false;
 }
 
-// The actor recorded in the audit: the client address (tokens are not configured).
-std::string Actor(const Req& req) { return "http:" + req.remote_addr; }
 
 void WriteIngest(Res& res, const IngestResult& r) {
   if (!r.status.ok()) return WriteProblem(res, r.status, r.errors);
@@ -60,7 +58,12 @@ std::optional<std::vector<std::string>> StringList(const json& body, const char*
 
 }  // namespace
 
-HttpServer::HttpServer(App& app) : app_(app) { Routes(); }
+// The actor recorded in the audit: the token's name, or the client address.
+std::string HttpServer::Actor(const Req& req) const {
+  return auth_.Decide(req.method, req.path, req.remote_addr, req.get_header_value("Authorization")).actor;
+}
+
+HttpServer::HttpServer(App& app) : app_(app), auth_(app.config().tokens) { Routes(); }
 
 HttpServer::~HttpServer() { Stop(); }
 
@@ -87,9 +90,13 @@ void HttpServer::Stop() {
 
 void HttpServer::Routes() {
   auto& s = server_;
-  s.set_pre_routing_handler([](const Req&, Res&) {
+  s.set_pre_routing_handler([this](const Req& req, Res& res) {
     t_request_start = std::chrono::steady_clock::now();
-    return httplib::Server::HandlerResponse::Unhandled;
+    AuthDecision d = auth_.Decide(req.method, req.path, req.remote_addr,
+                                  req.get_header_value("Authorization"));
+    if (d.status == 200) return httplib::Server::HandlerResponse::Unhandled;
+    WriteProblem(res, d.status, d.reason);
+    return httplib::Server::HandlerResponse::Handled;
   });
   s.set_logger([this](const Req& req, const Res& res) {
     double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_request_start).count();

@@ -12,6 +12,8 @@
 
 #include <httplib.h>
 
+#include "api/auth.h"
+
 namespace thermocomp::api {
 
 class HttpServer {
@@ -26,7 +28,9 @@ class HttpServer {
 
  private:
   void Routes();
+  std::string Actor(const httplib::Request& req) const;
   App& app_;
+  Authorizer auth_;
   httplib::Server server_;
   std::thread thread_;
   int port_ = 0;

@@ -1,5 +1,7 @@
 #include "server/config.h"
 
+#include <cstdio>
+
 #include <toml++/toml.h>
 
 namespace thermocomp {
@@ -57,6 +59,35 @@ StatusOr<Config> LoadConfig(const std::string& path) {
   c.acceptance.min_validation_r2 =
       t["fit"]["min_validation_r2"].value_or(c.acceptance.min_validation_r2);
   c.log_level = t["log"]["level"].value_or(c.log_level);
+  if (auto daily = t["fit"]["daily_at"].value<std::string>()) {
+    int h = -1, m = -1;
+    if (daily->size() != 5 || std::sscanf(daily->c_str(), "%2d:%2d", &h, &m) != 2 || h < 0 ||
+        h > 23 || m < 0 || m > 59) {
+      return Status::InvalidArgument("fit.daily_at must be \"HH:MM\" (UTC)");
+    }
+    c.refit_daily_at_min = h * 60 + m;
+  }
+  if (auto tokens = t["auth"]["tokens"].as_array()) {
+    for (const auto& node : *tokens) {
+      const toml::table* tt = node.as_table();
+      if (!tt) return Status::InvalidArgument("auth.tokens: each entry must be a table");
+      AccessToken a;
+      a.name = (*tt)["name"].value_or(std::string());
+      a.token = (*tt)["token"].value_or(std::string());
+      a.role = (*tt)["role"].value_or(std::string());
+      a.machine = (*tt)["machine"].value_or(std::string());
+      if (a.name.empty() || a.token.size() < 16) {
+        return Status::InvalidArgument("auth.tokens: each needs a name and a token of 16 characters or more");
+      }
+      if (a.role != "machine" && a.role != "reader" && a.role != "maintenance" && a.role != "admin") {
+        return Status::InvalidArgument("auth.tokens." + a.name + ": role must be machine, reader, maintenance or admin");
+      }
+      if (a.role == "machine" && a.machine.empty()) {
+        return Status::InvalidArgument("auth.tokens." + a.name + ": role machine needs machine = \"...\"");
+      }
+      c.tokens.push_back(a);
+    }
+  }
   c.dds_config = t["dds"]["config"].value_or(c.dds_config);
 
   if (c.http_threads < 1) return Status::InvalidArgument("server.threads must be at least 1");

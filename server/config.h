@@ -4,12 +4,21 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "model/acceptance.h"
 #include "model/selection.h"
 #include "model/status.h"
 
 namespace thermocomp {
+
+// A bearer token and what it may do (see api/auth.h for the roles).
+struct AccessToken {
+  std::string name;     // who, in the audit
+  std::string token;
+  std::string role;     // machine | reader | maintenance | admin
+  std::string machine;  // for role "machine"
+};
 
 struct Config {
   // [server]
@@ -33,6 +42,10 @@ struct Config {
   double gross_error_mm = 0.1;    // |drift| at or above: chips in the hole, discarded
   SelectionOptions selection;
   AcceptanceRules acceptance;
+  // [[auth.tokens]]; none: loopback clients only, without tokens
+  std::vector<AccessToken> tokens;
+  // [fit] daily_at "HH:MM" UTC; -1: not set
+  int refit_daily_at_min = -1;
   // [log]
   std::string log_level = "info";
   // [dds]

@@ -7,6 +7,12 @@
 
 namespace thermocomp {
 
+int64_t RefitScheduler::LastDailySlot(int64_t now_ms) const {
+  constexpr int64_t kDay = 86400000;
+  int64_t slot = now_ms / kDay * kDay + int64_t{config_.refit_daily_at_min} * 60000;
+  return slot > now_ms ? slot - kDay : slot;
+}
+
 int RefitScheduler::Tick() {
   struct Due {
     std::string machine, axis, why;
@@ -31,6 +37,8 @@ int RefitScheduler::Tick() {
         } else if (config_.refit_interval_min > 0 &&
                    now - *last >= int64_t{config_.refit_interval_min} * 60000) {
           why = "interval elapsed";
+        } else if (config_.refit_daily_at_min >= 0 && *last < LastDailySlot(now)) {
+          why = "daily time";
         }
         if (!why.empty()) due.push_back({m.name, a.name, why});
       }

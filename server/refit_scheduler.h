@@ -1,6 +1,7 @@
-// RefitScheduler: refits every axis with declared inputs when it is due:
-// every `refit_interval_min` (if a new run arrived since the last fit) or
-// after `refit_after_new_runs` new runs, or when the axis has no model yet.
+// RefitScheduler: refits every axis with declared inputs when a new run
+// arrived since its last fit and: the axis has no model yet, or
+// `refit_after_new_runs` runs arrived, or `refit_interval_min` passed, or
+// the daily time `fit.daily_at` (UTC) passed since the last fit.
 // Tick() does one pass; Start() runs Tick() every `period` on a thread.
 #pragma once
 
@@ -29,6 +30,8 @@ class RefitScheduler {
   void Stop();
 
  private:
+  // The most recent daily refit time (fit.daily_at, UTC) at or before now.
+  int64_t LastDailySlot(int64_t now_ms) const;
   Database& db_;
   FitService& fits_;
   const Clock& clock_;

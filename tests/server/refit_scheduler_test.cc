@@ -1,5 +1,7 @@
 #include "server/refit_scheduler.h"
 
+#include <fstream>
+
 #include "tests/app_fixture.h"
 
 namespace thermocomp {
@@ -54,6 +56,64 @@ TEST_F(RefitSchedulerTest, FailedRefitNeverReplacesTheActiveModel) {
       EXPECT_EQ(a.model_version, 1);
     }
   }
+}
+
+}  // namespace
+}  // namespace thermocomp
+
+namespace thermocomp {
+namespace {
+
+class DailyRefitTest : public testing::AppFixture {
+ protected:
+  void Configure(Config& c) override {
+    c.refit_after_new_runs = 0;
+    c.refit_interval_min = 0;
+    c.refit_daily_at_min = 3 * 60;  // 03:00 UTC
+  }
+};
+
+TEST_F(DailyRefitTest, RefitsOnceAfterTheDailyTime) {
+  // The fixture's clock stands at midnight; history ends there.
+  VirtualMachine vm = Simulate("m1", 10);
+  RefitScheduler& s = app_->scheduler();
+  ASSERT_EQ(s.Tick(), 2);  // first models
+  auto feed_until = [&](int64_t t) {
+    clock_.Set(t);
+    std::vector<TemperatureInput> samples;
+    std::vector<ProbePointInput> points;
+    while (vm.now_ms() + 60000 <= t) vm.Step(samples, points);
+    Flush("m1", samples, points);
+  };
+  const int64_t midnight = clock_.NowMs();
+  feed_until(midnight + 150 * 60000);  // 02:30: a new run, but before the daily time
+  EXPECT_EQ(s.Tick(), 0);
+  feed_until(midnight + 190 * 60000);  // 03:10: due
+  EXPECT_EQ(s.Tick(), 2);
+  feed_until(midnight + 600 * 60000);  // 10:00: more runs, same day: not again
+  EXPECT_EQ(s.Tick(), 0);
+}
+
+TEST(ConfigTest, ParsesTokensAndDailyTimeAndRejectsBadOnes) {
+  auto dir = testing::TempDir();
+  auto write = [&](const std::string& text) {
+    std::ofstream((dir / "c.toml").string()) << text;
+    return LoadConfig((dir / "c.toml").string());
+  };
+  auto ok = write(
+      "[fit]\ndaily_at = \"02:30\"\n"
+      "[[auth.tokens]]\nname = \"cell-3\"\ntoken = \"0123456789abcdef0\"\nrole = \"machine\"\nmachine = \"m3\"\n");
+  ASSERT_TRUE(ok.ok()) << ok.status().ToString();
+  EXPECT_EQ(ok->refit_daily_at_min, 150);
+  ASSERT_EQ(ok->tokens.size(), 1u);
+  EXPECT_EQ(ok->tokens[0].machine, "m3");
+  EXPECT_FALSE(write("[fit]\ndaily_at = \"25:00\"\n").ok());
+  EXPECT_FALSE(write("[[auth.tokens]]\nname = \"x\"\ntoken = \"short\"\nrole = \"admin\"\n").ok());
+  EXPECT_FALSE(write("[[auth.tokens]]\nname = \"x\"\ntoken = \"0123456789abcdef0\"\nrole = \"boss\"\n").ok());
+  auto bad = write("[server]\nlisten = \"localhost:http\"\n");
+  EXPECT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find("listen"), std::string::npos);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

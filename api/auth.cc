@@ -1,0 +1,69 @@
+#include "api/auth.h"
+
+namespace thermocomp::api {
+namespace {
+
+// Compares without an early exit, so timing does not reveal a prefix.
+bool SameSecret(const std::string& a, const std::string& b) {
+  if (a.size() != b.size()) return false;
+  unsigned char diff = 0;
+  for (size_t i = 0; i < a.size(); ++i) diff |= static_cast<unsigned char>(a[i] ^ b[i]);
+  return diff == 0;
+}
+
+// "/api/v1/machines/{m}/rest" -> {m, rest}; empty machine otherwise.
+std::pair<std::string, std::string> MachineOf(const std::string& path) {
+  const std::string prefix = "/api/v1/machines/";
+  if (path.rfind(prefix, 0) != 0) return {};
+  std::string tail = path.substr(prefix.size());
+  auto slash = tail.find('/');
+  if (slash == std::string::npos) return {tail, ""};
+  return {tail.substr(0, slash), tail.substr(slash + 1)};
+}
+
+bool Permitted(const AccessToken& t, const std::string& method, const std::string& path) {
+  if (t.role == "admin") return true;
+  const bool read = method == "GET" || method == "HEAD";
+  if (t.role == "reader" || t.role == "maintenance") return read;
+  if (t.role == "machine") {
+    auto [machine, rest] = MachineOf(path);
+    if (machine.empty() || machine != t.machine) return false;
+    if (read) return rest.empty() || rest == "compensation";
+    return method == "POST" && (rest == "temperatures" || rest == "probe-points");
+  }
+  return false;
+}
+
+}  // namespace
+
+bool IsLoopback(const std::string& addr) {
+  return addr.rfind("127.", 0) == 0 || addr == "::1" || addr.rfind("::ffff:127.", 0) == 0;
+}
+
+AuthDecision Authorizer::Decide(const std::string& method, const std::string& path,
+                                const std::string& remote_addr,
+                                const std::string& authorization) const {
+  if (path == "/healthz" || path == "/readyz") return {200, "", "probe"};
+  if (tokens_.empty()) {
+    if (IsLoopback(remote_addr)) return {200, "", "local:" + remote_addr};
+    return {403, "no access tokens are configured: only loopback clients are served", ""};
+  }
+  const std::string bearer = "Bearer ";
+  if (authorization.rfind(bearer, 0) != 0) {
+    return {401, "Authorization: Bearer <token> required", ""};
+  }
+  const std::string secret = authorization.substr(bearer.size());
+  for (const AccessToken& t : tokens_) {
+    if (!SameSecret(t.token, secret)) continue;
+    const std::string actor = "token:" + t.name;
+    if (!Permitted(t, method, path)) {
+      return {403, "role " + t.role + (t.machine.empty() ? "" : " of machine " + t.machine) +
+                       " may not " + method + " " + path,
+              actor};
+    }
+    return {200, "", actor};
+  }
+  return {401, "unknown token", ""};
+}
+
+}  // namespace thermocomp::api

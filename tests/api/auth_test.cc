@@ -1,0 +1,74 @@
+#include "tests/app_fixture.h"  // first: Eigen before httplib.h (see api/http_server.h)
+
+#include <httplib.h>
+
+#include "api/auth.h"
+
+namespace thermocomp {
+namespace {
+
+const std::string kAdmin = "admin-token-0123456789";
+const std::string kCell = "cell-token-0123456789";
+const std::string kReader = "reader-token-0123456789";
+
+TEST(AuthorizerTest, WithoutTokensOnlyLoopbackIsServed) {
+  api::Authorizer none({});
+  EXPECT_EQ(none.Decide("GET", "/api/v1/machines", "127.0.0.1", "").status, 200);
+  EXPECT_EQ(none.Decide("POST", "/api/v1/machines/m1/temperatures", "::1", "").status, 200);
+  auto far = none.Decide("GET", "/api/v1/machines", "192.0.2.7", "");
+  EXPECT_EQ(far.status, 403);
+  EXPECT_NE(far.reason.find("loopback"), std::string::npos);
+  EXPECT_EQ(none.Decide("GET", "/healthz", "192.0.2.7", "").status, 200);
+}
+
+TEST(AuthorizerTest, RolesLimitWhatATokenMayDo) {
+  api::Authorizer a({{"admin", kAdmin, "admin", ""}, {"cell-1", kCell, "machine", "m1"},
+                     {"dash", kReader, "reader", ""}});
+  auto as = [&](const std::string& token, const char* method, const std::string& path) {
+    return a.Decide(method, path, "127.0.0.1", token.empty() ? "" : "Bearer " + token).status;
+  };
+  EXPECT_EQ(as("", "GET", "/api/v1/machines"), 401);           // tokens exist: loopback is not enough
+  EXPECT_EQ(as("wrong-token-000000000", "GET", "/api/v1/machines"), 401);
+  EXPECT_EQ(as(kCell, "POST", "/api/v1/machines/m1/temperatures"), 200);
+  EXPECT_EQ(as(kCell, "POST", "/api/v1/machines/m1/probe-points"), 200);
+  EXPECT_EQ(as(kCell, "GET", "/api/v1/machines/m1/compensation"), 200);
+  EXPECT_EQ(as(kCell, "POST", "/api/v1/machines/m2/temperatures"), 403);  // not its machine
+  EXPECT_EQ(as(kCell, "POST", "/api/v1/machines/m1/axes/Y/fit"), 403);
+  EXPECT_EQ(as(kCell, "GET", "/api/v1/machines/m1/drift"), 403);
+  EXPECT_EQ(as(kReader, "GET", "/api/v1/machines/m1/drift"), 200);
+  EXPECT_EQ(as(kReader, "POST", "/api/v1/machines/m1/temperatures"), 403);
+  EXPECT_EQ(as(kAdmin, "PUT", "/api/v1/machines/m9"), 200);
+  EXPECT_EQ(a.Decide("GET", "/api/v1/machines", "127.0.0.1", "Bearer " + kReader).actor, "token:dash");
+}
+
+class AuthHttpTest : public testing::AppFixture {
+ protected:
+  void Configure(Config& c) override {
+    c.tokens = {{"admin", kAdmin, "admin", ""}, {"cell-1", kCell, "machine", "m1"}};
+  }
+};
+
+TEST_F(AuthHttpTest, TokensAreEnforcedAndAudited) {
+  StartHttp();
+  httplib::Client c("127.0.0.1", http_->port());
+  const std::string body = R"({"sensors": [{"id": "T1"}], "axes": [{"id": "Y"}]})";
+  auto anonymous = c.Put("/api/v1/machines/m1", body, "application/json");
+  EXPECT_EQ(anonymous->status, 401);
+  EXPECT_EQ(anonymous->get_header_value("Content-Type"), "application/problem+json");
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM machines"), 0);
+
+  httplib::Headers admin = {{"Authorization", "Bearer " + kAdmin}};
+  httplib::Headers cell = {{"Authorization", "Bearer " + kCell}};
+  EXPECT_EQ(c.Put("/api/v1/machines/m1", admin, body, "application/json")->status, 201);
+  EXPECT_EQ(c.Put("/api/v1/machines/m2", cell, body, "application/json")->status, 403);
+  auto post = c.Post("/api/v1/machines/m1/temperatures", cell,
+                     R"({"samples": [{"sensor": "T1", "ts": "2026-03-02T00:00:00Z", "value": 21}]})",
+                     "application/json");
+  EXPECT_EQ(post->status, 200) << post->body;
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM audit WHERE actor = 'token:cell-1' AND action = 'temperatures'"), 1);
+  EXPECT_EQ(c.Get("/healthz")->status, 200);
+  EXPECT_EQ(c.Get("/metrics")->status, 401);
+}
+
+}  // namespace
+}  // namespace thermocomp
