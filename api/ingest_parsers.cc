@@ -69,11 +69,6 @@ std::optional<json> ParseJson(const std::string& body, std::vector<FieldError>& 
   }
 }
 
-std::optional<double> Number(const json& item, const char* key) {
-  auto it = item.find(key);
-  if (it == item.end() || !it->is_number()) return std::nullopt;
-  return it->get<double>();
-}
 
 }  // namespace
 
@@ -88,40 +83,124 @@ std::optional<int64_t> ParseTs(const std::string& text) {
   return ParseRfc3339(text);
 }
 
-bool ParseTemperaturesJson(const std::string& body, std::vector<TemperatureInput>& out,
-                           std::vector<FieldError>& errors) {
-  auto j = ParseJson(body, errors);
-  if (!j) return false;
-  if (!j->is_object() || !j->contains("samples") || !(*j)["samples"].is_array()) {
-    errors.push_back({0, "samples", "body must be {\"samples\": [...]}"});
+// Reads {"samples": [{"sensor": s, "ts": t, "value": v}, ...]} as events,
+// straight into the inputs: no document tree for a hot path that carries
+// thousands of samples per request. Unknown keys are ignored.
+class TemperatureSax : public nlohmann::json_sax<json> {
+ public:
+  TemperatureSax(std::vector<TemperatureInput>& out, std::vector<FieldError>& errors)
+      : out_(out), errors_(errors) {}
+
+  bool start_object(std::size_t) override {
+    ++depth_;
+    if (depth_ == 2 && in_samples_) {
+      current_ = TemperatureInput{};
+      seen_ = 0;
+    } else if (depth_ == 2 || depth_ > 2) {
+      return Fail("sample", "must be a flat object");
+    }
+    return true;
+  }
+  bool end_object() override {
+    if (depth_ == 2 && in_samples_) {
+      const size_t i = out_.size();
+      if (!(seen_ & kSensor)) errors_.push_back({i, "sensor", "required string"});
+      if (!(seen_ & kTs)) errors_.push_back({i, "ts", kTsHelp});
+      if (!(seen_ & kValue)) errors_.push_back({i, "value", "required number"});
+      out_.push_back(std::move(current_));
+    }
+    --depth_;
+    return true;
+  }
+  bool start_array(std::size_t) override {
+    if (depth_ == 1 && key_ == "samples") {
+      in_samples_ = true;
+      saw_samples_ = true;
+      ++array_depth_;
+      return true;
+    }
+    if (depth_ >= 2) return Fail("sample", "must be a flat object");
+    return Fail("samples", "body must be {\"samples\": [...]}");
+  }
+  bool end_array() override {
+    in_samples_ = false;
+    --array_depth_;
+    return true;
+  }
+  bool key(string_t& k) override {
+    key_ = k;
+    return true;
+  }
+  bool string(string_t& s) override {
+    if (!InSample()) return Top("samples");
+    if (key_ == "sensor") {
+      current_.sensor = s;
+      seen_ |= kSensor;
+    } else if (key_ == "ts") {
+      if (auto ts = ParseTs(s)) current_.ts_ms = *ts, seen_ |= kTs;
+    }
+    return true;
+  }
+  bool number_integer(number_integer_t v) override { return Number(static_cast<double>(v), v); }
+  bool number_unsigned(number_unsigned_t v) override {
+    return Number(static_cast<double>(v), static_cast<int64_t>(v));
+  }
+  bool number_float(number_float_t v, const string_t&) override {
+    return Number(v, std::nullopt);
+  }
+  bool boolean(bool) override { return InSample() || Top("samples"); }
+  bool null() override { return InSample() || Top("samples"); }
+  bool binary(binary_t&) override { return Fail("body", "binary values are not JSON"); }
+  bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception&) override {
+    errors_.push_back({0, "body", "malformed JSON at byte " + std::to_string(position)});
     return false;
   }
-  size_t i = 0;
-  for (const json& s : (*j)["samples"]) {
-    TemperatureInput in;
-    if (!s.is_object()) {
-      errors.push_back({i++, "sample", "must be an object"});
-      continue;
+  bool Finish() {
+    if (errors_.empty() && !saw_samples_) {
+      errors_.push_back({0, "samples", "body must be {\"samples\": [...]}"});
     }
-    if (auto it = s.find("sensor"); it != s.end() && it->is_string()) {
-      in.sensor = it->get<std::string>();
-    } else {
-      errors.push_back({i, "sensor", "required string"});
-    }
-    if (auto ts = s.contains("ts") ? TsFromJson(s["ts"]) : std::nullopt) {
-      in.ts_ms = *ts;
-    } else {
-      errors.push_back({i, "ts", kTsHelp});
-    }
-    if (auto v = Number(s, "value")) {
-      in.value = *v;
-    } else {
-      errors.push_back({i, "value", "required number"});
-    }
-    out.push_back(in);
-    ++i;
+    return errors_.empty();
   }
-  return errors.empty();
+
+ private:
+  static constexpr int kSensor = 1, kTs = 2, kValue = 4;
+  bool InSample() const { return in_samples_ && depth_ == 2; }
+  // A scalar at the top level is only an error when it is the samples key.
+  bool Top(const char* field) {
+    if (depth_ == 1 && key_ == field) return Fail(field, "body must be {\"samples\": [...]}");
+    if (depth_ == 0) return Fail("samples", "body must be {\"samples\": [...]}");
+    return true;
+  }
+  bool Number(double v, std::optional<int64_t> integer) {
+    if (!InSample()) return Top("samples");
+    if (key_ == "value") {
+      current_.value = v;
+      seen_ |= kValue;
+    } else if (key_ == "ts" && integer) {
+      current_.ts_ms = *integer;
+      seen_ |= kTs;
+    }
+    return true;
+  }
+  bool Fail(const char* field, const char* message) {
+    errors_.push_back({out_.size(), field, message});
+    return false;
+  }
+
+  std::vector<TemperatureInput>& out_;
+  std::vector<FieldError>& errors_;
+  TemperatureInput current_;
+  std::string key_;
+  int depth_ = 0, array_depth_ = 0, seen_ = 0;
+  bool in_samples_ = false, saw_samples_ = false;
+};
+
+bool ParseTemperaturesJson(const std::string& body, std::vector<TemperatureInput>& out,
+                           std::vector<FieldError>& errors) {
+  TemperatureSax sax(out, errors);
+  out.reserve(body.size() / 48);
+  const bool parsed = json::sax_parse(body, &sax);
+  return parsed && sax.Finish();
 }
 
 bool ParseTemperaturesCsv(const std::string& body, std::vector<TemperatureInput>& out,
