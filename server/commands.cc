@@ -71,6 +71,14 @@ StatusOr<Config> LoadWithOverrides(const Args& a) {
   return c;
 }
 
+// The App of a command: the config with overrides, the database opened.
+StatusOr<std::unique_ptr<App>> OpenApp(const Args& a) {
+  static const SystemClock clock;
+  auto config = LoadWithOverrides(a);
+  if (!config.ok()) return config.status();
+  return App::Open(*config, clock);
+}
+
 std::string ReadFile(const std::string& path, bool& ok) {
   std::ifstream in(path, std::ios::binary);
   ok = static_cast<bool>(in);
@@ -96,21 +104,19 @@ void OnSignal(int) { g_stop = true; }
 
 // ---------------------------------------------------------------- serve
 int Serve(const Args& a) {
-  SystemClock clock;
-  auto config = LoadWithOverrides(a);
-  if (!config.ok()) return Fail(config.status().message());
-  auto app = App::Open(*config, clock);
+  auto app = OpenApp(a);
   if (!app.ok()) return Fail(app.status().message());
+  const Config& config = (*app)->config();
   for (const auto& m : (*app)->machines().List()) (void)(*app)->compensation().Recompute(m.name);
   api::HttpServer http(**app);
-  if (Status s = http.Start(config->listen_host, config->listen_port); !s.ok()) return Fail(s.message());
+  if (Status s = http.Start(config.listen_host, config.listen_port); !s.ok()) return Fail(s.message());
   (*app)->scheduler().Start(std::chrono::seconds(60));
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
-  log::Info("listening", "url=http://" + config->listen_host + ":" + std::to_string(http.port()) +
-                             " threads=" + std::to_string(config->http_threads));
-  std::printf("thermocomp serving on http://%s:%d (database %s)\n", config->listen_host.c_str(),
-              http.port(), config->db_path.c_str());
+  log::Info("listening", "url=http://" + config.listen_host + ":" + std::to_string(http.port()) +
+                             " threads=" + std::to_string(config.http_threads));
+  std::printf("thermocomp serving on http://%s:%d (database %s)\n", config.listen_host.c_str(),
+              http.port(), config.db_path.c_str());
   std::fflush(stdout);
   while (!g_stop) std::this_thread::sleep_for(std::chrono::milliseconds(200));
   (*app)->scheduler().Stop();
@@ -183,11 +189,23 @@ StatusOr<std::pair<int, int>> ImportStudy(App& app, const std::string& machine,
   return std::make_pair(rows, static_cast<int>(run_start.size()));
 }
 
+// One CSV file of temperatures or probe points, through the ingest rules.
+IngestResult ImportCsv(App& app, const std::string& kind, const std::string& machine,
+                       const std::string& text) {
+  IngestResult malformed;
+  malformed.status = Status::InvalidArgument("malformed CSV");
+  if (kind == "temperatures") {
+    std::vector<TemperatureInput> samples;
+    if (!api::ParseTemperaturesCsv(text, samples, malformed.errors)) return malformed;
+    return app.ingest().AddTemperatures(machine, samples, "import");
+  }
+  std::vector<ProbePointInput> points;
+  if (!api::ParseProbePointsCsv(text, points, malformed.errors)) return malformed;
+  return app.ingest().AddProbePoints(machine, points, "import");
+}
+
 int Import(const Args& a) {
-  SystemClock clock;
-  auto config = LoadWithOverrides(a);
-  if (!config.ok()) return Fail(config.status().message());
-  auto app = App::Open(*config, clock);
+  auto app = OpenApp(a);
   if (!app.ok()) return Fail(app.status().message());
   const std::string machine = a.Get("machine");
   bool ok = false;
@@ -205,41 +223,20 @@ int Import(const Args& a) {
     return 0;
   }
   if (machine.empty()) return Fail("import needs --machine (or --study FILE)");
-  for (const char* kind : {"temperatures", "probe-points"}) {
+  for (const std::string kind : {"temperatures", "probe-points"}) {
     if (!a.Has(kind)) continue;
     std::string text = ReadFile(a.Get(kind), ok);
-    if (!ok) return Fail(std::string("cannot read ") + a.Get(kind));
-    std::vector<FieldError> errors;
-    IngestResult r;
-    if (std::string(kind) == "temperatures") {
-      std::vector<TemperatureInput> s;
-      if (!api::ParseTemperaturesCsv(text, s, errors)) {
-        r.status = Status::InvalidArgument("malformed CSV");
-        r.errors = errors;
-      } else {
-        r = (*app)->ingest().AddTemperatures(machine, s, "import");
-      }
-    } else {
-      std::vector<ProbePointInput> p;
-      if (!api::ParseProbePointsCsv(text, p, errors)) {
-        r.status = Status::InvalidArgument("malformed CSV");
-        r.errors = errors;
-      } else {
-        r = (*app)->ingest().AddProbePoints(machine, p, "import");
-      }
-    }
-    if (!r.status.ok()) return Fail(std::string(kind) + ": " + Describe(r));
-    std::printf("%s: %s\n", kind, Describe(r).c_str());
+    if (!ok) return Fail("cannot read " + a.Get(kind));
+    IngestResult r = ImportCsv(**app, kind, machine, text);
+    if (!r.status.ok()) return Fail(kind + ": " + Describe(r));
+    std::printf("%s: %s\n", kind.c_str(), Describe(r).c_str());
   }
   return 0;
 }
 
 // ---------------------------------------------------------------- fit
 int FitCommand(const Args& a) {
-  SystemClock clock;
-  auto config = LoadWithOverrides(a);
-  if (!config.ok()) return Fail(config.status().message());
-  auto app = App::Open(*config, clock);
+  auto app = OpenApp(a);
   if (!app.ok()) return Fail(app.status().message());
   FitRequest req;
   req.actor = "cli";
@@ -384,22 +381,17 @@ int Simulate(const Args& a) {
     }
     return 0;
   }
-  SystemClock clock;
-  auto config = LoadWithOverrides(a);
-  if (!config.ok()) return Fail(config.status().message());
-  auto app = App::Open(*config, clock);
+  auto app = OpenApp(a);
   if (!app.ok()) return Fail(app.status().message());
   if (Status s = SimulateIntoApp(**app, names, days, seed, NowUnixMs()); !s.ok()) return Fail(s.message());
-  std::printf("simulated %d days of %zu machine(s) into %s\n", days, names.size(), config->db_path.c_str());
+  std::printf("simulated %d days of %zu machine(s) into %s\n", days, names.size(),
+              (*app)->config().db_path.c_str());
   return 0;
 }
 
 // ---------------------------------------------------------------- demo
 int Demo(const Args& a) {
-  SystemClock clock;
-  auto config = LoadWithOverrides(a);
-  if (!config.ok()) return Fail(config.status().message());
-  auto app = App::Open(*config, clock);
+  auto app = OpenApp(a);
   if (!app.ok()) return Fail(app.status().message());
   App& app_ref = **app;
   const auto names = MachineNames(a);
@@ -437,7 +429,6 @@ int Demo(const Args& a) {
 // ---------------------------------------------------------------- backup
 int Backup(const Args& a) {
   if (a.positional.empty()) return Fail("usage: thermocomp backup <file> [--db PATH]");
-  SystemClock clock;
   auto config = LoadWithOverrides(a);
   if (!config.ok()) return Fail(config.status().message());
   auto db = Database::Open(config->db_path, {config->synchronous});
