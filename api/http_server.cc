@@ -88,6 +88,20 @@ void HttpServer::Stop() {
   if (thread_.joinable()) thread_.join();
 }
 
+std::string HttpServer::CompensationBody(const std::string& machine,
+                                         const std::shared_ptr<const MachineCompensation>& c) {
+  {
+    std::shared_lock lock(rendered_mutex_);
+    if (auto it = rendered_.find(machine); it != rendered_.end() && it->second.first == c) {
+      return it->second.second;
+    }
+  }
+  std::string body = CompensationToJson(*c).dump();
+  std::unique_lock lock(rendered_mutex_);
+  rendered_[machine] = {c, body};
+  return body;
+}
+
 void HttpServer::Routes() {
   auto& s = server_;
   s.set_pre_routing_handler([this](const Req& req, Res& res) {
@@ -235,12 +249,14 @@ void HttpServer::Routes() {
     auto c = app_.compensation().Get(req.matches[1]);
     if (!c.ok()) return WriteProblem(res, c.status());
     const std::string format = req.get_param_value("format");
-    if (format.empty() || format == "json") return WriteJson(res, CompensationToJson(*c));
+    if (format.empty() || format == "json") {
+      return res.set_content(CompensationBody(req.matches[1], *c), "application/json");
+    }
     if (!KnownControllerFormat(format)) {
       return WriteProblem(res, 400, "format: must be json, sinumerik, beckhoff, heidenhain, fanuc or linuxcnc",
                           {{0, "format", "unknown format '" + format + "'"}});
     }
-    res.set_content(RenderForController(*c, format), "text/plain");
+    res.set_content(RenderForController(**c, format), "text/plain");
   });
 
   s.Get(m + "/drift", [this](const Req& req, Res& res) {

@@ -2,7 +2,9 @@
 // and validate, call a service, and map the result to JSON; nothing else.
 #pragma once
 
+#include <map>
 #include <memory>
+#include <shared_mutex>
 #include <string>
 #include <thread>
 
@@ -27,10 +29,15 @@ class HttpServer {
   int port() const { return port_; }
 
  private:
+  // The JSON body of a compensation snapshot, rendered once per snapshot.
+  std::string CompensationBody(const std::string& machine,
+                               const std::shared_ptr<const MachineCompensation>& c);
   void Routes();
   std::string Actor(const httplib::Request& req) const;
   App& app_;
   Authorizer auth_;
+  std::shared_mutex rendered_mutex_;
+  std::map<std::string, std::pair<std::shared_ptr<const MachineCompensation>, std::string>> rendered_;
   httplib::Server server_;
   std::thread thread_;
   int port_ = 0;

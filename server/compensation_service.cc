@@ -1,5 +1,6 @@
 #include "server/compensation_service.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "model/drift_model.h"
@@ -115,13 +116,27 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
   return mc;
 }
 
-Status CompensationService::Recompute(const std::string& machine) {
+uint64_t CompensationService::ChangeCount(const std::string& machine) {
+  std::lock_guard<std::mutex> lock(dirty_mutex_);
+  auto it = changes_.find(machine);  // no entry for names that were never changed
+  return it == changes_.end() ? 0 : it->second;
+}
+
+StatusOr<std::shared_ptr<const MachineCompensation>> CompensationService::Refresh(
+    const std::string& machine) {
+  const uint64_t change = ChangeCount(machine);  // read before computing
   auto mc = Compute(machine);
   if (!mc.ok()) return mc.status();
-  auto ptr = std::make_shared<const MachineCompensation>(std::move(mc).value());
+  auto fresh = std::make_shared<const MachineCompensation>(std::move(mc).value());
   std::unique_lock lock(mutex_);
-  cache_[machine] = std::move(ptr);
-  return Status::Ok();
+  Snapshot& slot = cache_[machine];
+  if (!slot.value || slot.change <= change) slot = {fresh, change};
+  return slot.value;
+}
+
+Status CompensationService::Recompute(const std::string& machine) {
+  auto s = Refresh(machine);
+  return s.ok() ? Status::Ok() : s.status();
 }
 
 void CompensationService::Start() {
@@ -151,39 +166,40 @@ void CompensationService::Stop() {
 void CompensationService::MarkChanged(const std::string& machine) {
   {
     std::lock_guard<std::mutex> lock(dirty_mutex_);
+    ++changes_[machine];
     dirty_.insert(machine);
   }
   dirty_cv_.notify_one();
 }
 
-StatusOr<MachineCompensation> CompensationService::Get(const std::string& machine) {
-  bool changed;
-  {
-    std::lock_guard<std::mutex> lock(dirty_mutex_);
-    changed = dirty_.erase(machine) > 0;
-  }
-  if (changed) {
-    if (Status s = Recompute(machine); !s.ok()) return s;
-  }
+StatusOr<std::shared_ptr<const MachineCompensation>> CompensationService::Get(
+    const std::string& machine) {
+  const uint64_t change = ChangeCount(machine);
   std::shared_ptr<const MachineCompensation> cached;
   {
     std::shared_lock lock(mutex_);
-    if (auto it = cache_.find(machine); it != cache_.end()) cached = it->second;
+    if (auto it = cache_.find(machine); it != cache_.end() && it->second.change >= change) {
+      cached = it->second.value;
+    }
   }
   if (!cached) {
-    if (Status s = Recompute(machine); !s.ok()) return s;
-    std::shared_lock lock(mutex_);
-    cached = cache_[machine];
+    auto fresh = Refresh(machine);
+    if (!fresh.ok()) return fresh.status();
+    cached = *fresh;
   }
-  MachineCompensation out = *cached;
   const int64_t now = clock_.NowMs();
-  for (auto& a : out.axes) {
-    if (a.oldest_input_ms && now - *a.oldest_input_ms > int64_t{config_.stale_after_s} * 1000) {
+  auto is_stale = [&](const AxisCompensation& a) {
+    return a.oldest_input_ms && now - *a.oldest_input_ms > int64_t{config_.stale_after_s} * 1000;
+  };
+  if (std::none_of(cached->axes.begin(), cached->axes.end(), is_stale)) return cached;
+  auto out = std::make_shared<MachineCompensation>(*cached);
+  for (auto& a : out->axes) {
+    if (is_stale(a)) {
       a.stale = true;
       Invalidate(a, "stale: no temperature since " + FormatRfc3339(*a.oldest_input_ms));
     }
   }
-  return out;
+  return std::shared_ptr<const MachineCompensation>(std::move(out));
 }
 
 }  // namespace thermocomp

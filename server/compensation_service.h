@@ -2,8 +2,9 @@
 // Recomputed when data or the active model changes (not per request) and
 // kept in memory; a request only checks staleness against the clock.
 // Changes are marked by MarkChanged() and recomputed by a worker thread,
-// coalescing bursts, so ingest does not wait for it; Get() recomputes
-// first if the machine has a change the worker has not reached yet.
+// coalescing bursts, so ingest does not wait for it. Each snapshot records
+// the change count it reflects; Get() recomputes first if a newer change
+// exists, so a reader never sees a value older than the data it follows.
 // Every served offset is finite and within the axis clamp; when the value
 // cannot be trusted (no model, stale or implausible inputs) the axis is
 // served with valid=false and offset 0 and the reason.
@@ -63,20 +64,31 @@ class CompensationService {
   // Recomputes and caches the machine's compensation; logs a served value
   // when it changed by more than 0.1 um, changed validity, or a minute passed.
   Status Recompute(const std::string& machine);
-  // The cached compensation with staleness applied at `now`; NotFound for
-  // an unknown machine.
-  StatusOr<MachineCompensation> Get(const std::string& machine);
+  // The compensation with staleness applied now; NotFound for an unknown
+  // machine. While nothing changed and nothing went stale this is the same
+  // immutable snapshot for every caller, so callers may cache what they
+  // derive from it by pointer.
+  StatusOr<std::shared_ptr<const MachineCompensation>> Get(const std::string& machine);
 
  private:
+  struct Snapshot {
+    std::shared_ptr<const MachineCompensation> value;
+    uint64_t change = 0;  // changes_[machine] when it was computed
+  };
   StatusOr<MachineCompensation> Compute(const std::string& machine);
+  // Computes, caches unless a newer snapshot is already there, returns it.
+  StatusOr<std::shared_ptr<const MachineCompensation>> Refresh(const std::string& machine);
+  uint64_t ChangeCount(const std::string& machine);
+
   Database& db_;
   const Clock& clock_;
   const Config& config_;
   std::shared_mutex mutex_;
-  std::map<std::string, std::shared_ptr<const MachineCompensation>> cache_;
+  std::map<std::string, Snapshot> cache_;
   std::mutex dirty_mutex_;
   std::condition_variable dirty_cv_;
-  std::set<std::string> dirty_;
+  std::set<std::string> dirty_;             // the worker's queue
+  std::map<std::string, uint64_t> changes_;  // per machine, counts MarkChanged
   bool stop_ = false;
   std::thread worker_;
 };

@@ -51,7 +51,7 @@ TEST_F(RefitSchedulerTest, FailedRefitNeverReplacesTheActiveModel) {
   EXPECT_EQ((*models)[1].status, "rejected");
   auto comp = app_->compensation().Get("m1");
   ASSERT_TRUE(comp.ok());
-  for (const auto& a : comp->axes) {
+  for (const auto& a : (*comp)->axes) {
     if (a.axis == "Y") {
       EXPECT_EQ(a.model_version, 1);
     }
