@@ -189,19 +189,24 @@ StatusOr<std::pair<int, int>> ImportStudy(App& app, const std::string& machine,
   return std::make_pair(rows, static_cast<int>(run_start.size()));
 }
 
-// One CSV file of temperatures or probe points, through the ingest rules.
-IngestResult ImportCsv(App& app, const std::string& kind, const std::string& machine,
-                       const std::string& text) {
+// One file of temperatures or probe points (a JSON body as the API takes
+// it, or CSV), through the ingest rules.
+IngestResult ImportFile(App& app, const std::string& kind, const std::string& machine,
+                        const std::string& text) {
+  const bool json = text.find_first_not_of(" \t\r\n") != std::string::npos &&
+                    text[text.find_first_not_of(" \t\r\n")] == '{';
   IngestResult malformed;
-  malformed.status = Status::InvalidArgument("malformed CSV");
+  malformed.status = Status::InvalidArgument(json ? "malformed JSON" : "malformed CSV");
   if (kind == "temperatures") {
     std::vector<TemperatureInput> samples;
-    if (!api::ParseTemperaturesCsv(text, samples, malformed.errors)) return malformed;
-    return app.ingest().AddTemperatures(machine, samples, "import");
+    bool ok = json ? api::ParseTemperaturesJson(text, samples, malformed.errors)
+                   : api::ParseTemperaturesCsv(text, samples, malformed.errors);
+    return ok ? app.ingest().AddTemperatures(machine, samples, "import") : malformed;
   }
   std::vector<ProbePointInput> points;
-  if (!api::ParseProbePointsCsv(text, points, malformed.errors)) return malformed;
-  return app.ingest().AddProbePoints(machine, points, "import");
+  bool ok = json ? api::ParseProbePointsJson(text, points, malformed.errors)
+                 : api::ParseProbePointsCsv(text, points, malformed.errors);
+  return ok ? app.ingest().AddProbePoints(machine, points, "import") : malformed;
 }
 
 int Import(const Args& a) {
@@ -227,7 +232,7 @@ int Import(const Args& a) {
     if (!a.Has(kind)) continue;
     std::string text = ReadFile(a.Get(kind), ok);
     if (!ok) return Fail("cannot read " + a.Get(kind));
-    IngestResult r = ImportCsv(**app, kind, machine, text);
+    IngestResult r = ImportFile(**app, kind, machine, text);
     if (!r.status.ok()) return Fail(kind + ": " + Describe(r));
     std::printf("%s: %s\n", kind.c_str(), Describe(r).c_str());
   }
@@ -444,7 +449,7 @@ std::string Usage() {
   return R"(usage: thermocomp <command> [options]
 
   serve     [--config FILE] [--db PATH] [--listen HOST:PORT]   run the server
-  import    --machine M --temperatures FILE.csv | --probe-points FILE.csv
+  import    --machine M [--temperatures FILE] [--probe-points FILE]   (CSV or JSON)
             --study fms_datum_drift.csv [--machine fms-study] [--start RFC3339]
   fit       --machine M --axis Y                                fit a model version now
   simulate  [--machines a,b] [--days 14] [--seed 1]
