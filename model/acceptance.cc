@@ -39,8 +39,8 @@ AcceptanceVerdict CheckAcceptance(const LinearFit& fit, const AcceptanceRules& r
   }
   if (!validation_r2) {
     fail("no held-out runs to validate on");
-  } else if (!(*validation_r2 >= rules.min_validation_r2)) {
-    fail(Format("held-out R2 %.4f below %.2f", *validation_r2, rules.min_validation_r2));
+  } else if (rules.min_validation_r2 && !(*validation_r2 >= *rules.min_validation_r2)) {
+    fail(Format("held-out R2 %.4f below %.2f", *validation_r2, *rules.min_validation_r2));
   }
   return v;
 }

@@ -11,6 +11,7 @@
 #include "api/http_server.h"
 #include "api/ingest_parsers.h"
 #include "api/json_mapping.h"
+#include "api/dds/dds_bridge.h"
 #include "server/log.h"
 #include "server/time_format.h"
 #include "sim/virtual_machine.h"
@@ -111,6 +112,11 @@ int Serve(const Args& a) {
   api::HttpServer http(**app);
   if (Status s = http.Start(config.listen_host, config.listen_port); !s.ok()) return Fail(s.message());
   (*app)->scheduler().Start(std::chrono::seconds(60));
+  std::unique_ptr<dds::DdsBridge> bridge;
+  if (a.Has("dds") || config.dds_enabled) {
+    bridge = std::make_unique<dds::DdsBridge>(**app, dds::BridgeOptions{});
+    if (Status s = bridge->Start(); !s.ok()) return Fail(s.message());
+  }
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
   log::Info("listening", "url=http://" + config.listen_host + ":" + std::to_string(http.port()) +
@@ -119,6 +125,7 @@ int Serve(const Args& a) {
               http.port(), config.db_path.c_str());
   std::fflush(stdout);
   while (!g_stop) std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  if (bridge) bridge->Stop();
   (*app)->scheduler().Stop();
   http.Stop();
   log::Info("stopped");
@@ -448,7 +455,7 @@ int Backup(const Args& a) {
 std::string Usage() {
   return R"(usage: thermocomp <command> [options]
 
-  serve     [--config FILE] [--db PATH] [--listen HOST:PORT]   run the server
+  serve     [--config FILE] [--db PATH] [--listen HOST:PORT] [--dds]   run the server
   import    --machine M [--temperatures FILE] [--probe-points FILE]   (CSV or JSON)
             --study fms_datum_drift.csv [--machine fms-study] [--start RFC3339]
   fit       --machine M --axis Y                                fit a model version now

@@ -128,10 +128,21 @@ StatusOr<std::shared_ptr<const MachineCompensation>> CompensationService::Refres
   auto mc = Compute(machine);
   if (!mc.ok()) return mc.status();
   auto fresh = std::make_shared<const MachineCompensation>(std::move(mc).value());
-  std::unique_lock lock(mutex_);
-  Snapshot& slot = cache_[machine];
-  if (!slot.value || slot.change <= change) slot = {fresh, change};
-  return slot.value;
+  std::shared_ptr<const MachineCompensation> current;
+  {
+    std::unique_lock lock(mutex_);
+    Snapshot& slot = cache_[machine];
+    if (!slot.value || slot.change <= change) slot = {fresh, change};
+    current = slot.value;
+  }
+  std::lock_guard<std::mutex> lock(publisher_mutex_);
+  if (publisher_ && current == fresh) publisher_(*fresh);
+  return current;
+}
+
+void CompensationService::SetPublisher(Publisher publisher) {
+  std::lock_guard<std::mutex> lock(publisher_mutex_);
+  publisher_ = std::move(publisher);
 }
 
 Status CompensationService::Recompute(const std::string& machine) {

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <condition_variable>
+#include <functional>
 #include <map>
 #include <set>
 #include <thread>
@@ -60,6 +61,9 @@ class CompensationService {
   void Stop();
   // The machine's data or model changed; recompute soon.
   void MarkChanged(const std::string& machine);
+  // Called with every new snapshot (from the thread that computed it).
+  using Publisher = std::function<void(const MachineCompensation&)>;
+  void SetPublisher(Publisher publisher);
 
   // Recomputes and caches the machine's compensation; logs a served value
   // when it changed by more than 0.1 um, changed validity, or a minute passed.
@@ -89,6 +93,8 @@ class CompensationService {
   std::condition_variable dirty_cv_;
   std::set<std::string> dirty_;             // the worker's queue
   std::map<std::string, uint64_t> changes_;  // per machine, counts MarkChanged
+  std::mutex publisher_mutex_;
+  Publisher publisher_;
   bool stop_ = false;
   std::thread worker_;
 };

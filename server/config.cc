@@ -56,8 +56,7 @@ StatusOr<Config> LoadConfig(const std::string& path) {
   c.acceptance.min_adj_r2 = t["fit"]["min_adj_r2"].value_or(c.acceptance.min_adj_r2);
   c.acceptance.min_observations_per_term =
       t["fit"]["min_observations_per_term"].value_or(c.acceptance.min_observations_per_term);
-  c.acceptance.min_validation_r2 =
-      t["fit"]["min_validation_r2"].value_or(c.acceptance.min_validation_r2);
+  if (auto v = t["fit"]["min_validation_r2"].value<double>()) c.acceptance.min_validation_r2 = *v;
   c.log_level = t["log"]["level"].value_or(c.log_level);
   if (auto daily = t["fit"]["daily_at"].value<std::string>()) {
     int h = -1, m = -1;
@@ -89,6 +88,7 @@ StatusOr<Config> LoadConfig(const std::string& path) {
     }
   }
   c.dds_config = t["dds"]["config"].value_or(c.dds_config);
+  c.dds_enabled = t["dds"]["enabled"].value_or(c.dds_enabled);
 
   if (c.http_threads < 1) return Status::InvalidArgument("server.threads must be at least 1");
   if (c.stale_after_s < 1) return Status::InvalidArgument("compensation.stale_after_s must be > 0");

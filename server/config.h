@@ -49,6 +49,7 @@ struct Config {
   // [log]
   std::string log_level = "info";
   // [dds]
+  bool dds_enabled = false;
   std::string dds_config = "deploy/cyclonedds.xml";
 };
 

@@ -2,12 +2,8 @@
 // every acknowledged sample must be in the database.
 #include "tests/app_fixture.h"  // first: Eigen before httplib.h (see api/http_server.h)
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
 #include <signal.h>
-#include <sys/socket.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <atomic>
 #include <thread>
@@ -17,48 +13,20 @@
 
 #include "server/time_format.h"
 #include "storage/database.h"
+#include "tests/server_process.h"
 
 namespace thermocomp {
 namespace {
 
-int FreePort() {
-  int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr);
-  socklen_t len = sizeof addr;
-  getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
-  close(fd);
-  return ntohs(addr.sin_port);
-}
-
-pid_t StartServer(const std::string& db, int port) {
-  pid_t pid = fork();
-  if (pid == 0) {
-    freopen("/dev/null", "w", stdout);
-    freopen("/dev/null", "w", stderr);
-    std::string listen = "127.0.0.1:" + std::to_string(port);
-    execl(THERMOCOMP_BINARY, "thermocomp", "serve", "--db", db.c_str(), "--listen", listen.c_str(),
-          static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  httplib::Client c("127.0.0.1", port);
-  for (int i = 0; i < 200; ++i) {
-    if (auto r = c.Get("/healthz"); r && r->status == 200) return pid;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  kill(pid, SIGKILL);
-  waitpid(pid, nullptr, 0);
-  return -1;
-}
+using testing::FreePort;
+using testing::StartServer;
 
 TEST(CrashTest, AcknowledgedSamplesSurviveKill9) {
   auto dir = testing::TempDir();
   const std::string db = (dir / "crash.db").string();
   const int port = FreePort();
-  pid_t server = StartServer(db, port);
-  ASSERT_GT(server, 0);
+  testing::ServerGuard server(StartServer(db, port));
+  ASSERT_GT(server.pid(), 0);
   httplib::Client setup("127.0.0.1", port);
   auto put = setup.Put("/api/v1/machines/m1",
                        R"({"sensors": [{"id": "T1"}, {"id": "T2"}], "axes": [{"id": "Y"}]})",
@@ -88,14 +56,13 @@ TEST(CrashTest, AcknowledgedSamplesSurviveKill9) {
     });
   }
   while (acked_batches[0] + acked_batches[1] < 40) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  ASSERT_EQ(kill(server, SIGKILL), 0);
-  waitpid(server, nullptr, 0);
+  server.Kill();
   for (auto& t : writers) t.join();
   const int acked[2] = {acked_batches[0], acked_batches[1]};
   ASSERT_GE(acked[0] + acked[1], 40);
 
-  server = StartServer(db, port);
-  ASSERT_GT(server, 0);
+  server.Reset(StartServer(db, port));
+  ASSERT_GT(server.pid(), 0);
   auto status = httplib::Client("127.0.0.1", port).Get("/api/v1/machines/m1");
   ASSERT_TRUE(status);
   const int64_t stored = nlohmann::json::parse(status->body)["samples"];
@@ -114,8 +81,7 @@ TEST(CrashTest, AcknowledgedSamplesSurviveKill9) {
       EXPECT_EQ(q.Int(0), acked[w] * 250LL) << "writer " << w;
     }
   }
-  kill(server, SIGTERM);
-  waitpid(server, nullptr, 0);
+  server.Kill(SIGTERM);
   std::filesystem::remove_all(dir);
 }
 

@@ -1,0 +1,67 @@
+// DdsBridge: thermocomp's Cyclone DDS face (docs/dds.md). It subscribes to
+// TemperatureSample and ProbePoint, validates and stores them in batches
+// through IngestService (the same rules as HTTP), publishes an
+// IngestRejection for refused data, and publishes CompensationParameters
+// (reliable, transient-local, keep-last 1 per machine and axis) when a
+// served value changes by more than a step, changes validity, or a minute
+// passed; at start it publishes the current values from SQLite.
+// Participants use the file in CYCLONEDDS_URI; if unset, the configured
+// loopback file (deploy/cyclonedds.xml).
+#pragma once
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "server/app.h"
+
+namespace thermocomp::dds {
+
+struct BridgeOptions {
+  int batch_max = 1000;          // flush a batch at this many samples...
+  int batch_max_delay_ms = 20;   // ...or when its oldest sample waited this long
+  double publish_step_mm = 1e-4; // publish compensation on a change above this
+  int publish_every_ms = 60000;  // and at least this often
+};
+
+class DdsBridge {
+ public:
+  DdsBridge(App& app, BridgeOptions options);
+  ~DdsBridge();
+  Status Start();
+  void Stop();
+
+  // Counters for tests and /metrics.
+  uint64_t samples_stored() const { return samples_stored_; }
+  uint64_t rejections() const { return rejections_; }
+
+ private:
+  struct Entities;
+  void Run();
+  void Flush();
+  void PublishCompensation(const MachineCompensation& c, bool force);
+  void PublishRejection(const std::string& machine, const char* topic, const std::string& item,
+                        const IngestResult& r);
+
+  App& app_;
+  BridgeOptions options_;
+  std::unique_ptr<Entities> e_;
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  std::mutex publish_mutex_;
+  struct Published {
+    double offset_mm = 0;
+    bool valid = false, stale = false;
+    int64_t at_ms = 0;
+  };
+  std::map<std::string, Published> published_;  // by "machine/axis"
+  std::atomic<uint64_t> samples_stored_{0}, rejections_{0};
+};
+
+// Points CYCLONEDDS_URI at `config_file` unless the environment sets it.
+void UseLoopbackConfig(const std::string& config_file);
+
+}  // namespace thermocomp::dds

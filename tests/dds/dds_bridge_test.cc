@@ -1,0 +1,100 @@
+// The DDS face with real participants on loopback: the server's bridge in
+// this process, and a peer participant publishing and reading as a machine.
+#include "api/dds/dds_bridge.h"
+
+#include <random>
+
+#include "tests/app_fixture.h"
+#include "tests/dds/dds_peer.h"
+
+namespace thermocomp {
+namespace {
+
+class DdsBridgeTest : public testing::AppFixture {
+ protected:
+  void SetUp() override {
+    testing::UseRepoDdsConfig();
+    AppFixture::SetUp();
+    // Tests may run in parallel processes on the same loopback domain:
+    // each uses its own machine name.
+    machine_ = "dds-" + std::to_string(std::random_device{}());
+    MachineRecord m;
+    m.name = machine_;
+    m.sensors = {{0, "T1", "", 1.0}};
+    m.axes = {{0, "Y", 0.0, {"T1"}, 0.03}};
+    ASSERT_TRUE(app_->machines().Register(m, "test", nullptr).ok());
+  }
+  void TearDown() override {
+    if (bridge_) bridge_->Stop();
+    bridge_.reset();
+    AppFixture::TearDown();
+  }
+  void StartBridge() {
+    bridge_ = std::make_unique<dds::DdsBridge>(*app_, dds::BridgeOptions{});
+    ASSERT_TRUE(bridge_->Start().ok());
+  }
+  bool WaitFor(const std::function<bool()>& done, int timeout_ms = 10000) {
+    for (int waited = 0; waited < timeout_ms; waited += 20) {
+      if (done()) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return done();
+  }
+  std::string machine_;
+  std::unique_ptr<dds::DdsBridge> bridge_;
+};
+
+TEST_F(DdsBridgeTest, PublishedSamplesArriveInSqlite) {
+  StartBridge();
+  testing::DdsPeer peer;
+  ASSERT_TRUE(peer.ok());
+  ASSERT_TRUE(peer.WaitForServer());
+  const int64_t t0 = clock_.NowMs() - 600 * 60000;
+  for (int i = 0; i < 500; ++i) peer.Publish(machine_, "T1", t0 + i * 60000, 20.0 + i * 0.01);
+  ASSERT_TRUE(WaitFor([&] { return Count("SELECT COUNT(*) FROM samples") == 500; }))
+      << Count("SELECT COUNT(*) FROM samples") << " of 500 stored";
+  EXPECT_GE(Count("SELECT COUNT(*) FROM audit WHERE actor = 'dds' AND action = 'temperatures'"), 1);
+}
+
+TEST_F(DdsBridgeTest, InvalidSampleIsRejectedOverDdsAndStoresNothing) {
+  StartBridge();
+  testing::DdsPeer peer;
+  ASSERT_TRUE(peer.WaitForServer());
+  peer.Publish(machine_, "T1", clock_.NowMs() - 60000, 999.0);  // outside -40..150 degC
+  auto rejection = peer.WaitForRejection(machine_);
+  ASSERT_TRUE(rejection.has_value());
+  EXPECT_EQ(rejection->first, "value");
+  EXPECT_EQ(rejection->second, 400);
+  peer.Publish(machine_, "Tq", clock_.NowMs() - 60000, 21.0);  // unknown sensor
+  rejection = peer.WaitForRejection(machine_);
+  ASSERT_TRUE(rejection.has_value());
+  EXPECT_EQ(rejection->second, 422);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM samples"), 0);
+}
+
+TEST_F(DdsBridgeTest, LateJoinerGetsTheCurrentCompensation) {
+  {
+    std::lock_guard<std::mutex> lock(app_->db().mutex());
+    ASSERT_TRUE(app_->db()
+                    .Exec(R"(INSERT INTO models(axis_id, version, status, reason, created_ms, model_json, report_json)
+                       VALUES (1, 1, 'active', 'test', 0,
+                       '{"inputs":["T1"],"intercept":0.001,"coefficients":[-0.01],"trained_range":[[-1,3]],"clamp_mm":0.03}', '{}'))")
+                    .ok());
+  }
+  const int64_t now = clock_.NowMs();
+  ProbePointInput datum{"R1", 0, now - 3600000, {{"Y", {std::nullopt, 0.0}}}, {}};
+  ASSERT_TRUE(app_->ingest().AddProbePoints(machine_, {datum}, "t").status.ok());
+  ASSERT_TRUE(app_->ingest().AddTemperatures(machine_, {{"T1", now - 3600000, 20.0}, {"T1", now - 60000, 22.0}}, "t").status.ok());
+  StartBridge();
+  testing::DdsPeer late;  // joins after the value was published
+  auto seen = late.ReadCompensation(machine_, "Y");
+  ASSERT_TRUE(seen.has_value());
+  EXPECT_TRUE(seen->valid) << seen->reason;
+  EXPECT_EQ(seen->model_version, 1);
+  EXPECT_NEAR(seen->offset_mm, -(0.001 - 0.01 * 2.0), 1e-12);
+  auto served = app_->compensation().Get(machine_);
+  EXPECT_DOUBLE_EQ(seen->offset_mm, (*served)->axes[0].offset_mm);
+}
+
+}  // namespace
+}  // namespace thermocomp
