@@ -1,5 +1,6 @@
 #include "api/dds/dds_bridge.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <vector>
@@ -43,7 +44,7 @@ void UseLoopbackConfig(const std::string& config_file) {
 struct DdsBridge::Entities {
   dds_entity_t participant = 0;
   dds_entity_t temperature_reader = 0, probe_reader = 0;
-  dds_entity_t compensation_writer = 0, rejection_writer = 0;
+  dds_entity_t compensation_writer = 0, rejection_writer = 0, receipt_writer = 0;
   dds_entity_t waitset = 0;
   // Pending batch: samples per machine, and when the oldest arrived.
   std::map<std::string, std::vector<TemperatureInput>> temperatures;
@@ -74,15 +75,18 @@ Status DdsBridge::Start() {
   dds_entity_t t_probe = topic(&thermocomp_ProbePoint_desc, "thermocomp/ProbePoint", ingest);
   dds_entity_t t_comp = topic(&thermocomp_CompensationParameters_desc, "thermocomp/CompensationParameters", state);
   dds_entity_t t_rej = topic(&thermocomp_IngestRejection_desc, "thermocomp/IngestRejection", events);
+  dds_entity_t t_rec = topic(&thermocomp_IngestReceipt_desc, "thermocomp/IngestReceipt", events);
   e.temperature_reader = dds_create_reader(e.participant, t_temp, ingest, nullptr);
   e.probe_reader = dds_create_reader(e.participant, t_probe, ingest, nullptr);
   e.compensation_writer = dds_create_writer(e.participant, t_comp, state, nullptr);
   e.rejection_writer = dds_create_writer(e.participant, t_rej, events, nullptr);
+  e.receipt_writer = dds_create_writer(e.participant, t_rec, events, nullptr);
   dds_delete_qos(ingest);
   dds_delete_qos(state);
   dds_delete_qos(events);
-  for (dds_entity_t x : {t_temp, t_probe, t_comp, t_rej, e.temperature_reader, e.probe_reader,
-                         e.compensation_writer, e.rejection_writer}) {
+  for (dds_entity_t x : {t_temp, t_probe, t_comp, t_rej, t_rec, e.temperature_reader,
+                         e.probe_reader, e.compensation_writer, e.rejection_writer,
+                         e.receipt_writer}) {
     if (x < 0) return Status::Unavailable(std::string("DDS entity: ") + dds_strretcode(x));
   }
   e.waitset = dds_create_waitset(e.participant);
@@ -166,17 +170,7 @@ void DdsBridge::Run() {
 
 void DdsBridge::Flush() {
   Entities& e = *e_;
-  for (auto& [machine, samples] : e.temperatures) {
-    IngestResult r = app_.ingest().AddTemperatures(machine, samples, "dds");
-    if (r.status.ok()) {
-      samples_stored_ += r.accepted;
-      app_.metrics().samples_accepted += r.accepted;
-    } else {
-      const size_t i = r.errors.empty() ? 0 : r.errors[0].index;
-      const auto& s = samples[std::min(i, samples.size() - 1)];
-      PublishRejection(machine, "TemperatureSample", s.sensor + "@" + FormatRfc3339(s.ts_ms), r);
-    }
-  }
+  for (auto& [machine, samples] : e.temperatures) StoreTemperatures(machine, std::move(samples));
   for (auto& [machine, points] : e.points) {
     IngestResult r = app_.ingest().AddProbePoints(machine, points, "dds");
     if (r.status.ok()) {
@@ -184,7 +178,7 @@ void DdsBridge::Flush() {
     } else {
       const size_t i = r.errors.empty() ? 0 : r.errors[0].index;
       const auto& p = points[std::min(i, points.size() - 1)];
-      PublishRejection(machine, "ProbePoint", p.run + "/" + std::to_string(p.k), r);
+      PublishRejection(machine, "ProbePoint", p.run + "/" + std::to_string(p.k), r, 0);
     }
   }
   e.temperatures.clear();
@@ -192,12 +186,91 @@ void DdsBridge::Flush() {
   e.pending = 0;
 }
 
+// A batch mixes publishers: the refused items must not take the others
+// down. Refused items are reported and the rest is stored without them;
+// should that fail too, each sample is stored on its own.
+void DdsBridge::StoreTemperatures(const std::string& machine, std::vector<TemperatureInput> samples) {
+  IngestResult r = app_.ingest().AddTemperatures(machine, samples, "dds");
+  if (r.status.ok()) {
+    samples_stored_ += r.accepted;
+    app_.metrics().samples_accepted += r.accepted;
+    PublishReceipts(machine, samples);
+    return;
+  }
+  std::vector<bool> refused(samples.size(), r.errors.empty());
+  for (size_t k = 0; k < r.errors.size(); ++k) {
+    const size_t i = r.errors[k].index;
+    if (i >= samples.size() || refused[i]) continue;
+    refused[i] = true;
+    const auto& s = samples[i];
+    PublishRejection(machine, "TemperatureSample", s.sensor + "@" + FormatRfc3339(s.ts_ms), r, k);
+  }
+  if (r.errors.empty()) {  // the machine itself is refused (unknown)
+    PublishRejection(machine, "TemperatureSample", samples.front().sensor, r, 0);
+    return;
+  }
+  std::vector<TemperatureInput> rest, bad;
+  for (size_t i = 0; i < samples.size(); ++i) (refused[i] ? bad : rest).push_back(samples[i]);
+  if (rest.empty()) return;
+  IngestResult again = app_.ingest().AddTemperatures(machine, rest, "dds");
+  if (again.status.ok()) {
+    samples_stored_ += again.accepted;
+    PublishReceipts(machine, rest, bad);
+    return;
+  }
+  for (const auto& s : rest) {
+    IngestResult one = app_.ingest().AddTemperatures(machine, {s}, "dds");
+    if (one.status.ok()) {
+      samples_stored_ += one.accepted;
+      PublishReceipts(machine, {s});
+    } else {
+      PublishRejection(machine, "TemperatureSample", s.sensor + "@" + FormatRfc3339(s.ts_ms), one, 0);
+    }
+  }
+}
+
+void DdsBridge::PublishReceipts(const std::string& machine,
+                                const std::vector<TemperatureInput>& stored,
+                                const std::vector<TemperatureInput>& refused) {
+  std::map<std::string, std::vector<int64_t>> stored_ts, refused_ts;
+  for (const auto& s : stored) stored_ts[s.sensor].push_back(s.ts_ms);
+  for (const auto& s : refused) refused_ts[s.sensor].push_back(s.ts_ms);
+  const int64_t now = NowUnixMs();
+  auto write = [&](const std::string& sensor, int64_t first, int64_t last, int64_t n) {
+    thermocomp_IngestReceipt msg{};
+    msg.machine = Str(machine);
+    msg.sensor = Str(sensor);
+    msg.first_ts_ms = first;
+    msg.last_ts_ms = last;
+    msg.samples = n;
+    msg.committed_ms = now;
+    dds_write(e_->receipt_writer, &msg);
+  };
+  for (auto& [sensor, ts] : stored_ts) {
+    std::sort(ts.begin(), ts.end());
+    std::vector<int64_t>& cut = refused_ts[sensor];
+    std::sort(cut.begin(), cut.end());
+    size_t start = 0;
+    for (size_t i = 1; i <= ts.size(); ++i) {
+      const bool split = i == ts.size() ||
+                         std::upper_bound(cut.begin(), cut.end(), ts[i - 1]) !=
+                             std::lower_bound(cut.begin(), cut.end(), ts[i]);
+      if (split) {
+        write(sensor, ts[start], ts[i - 1], static_cast<int64_t>(i - start));
+        start = i;
+      }
+    }
+  }
+}
+
 void DdsBridge::PublishRejection(const std::string& machine, const char* topic,
-                                 const std::string& item, const IngestResult& r) {
+                                 const std::string& item, const IngestResult& r,
+                                 size_t error_index) {
   ++rejections_;
   app_.metrics().ingest_rejected++;
-  const std::string field = r.errors.empty() ? "" : r.errors[0].field;
-  const std::string message = r.errors.empty() ? r.status.message() : r.errors[0].message;
+  const bool has = error_index < r.errors.size();
+  const std::string field = has ? r.errors[error_index].field : "";
+  const std::string message = has ? r.errors[error_index].message : r.status.message();
   thermocomp_IngestRejection msg{};
   msg.machine = Str(machine);
   msg.topic = const_cast<char*>(topic);

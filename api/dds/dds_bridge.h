@@ -1,7 +1,9 @@
 // DdsBridge: thermocomp's Cyclone DDS face (docs/dds.md). It subscribes to
 // TemperatureSample and ProbePoint, validates and stores them in batches
 // through IngestService (the same rules as HTTP), publishes an
-// IngestRejection for refused data, and publishes CompensationParameters
+// IngestReceipt for what a commit stored and an IngestRejection for refused
+// data (a batch with refused items is stored without them), and publishes
+// CompensationParameters
 // (reliable, transient-local, keep-last 1 per machine and axis) when a
 // served value changes by more than a step, changes validity, or a minute
 // passed; at start it publishes the current values from SQLite.
@@ -44,7 +46,12 @@ class DdsBridge {
   void Flush();
   void PublishCompensation(const MachineCompensation& c, bool force);
   void PublishRejection(const std::string& machine, const char* topic, const std::string& item,
-                        const IngestResult& r);
+                        const IngestResult& r, size_t error_index);
+  void StoreTemperatures(const std::string& machine, std::vector<TemperatureInput> samples);
+  // One receipt per sensor and run of stored samples not interrupted by a
+  // refused one, so no receipt covers a sample that was not stored.
+  void PublishReceipts(const std::string& machine, const std::vector<TemperatureInput>& stored,
+                       const std::vector<TemperatureInput>& refused = {});
 
   App& app_;
   BridgeOptions options_;

@@ -72,6 +72,27 @@ TEST_F(DdsBridgeTest, InvalidSampleIsRejectedOverDdsAndStoresNothing) {
   EXPECT_EQ(Count("SELECT COUNT(*) FROM samples"), 0);
 }
 
+TEST_F(DdsBridgeTest, ABadSampleIsRefusedAloneAndNoReceiptCoversIt) {
+  StartBridge();
+  testing::DdsPeer peer;
+  ASSERT_TRUE(peer.WaitForServer());
+  const int64_t t0 = clock_.NowMs() - 600 * 60000;
+  for (int i = 0; i < 20; ++i) peer.Publish(machine_, "T1", t0 + i * 60000, i == 10 ? 500.0 : 21.0);
+  auto rejection = peer.WaitForRejection(machine_);
+  ASSERT_TRUE(rejection.has_value());
+  EXPECT_EQ(rejection->first, "value");
+  ASSERT_TRUE(WaitFor([&] { return Count("SELECT COUNT(*) FROM samples") == 19; }));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const int64_t bad_ts = t0 + 10 * 60000;
+  int64_t receipted = 0;
+  for (const auto& r : peer.TakeReceipts()) {
+    if (r.machine != machine_) continue;
+    EXPECT_FALSE(r.first_ts_ms <= bad_ts && bad_ts <= r.last_ts_ms) << r.first_ts_ms << ".." << r.last_ts_ms;
+    receipted += r.samples;
+  }
+  EXPECT_EQ(receipted, 19);
+}
+
 TEST_F(DdsBridgeTest, LateJoinerGetsTheCurrentCompensation) {
   {
     std::lock_guard<std::mutex> lock(app_->db().mutex());

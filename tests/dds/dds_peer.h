@@ -3,7 +3,9 @@
 // publishes, as a machine or line software would.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
+#include <vector>
 #include <cstdlib>
 #include <optional>
 #include <string>
@@ -46,6 +48,9 @@ class DdsPeer {
                                "thermocomp/CompensationParameters", state, nullptr);
     temperature_writer_ = dds_create_writer(participant_, t_temp, reliable, nullptr);
     rejection_reader_ = dds_create_reader(participant_, t_rej, reliable, nullptr);
+    dds_entity_t t_rec = dds_create_topic(participant_, &thermocomp_IngestReceipt_desc,
+                                          "thermocomp/IngestReceipt", reliable, nullptr);
+    receipt_reader_ = dds_create_reader(participant_, t_rec, reliable, nullptr);
     state_qos_ = state;
     dds_delete_qos(reliable);
   }
@@ -96,6 +101,27 @@ class DdsPeer {
     return std::nullopt;
   }
 
+  struct Receipt {
+    std::string machine, sensor;
+    int64_t first_ts_ms, last_ts_ms, samples;
+  };
+  // Receipts that arrived since the last call.
+  std::vector<Receipt> TakeReceipts() {
+    std::vector<Receipt> out;
+    void* buf[64] = {nullptr};
+    dds_sample_info_t info[64];
+    int n;
+    while ((n = dds_take(receipt_reader_, buf, info, 64, 64)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        auto* r = static_cast<thermocomp_IngestReceipt*>(buf[i]);
+        if (info[i].valid_data) out.push_back({r->machine, r->sensor, r->first_ts_ms, r->last_ts_ms, r->samples});
+      }
+      dds_return_loan(receipt_reader_, buf, n);
+      std::fill(std::begin(buf), std::end(buf), nullptr);
+    }
+    return out;
+  }
+
   // Joins late: a new transient-local reader gets the current value at once.
   std::optional<CompensationSeen> ReadCompensation(const std::string& machine, const std::string& axis,
                                                    int timeout_ms = 10000) {
@@ -120,6 +146,7 @@ class DdsPeer {
 
  private:
   dds_entity_t participant_ = 0, temperature_writer_ = 0, rejection_reader_ = 0, t_comp_ = 0;
+  dds_entity_t receipt_reader_ = 0;
   dds_qos_t* state_qos_ = nullptr;
 };
 

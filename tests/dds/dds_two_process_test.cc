@@ -6,7 +6,11 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include <map>
+#include <set>
+
 #include "server/time_format.h"
+#include "storage/database.h"
 #include "tests/dds/dds_peer.h"
 #include "tests/server_process.h"
 
@@ -84,6 +88,94 @@ TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
   ASSERT_TRUE(again.has_value());
   EXPECT_DOUBLE_EQ(again->offset_mm, seen->offset_mm);
   EXPECT_EQ(again->model_version, seen->model_version);
+  server.Kill(SIGTERM);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace thermocomp
+
+namespace thermocomp {
+namespace {
+
+// A publisher keeps what no receipt covers and resends it after the server
+// comes back; whatever a receipt covered before the kill must be stored.
+TEST(DdsTwoProcessTest, ReceiptedSamplesSurviveKill9) {
+  testing::UseRepoDdsConfig();
+  auto dir = testing::TempDir();
+  const std::string db = (dir / "receipts.db").string();
+  const std::string machine = "ddsk-" + std::to_string(std::random_device{}());
+  const int port = testing::FreePort();
+  testing::ServerGuard server(testing::StartServer(db, port, {"--dds"}));
+  ASSERT_GT(server.pid(), 0);
+  httplib::Client http("127.0.0.1", port);
+  ASSERT_EQ(http.Put(("/api/v1/machines/" + machine).c_str(),
+                     R"({"sensors": [{"id": "T1"}, {"id": "T2"}], "axes": [{"id": "Y"}]})",
+                     "application/json")->status, 201);
+
+  testing::DdsPeer peer;
+  ASSERT_TRUE(peer.WaitForServer());
+  const int64_t t0 = NowUnixMs() - 10LL * 86400000;
+  struct Pending {
+    std::string sensor;
+    int64_t ts;
+  };
+  std::vector<testing::DdsPeer::Receipt> covered_before_kill;
+  std::map<std::string, std::set<int64_t>> unreceipted;
+  auto absorb = [&](std::vector<testing::DdsPeer::Receipt> receipts, bool before_kill) {
+    for (const auto& r : receipts) {
+      if (r.machine != machine) continue;
+      auto& open = unreceipted[r.sensor];
+      open.erase(open.lower_bound(r.first_ts_ms), open.upper_bound(r.last_ts_ms));
+      if (before_kill) covered_before_kill.push_back(r);
+    }
+  };
+  // Stream 20 000 samples; kill the server while it is receiving.
+  const int total = 10000;
+  for (int i = 0; i < total; ++i) {
+    for (const char* s : {"T1", "T2"}) {
+      const int64_t ts = t0 + i * 1000LL;
+      peer.Publish(machine, s, ts, 20.0 + (i % 100) * 0.01);
+      unreceipted[s].insert(ts);
+    }
+    if (i % 500 == 0) absorb(peer.TakeReceipts(), true);
+    if (i == total / 2) server.Kill();
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  absorb(peer.TakeReceipts(), true);
+  ASSERT_FALSE(covered_before_kill.empty());
+
+  // Every sample a receipt covered before the kill is in SQLite.
+  {
+    auto check = Database::Open(db);
+    ASSERT_TRUE(check.ok());
+    for (const auto& r : covered_before_kill) {
+      Statement q((*check)->handle(),
+                  "SELECT COUNT(*) FROM samples s JOIN sensors n ON n.id = s.sensor_id"
+                  " WHERE n.name = ? AND s.ts_ms >= ? AND s.ts_ms <= ?");
+      q.Bind(1, r.sensor).Bind(2, int64_t{r.first_ts_ms}).Bind(3, int64_t{r.last_ts_ms});
+      ASSERT_TRUE(q.Step());
+      EXPECT_EQ(q.Int(0), r.samples) << r.sensor << " " << r.first_ts_ms << ".." << r.last_ts_ms;
+    }
+  }
+
+  // Restart and resend what no receipt covers: then everything is stored once.
+  server.Reset(testing::StartServer(db, port, {"--dds"}));
+  ASSERT_GT(server.pid(), 0);
+  ASSERT_TRUE(peer.WaitForServer());
+  for (int round = 0; round < 20; ++round) {
+    size_t open = 0;
+    for (const auto& [sensor, ts] : unreceipted) {
+      open += ts.size();
+      for (int64_t t : ts) peer.Publish(machine, sensor, t, 20.0 + ((t - t0) / 1000 % 100) * 0.01);
+    }
+    if (open == 0) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    absorb(peer.TakeReceipts(), false);
+  }
+  EXPECT_EQ(unreceipted["T1"].size() + unreceipted["T2"].size(), 0u);
+  auto status = http.Get(("/api/v1/machines/" + machine).c_str());
+  EXPECT_EQ(json::parse(status->body)["samples"], 2 * total);
   server.Kill(SIGTERM);
   std::filesystem::remove_all(dir);
 }
