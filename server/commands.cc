@@ -114,7 +114,9 @@ int Serve(const Args& a) {
   (*app)->scheduler().Start(std::chrono::seconds(60));
   std::unique_ptr<dds::DdsBridge> bridge;
   if (a.Has("dds") || config.dds_enabled) {
-    bridge = std::make_unique<dds::DdsBridge>(**app, dds::BridgeOptions{});
+    dds::BridgeOptions options{config.dds_batch_max, config.dds_batch_max_delay_ms,
+                               config.dds_publish_step_mm, config.dds_publish_every_s * 1000};
+    bridge = std::make_unique<dds::DdsBridge>(**app, options);
     if (Status s = bridge->Start(); !s.ok()) return Fail(s.message());
   }
   std::signal(SIGINT, OnSignal);

@@ -89,6 +89,14 @@ StatusOr<Config> LoadConfig(const std::string& path) {
   }
   c.dds_config = t["dds"]["config"].value_or(c.dds_config);
   c.dds_enabled = t["dds"]["enabled"].value_or(c.dds_enabled);
+  c.dds_batch_max = t["dds"]["batch_max"].value_or(c.dds_batch_max);
+  c.dds_batch_max_delay_ms = t["dds"]["batch_max_delay_ms"].value_or(c.dds_batch_max_delay_ms);
+  c.dds_publish_step_mm = t["dds"]["publish_step_mm"].value_or(c.dds_publish_step_mm);
+  c.dds_publish_every_s = t["dds"]["publish_every_s"].value_or(c.dds_publish_every_s);
+  if (c.dds_batch_max < 1 || c.dds_batch_max_delay_ms < 1 || c.dds_publish_every_s < 1 ||
+      !(c.dds_publish_step_mm >= 0)) {
+    return Status::InvalidArgument("dds: batch_max, batch_max_delay_ms and publish_every_s must be positive, publish_step_mm >= 0");
+  }
 
   if (c.http_threads < 1) return Status::InvalidArgument("server.threads must be at least 1");
   if (c.stale_after_s < 1) return Status::InvalidArgument("compensation.stale_after_s must be > 0");

@@ -51,6 +51,10 @@ struct Config {
   // [dds]
   bool dds_enabled = false;
   std::string dds_config = "deploy/cyclonedds.xml";
+  int dds_batch_max = 1000;
+  int dds_batch_max_delay_ms = 20;
+  double dds_publish_step_mm = 1e-4;
+  int dds_publish_every_s = 60;
 };
 
 // Reads `path`; an empty path yields the defaults.
