@@ -18,10 +18,22 @@ constexpr int kTakeMax = 256;
 
 char* Str(const std::string& s) { return const_cast<char*>(s.c_str()); }
 
+// Ingest: reliable, keep-all within resource limits. Bounded, and when the
+// bound is reached a reliable writer waits instead of samples being
+// overwritten (keep-last would lose them silently).
 dds_qos_t* IngestQos() {
   dds_qos_t* q = dds_create_qos();
+  dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_SECS(10));
+  dds_qset_history(q, DDS_HISTORY_KEEP_ALL, 0);
+  dds_qset_resource_limits(q, 65536, DDS_LENGTH_UNLIMITED, 65536);
+  return q;
+}
+
+// Server events (receipts, rejections): reliable, bounded per instance.
+dds_qos_t* EventQos() {
+  dds_qos_t* q = dds_create_qos();
   dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-  dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 4096);  // bounded, per instance
+  dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 4096);
   return q;
 }
 
@@ -67,7 +79,7 @@ Status DdsBridge::Start() {
   }
   dds_qos_t* ingest = IngestQos();
   dds_qos_t* state = StateQos();
-  dds_qos_t* events = IngestQos();
+  dds_qos_t* events = EventQos();
   auto topic = [&](const dds_topic_descriptor_t* d, const char* name, const dds_qos_t* q) {
     return dds_create_topic(e.participant, d, name, q, nullptr);
   };

@@ -5,7 +5,8 @@
 #include <random>
 
 #include "tests/app_fixture.h"
-#include "tests/dds/dds_peer.h"
+#include "api/dds/dds_client.h"
+#include "tests/dds/dds_config.h"
 
 namespace thermocomp {
 namespace {
@@ -46,7 +47,7 @@ class DdsBridgeTest : public testing::AppFixture {
 
 TEST_F(DdsBridgeTest, PublishedSamplesArriveInSqlite) {
   StartBridge();
-  testing::DdsPeer peer;
+  dds::DdsClient peer;
   ASSERT_TRUE(peer.ok());
   ASSERT_TRUE(peer.WaitForServer());
   const int64_t t0 = clock_.NowMs() - 600 * 60000;
@@ -58,7 +59,7 @@ TEST_F(DdsBridgeTest, PublishedSamplesArriveInSqlite) {
 
 TEST_F(DdsBridgeTest, InvalidSampleIsRejectedOverDdsAndStoresNothing) {
   StartBridge();
-  testing::DdsPeer peer;
+  dds::DdsClient peer;
   ASSERT_TRUE(peer.WaitForServer());
   peer.Publish(machine_, "T1", clock_.NowMs() - 60000, 999.0);  // outside -40..150 degC
   auto rejection = peer.WaitForRejection(machine_);
@@ -74,7 +75,7 @@ TEST_F(DdsBridgeTest, InvalidSampleIsRejectedOverDdsAndStoresNothing) {
 
 TEST_F(DdsBridgeTest, ABadSampleIsRefusedAloneAndNoReceiptCoversIt) {
   StartBridge();
-  testing::DdsPeer peer;
+  dds::DdsClient peer;
   ASSERT_TRUE(peer.WaitForServer());
   const int64_t t0 = clock_.NowMs() - 600 * 60000;
   for (int i = 0; i < 20; ++i) peer.Publish(machine_, "T1", t0 + i * 60000, i == 10 ? 500.0 : 21.0);
@@ -107,7 +108,7 @@ TEST_F(DdsBridgeTest, LateJoinerGetsTheCurrentCompensation) {
   ASSERT_TRUE(app_->ingest().AddProbePoints(machine_, {datum}, "t").status.ok());
   ASSERT_TRUE(app_->ingest().AddTemperatures(machine_, {{"T1", now - 3600000, 20.0}, {"T1", now - 60000, 22.0}}, "t").status.ok());
   StartBridge();
-  testing::DdsPeer late;  // joins after the value was published
+  dds::DdsClient late;  // joins after the value was published
   auto seen = late.ReadCompensation(machine_, "Y");
   ASSERT_TRUE(seen.has_value());
   EXPECT_TRUE(seen->valid) << seen->reason;

@@ -11,7 +11,8 @@
 
 #include "server/time_format.h"
 #include "storage/database.h"
-#include "tests/dds/dds_peer.h"
+#include "api/dds/dds_client.h"
+#include "tests/dds/dds_config.h"
 #include "tests/server_process.h"
 
 namespace thermocomp {
@@ -51,7 +52,7 @@ TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
   }();
 
   // Samples published by a machine arrive in SQLite.
-  testing::DdsPeer peer;
+  dds::DdsClient peer;
   ASSERT_TRUE(peer.WaitForServer());
   const int64_t before = json::parse(http.Get(base.c_str())->body)["samples"];
   const int64_t now = NowUnixMs() / 60000 * 60000;
@@ -113,16 +114,16 @@ TEST(DdsTwoProcessTest, ReceiptedSamplesSurviveKill9) {
                      R"({"sensors": [{"id": "T1"}, {"id": "T2"}], "axes": [{"id": "Y"}]})",
                      "application/json")->status, 201);
 
-  testing::DdsPeer peer;
+  dds::DdsClient peer;
   ASSERT_TRUE(peer.WaitForServer());
   const int64_t t0 = NowUnixMs() - 10LL * 86400000;
   struct Pending {
     std::string sensor;
     int64_t ts;
   };
-  std::vector<testing::DdsPeer::Receipt> covered_before_kill;
+  std::vector<dds::DdsClient::Receipt> covered_before_kill;
   std::map<std::string, std::set<int64_t>> unreceipted;
-  auto absorb = [&](std::vector<testing::DdsPeer::Receipt> receipts, bool before_kill) {
+  auto absorb = [&](std::vector<dds::DdsClient::Receipt> receipts, bool before_kill) {
     for (const auto& r : receipts) {
       if (r.machine != machine) continue;
       auto& open = unreceipted[r.sensor];
