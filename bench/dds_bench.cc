@@ -120,8 +120,8 @@ void Latency(int rounds) {
     client.Publish("m1", "T0", NowUnixMs(), value);  // fresh: stale inputs are not served
     bool seen = false;
     while (!seen && Seconds(sent) < 2) {
-      for (const auto& c : client.TakeCompensation("m1", "Y")) {
-        if (std::fabs(c.offset_mm - expect) < 1e-9) seen = true;
+      for (const auto& c : client.TakeCompensation()) {
+        if (c.machine == "m1" && c.axis == "Y" && std::fabs(c.offset_mm - expect) < 1e-9) seen = true;
       }
       if (!seen) std::this_thread::sleep_for(std::chrono::microseconds(200));
     }

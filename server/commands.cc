@@ -14,6 +14,7 @@
 #include "api/dds/dds_bridge.h"
 #include "server/log.h"
 #include "server/time_format.h"
+#include "sim/live_simulation.h"
 #include "sim/virtual_machine.h"
 #include "storage/machine_store.h"
 
@@ -305,65 +306,25 @@ Status SimulateIntoApp(App& app, const std::vector<std::string>& names, int days
   return Status::Ok();
 }
 
-nlohmann::json ToJson(const std::vector<TemperatureInput>& s) {
-  nlohmann::json arr = nlohmann::json::array();
-  for (const auto& x : s) arr.push_back({{"sensor", x.sensor}, {"ts", x.ts_ms}, {"value", x.value}});
-  return {{"samples", arr}};
-}
-
-nlohmann::json ToJson(const std::vector<ProbePointInput>& pts) {
-  nlohmann::json arr = nlohmann::json::array();
-  for (const auto& p : pts) {
-    nlohmann::json pos = nlohmann::json::object(), dev = nlohmann::json::object();
-    for (const auto& [axis, v] : p.axes) {
-      if (v.position_mm) pos[axis] = *v.position_mm;
-      if (v.deviation_mm) dev[axis] = *v.deviation_mm;
-    }
-    arr.push_back({{"run", p.run}, {"k", p.k}, {"ts", p.ts_ms}, {"position", pos}, {"deviation", dev}});
-  }
-  return {{"points", arr}};
-}
-
-// Live: replays history silently up to now, then posts each minute's data
-// to a running server in real time (or faster with --speed, up to now).
+// Live: replays history silently up to now, then sends each minute's data
+// to a running server over HTTP (default) or DDS (--dds) and applies the
+// compensation it serves.
 int SimulateLive(const Args& a, const std::vector<std::string>& names, uint64_t seed, int days) {
-  const std::string url = a.Get("post", "http://127.0.0.1:8080");
-  httplib::Client client(url);
-  client.set_connection_timeout(5);
-  const int64_t now = NowUnixMs();
-  const int64_t start = (now / kDayMs - days) * kDayMs;
-  std::vector<VirtualMachine> vms;
-  for (size_t i = 0; i < names.size(); ++i) {
-    vms.emplace_back(SimOptions{names[i], seed + i, start});
-    RunSimulation(vms.back(), now - 10 * kMinuteMs, [](const auto&, const auto&) {});
-  }
-  std::printf("live simulation of %zu machine(s) posting to %s\n", names.size(), url.c_str());
-  std::fflush(stdout);
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
-  const int64_t max_minutes = std::stoll(a.Get("minutes", "0"));
-  for (int64_t minute = 0; !g_stop && (max_minutes == 0 || minute < max_minutes); ++minute) {
-    for (size_t i = 0; i < vms.size(); ++i) {
-      std::vector<TemperatureInput> samples;
-      std::vector<ProbePointInput> points;
-      while (vms[i].now_ms() + kMinuteMs <= NowUnixMs() && samples.size() < 7 * 60) {
-        vms[i].Step(samples, points);
-      }
-      const std::string base = "/api/v1/machines/" + names[i];
-      if (!samples.empty()) {
-        auto r = client.Post(base + "/temperatures", ToJson(samples).dump(), "application/json");
-        if (!r || r->status != 200) log::Warn("post failed", "machine=" + names[i]);
-      }
-      if (!points.empty()) {
-        auto r = client.Post(base + "/probe-points", ToJson(points).dump(), "application/json");
-        if (!r || r->status != 200) log::Warn("post failed", "machine=" + names[i]);
-        else std::printf("%s: posted probe point(s); true Y drift now %.4f mm\n", names[i].c_str(), vms[i].TrueDriftY());
-      }
-    }
-    std::fflush(stdout);
-    for (int s = 0; s < 60 && !g_stop; ++s) std::this_thread::sleep_for(std::chrono::seconds(1));
+  std::unique_ptr<MachineLink> link;
+  if (a.Has("dds")) {
+    dds::UseLoopbackConfig("deploy/cyclonedds.xml");
+    link = DdsLink();
+    std::printf("live simulation of %zu machine(s) over DDS\n", names.size());
+  } else {
+    const std::string url = a.Get("post", "http://127.0.0.1:8080");
+    link = HttpLink(url);
+    std::printf("live simulation of %zu machine(s) posting to %s\n", names.size(), url.c_str());
   }
-  return 0;
+  std::fflush(stdout);
+  LiveOptions o{names, seed, days, std::stoll(a.Get("minutes", "0"))};
+  return RunLiveSimulation(o, *link, g_stop);
 }
 
 int Simulate(const Args& a) {
@@ -462,7 +423,7 @@ std::string Usage() {
             --study fms_datum_drift.csv [--machine fms-study] [--start RFC3339]
   fit       --machine M --axis Y                                fit a model version now
   simulate  [--machines a,b] [--days 14] [--seed 1]
-            (--out DIR | --db PATH | --live [--post URL] [--minutes N])
+            (--out DIR | --db PATH | --live [--post URL | --dds] [--minutes N])
   demo      [--db PATH]     simulated line + measured study data, fitted
   backup    FILE [--db PATH]   online backup, safe while the server runs
 

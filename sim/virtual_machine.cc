@@ -94,6 +94,7 @@ void VirtualMachine::Step(std::vector<TemperatureInput>& samples,
   sense("Tbase", n_.base);
 
   if (InRun() && (now_ms_ - run_start_ms_) % (15 * kMinute) == 0) {
+    if (run_k_ == 0) datum_drift_y_ = TrueDriftY();
     ProbePointInput p;
     p.run = run_name_;
     p.k = run_k_++;

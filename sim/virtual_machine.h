@@ -44,6 +44,10 @@ class VirtualMachine {
   int64_t now_ms() const { return now_ms_; }
   double TrueDriftY() const;
   double TrueDriftX() const;
+  // True Y drift since the current run's datum: what a part machined now is
+  // off by without compensation. 0 between runs.
+  double DriftSinceDatumY() const { return InRun() ? TrueDriftY() - datum_drift_y_ : 0.0; }
+  bool in_run() const { return InRun(); }
 
  private:
   struct Nodes {
@@ -62,6 +66,7 @@ class VirtualMachine {
   int run_k_ = -1;
   std::string run_name_;
   int64_t run_start_ms_ = 0;
+  double datum_drift_y_ = 0;
   double air_offset_ = 0;  // this machine's spot in the hall
 };
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <vector>
 #include <cstdlib>
 #include <optional>
@@ -19,6 +20,7 @@
 namespace thermocomp::dds {
 
 struct CompensationSeen {
+  std::string machine, axis;
   double offset_mm = 0;
   bool valid = false;
   int model_version = -1;
@@ -44,6 +46,9 @@ class DdsClient {
     t_comp_ = dds_create_topic(participant_, &thermocomp_CompensationParameters_desc,
                                "thermocomp/CompensationParameters", state, nullptr);
     temperature_writer_ = dds_create_writer(participant_, t_temp, reliable, nullptr);
+    dds_entity_t t_probe = dds_create_topic(participant_, &thermocomp_ProbePoint_desc,
+                                            "thermocomp/ProbePoint", reliable, nullptr);
+    probe_writer_ = dds_create_writer(participant_, t_probe, reliable, nullptr);
     rejection_reader_ = dds_create_reader(participant_, t_rej, reliable, nullptr);
     dds_entity_t t_rec = dds_create_topic(participant_, &thermocomp_IngestReceipt_desc,
                                           "thermocomp/IngestReceipt", reliable, nullptr);
@@ -70,6 +75,13 @@ class DdsClient {
     return false;
   }
 
+  // Waits until the server acknowledged everything written (reliable), e.g.
+  // before the process ends.
+  bool WaitForAcks(int timeout_ms = 10000) {
+    return dds_wait_for_acks(temperature_writer_, DDS_MSECS(timeout_ms)) == DDS_RETCODE_OK &&
+           dds_wait_for_acks(probe_writer_, DDS_MSECS(timeout_ms)) == DDS_RETCODE_OK;
+  }
+
   void Publish(const std::string& machine, const std::string& sensor, int64_t ts_ms, double value) {
     thermocomp_TemperatureSample s{};
     s.machine = const_cast<char*>(machine.c_str());
@@ -77,6 +89,28 @@ class DdsClient {
     s.ts_ms = ts_ms;
     s.value = value;
     dds_write(temperature_writer_, &s);
+  }
+
+  void PublishProbePoint(const std::string& machine, const std::string& run, int k, int64_t ts_ms,
+                         const std::map<std::string, std::pair<std::optional<double>, std::optional<double>>>& axes) {
+    std::vector<thermocomp_AxisReading> readings;
+    for (const auto& [axis, v] : axes) {
+      thermocomp_AxisReading r{};
+      r.axis = const_cast<char*>(axis.c_str());
+      r.has_position = v.first.has_value();
+      r.position_mm = v.first.value_or(0.0);
+      r.has_deviation = v.second.has_value();
+      r.deviation_mm = v.second.value_or(0.0);
+      readings.push_back(r);
+    }
+    thermocomp_ProbePoint p{};
+    p.machine = const_cast<char*>(machine.c_str());
+    p.run = const_cast<char*>(run.c_str());
+    p.k = k;
+    p.ts_ms = ts_ms;
+    p.axes._buffer = readings.data();
+    p.axes._length = p.axes._maximum = static_cast<uint32_t>(readings.size());
+    dds_write(probe_writer_, &p);
   }
 
   // The first rejection for `machine` within the timeout: field and status.
@@ -119,9 +153,9 @@ class DdsClient {
     return out;
   }
 
-  // Compensation values that arrived for machine/axis since the last call
-  // (a reader that stays subscribed).
-  std::vector<CompensationSeen> TakeCompensation(const std::string& machine, const std::string& axis) {
+  // Compensation values of every machine and axis that arrived since the
+  // last call (a reader that stays subscribed; taking consumes them all).
+  std::vector<CompensationSeen> TakeCompensation() {
     if (compensation_reader_ == 0) {
       compensation_reader_ = dds_create_reader(participant_, t_comp_, state_qos_, nullptr);
     }
@@ -132,8 +166,8 @@ class DdsClient {
     while ((n = dds_take(compensation_reader_, buf, info, 16, 16)) > 0) {
       for (int i = 0; i < n; ++i) {
         auto* c = static_cast<thermocomp_CompensationParameters*>(buf[i]);
-        if (info[i].valid_data && machine == c->machine && axis == c->axis) {
-          out.push_back({c->offset_mm, c->valid, c->model_version, c->reason});
+        if (info[i].valid_data) {
+          out.push_back({c->machine, c->axis, c->offset_mm, c->valid, c->model_version, c->reason});
         }
       }
       dds_return_loan(compensation_reader_, buf, n);
@@ -154,7 +188,7 @@ class DdsClient {
       for (int i = 0; i < n; ++i) {
         auto* c = static_cast<thermocomp_CompensationParameters*>(buf[i]);
         if (info[i].valid_data && machine == c->machine && axis == c->axis) {
-          seen = CompensationSeen{c->offset_mm, c->valid, c->model_version, c->reason};
+          seen = CompensationSeen{c->machine, c->axis, c->offset_mm, c->valid, c->model_version, c->reason};
         }
       }
       if (n > 0) dds_return_loan(reader, buf, n);
@@ -166,7 +200,7 @@ class DdsClient {
 
  private:
   dds_entity_t participant_ = 0, temperature_writer_ = 0, rejection_reader_ = 0, t_comp_ = 0;
-  dds_entity_t receipt_reader_ = 0, compensation_reader_ = 0;
+  dds_entity_t receipt_reader_ = 0, compensation_reader_ = 0, probe_writer_ = 0;
   dds_qos_t* state_qos_ = nullptr;
 };
 

@@ -6,6 +6,7 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include <fstream>
 #include <map>
 #include <set>
 
@@ -177,6 +178,53 @@ TEST(DdsTwoProcessTest, ReceiptedSamplesSurviveKill9) {
   EXPECT_EQ(unreceipted["T1"].size() + unreceipted["T2"].size(), 0u);
   auto status = http.Get(("/api/v1/machines/" + machine).c_str());
   EXPECT_EQ(json::parse(status->body)["samples"], 2 * total);
+  server.Kill(SIGTERM);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace thermocomp
+
+namespace thermocomp {
+namespace {
+
+// The simulator as the second process: it replays its history to ten
+// minutes ago, then publishes the last ten minutes over DDS.
+TEST(DdsTwoProcessTest, LiveSimulatorPublishesIntoTheServer) {
+  testing::UseRepoDdsConfig();
+  auto dir = testing::TempDir();
+  const std::string db = (dir / "live.db").string();
+  const std::string machine = "ddsl-" + std::to_string(std::random_device{}());
+  const std::string bin = THERMOCOMP_BINARY;
+  ASSERT_EQ(std::system((bin + " simulate --db " + db + " --machines " + machine +
+                         " --days 1 > /dev/null 2>&1").c_str()), 0);
+  {
+    // Take the newest eight minutes out of the archive: only the simulator,
+    // publishing over DDS, can bring them back.
+    auto d = Database::Open(db);
+    ASSERT_TRUE(d.ok());
+    const int64_t cut = NowUnixMs() - 8 * 60000;
+    ASSERT_TRUE((*d)->Exec("DELETE FROM samples WHERE ts_ms > " + std::to_string(cut)).ok());
+  }
+  const int port = testing::FreePort();
+  testing::ServerGuard server(testing::StartServer(db, port, {"--dds"}));
+  ASSERT_GT(server.pid(), 0);
+  httplib::Client http("127.0.0.1", port);
+  const std::string base = "/api/v1/machines/" + machine;
+  const int64_t before = json::parse(http.Get(base.c_str())->body)["samples"];
+  const std::string out = (dir / "sim.out").string();
+  ASSERT_EQ(std::system((bin + " simulate --live --dds --days 1 --machines " + machine +
+                         " --minutes 1 > " + out + " 2>&1").c_str()), 0);
+  int64_t after = before;
+  for (int i = 0; i < 100 && after < before + 7 * 7; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    after = json::parse(http.Get(base.c_str())->body)["samples"];
+  }
+  EXPECT_GE(after - before, 7 * 7) << "7 sensors x at least 7 of the 8 removed minutes";
+  std::ifstream text(out);
+  std::string first;
+  std::getline(text, first);
+  EXPECT_EQ(first, "live simulation of 1 machine(s) over DDS");
   server.Kill(SIGTERM);
   std::filesystem::remove_all(dir);
 }

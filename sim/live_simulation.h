@@ -1,0 +1,43 @@
+// LiveSimulation: simulated machines as live peers of a running server.
+// Each minute every machine sends what it measured (over HTTP or DDS),
+// takes the Y compensation the server serves and applies it to its own
+// drift, and the difference is printed: the error parts would have with
+// compensation on against off.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "server/ingest_service.h"
+
+namespace thermocomp {
+
+// How a simulated machine talks to the server.
+class MachineLink {
+ public:
+  virtual ~MachineLink() = default;
+  virtual void Send(const std::string& machine, const std::vector<TemperatureInput>& samples,
+                    const std::vector<ProbePointInput>& points) = 0;
+  // The valid Y offset the server serves now (mm), if any.
+  virtual std::optional<double> OffsetY(const std::string& machine) = 0;
+  // Returns once the server has what was sent (before the process ends).
+  virtual void Flush() {}
+};
+
+std::unique_ptr<MachineLink> HttpLink(const std::string& url);
+std::unique_ptr<MachineLink> DdsLink();
+
+struct LiveOptions {
+  std::vector<std::string> machines;
+  uint64_t seed = 1;
+  int history_days = 14;  // replayed silently, so the state matches `demo`
+  int64_t max_minutes = 0;  // 0: until stopped
+};
+
+// Runs in real time until `stop` is set or max_minutes passed.
+int RunLiveSimulation(const LiveOptions& options, MachineLink& link, const std::atomic<bool>& stop);
+
+}  // namespace thermocomp
