@@ -140,10 +140,33 @@ void Latency(int rounds) {
   bridge.Stop();
 }
 
+// Load for an external server: `machines` x `sensors` samples every second
+// for `seconds`, each machine named load-<i> (registered beforehand).
+void Publish(int machines, int sensors, int seconds) {
+  dds::DdsClient client;
+  client.WaitForServer();
+  const int64_t t0 = NowUnixMs() / 1000 * 1000;
+  for (int s = 0; s < seconds; ++s) {
+    const int64_t ts = t0 + s * 1000LL;
+    for (int m = 0; m < machines; ++m) {
+      for (int k = 0; k < sensors; ++k) {
+        client.Publish("load-" + std::to_string(m), "T" + std::to_string(k), ts,
+                       21.0 + 0.1 * std::sin((s + m + k) / 60.0));
+      }
+    }
+    std::this_thread::sleep_until(std::chrono::system_clock::time_point(std::chrono::milliseconds(ts + 1000)));
+  }
+  client.WaitForAcks();
+}
+
 }  // namespace
 }  // namespace thermocomp
 
 int main(int argc, char** argv) {
+  if (argc == 5 && std::string(argv[1]) == "--publish") {
+    thermocomp::Publish(std::atoi(argv[2]), std::atoi(argv[3]), std::atoi(argv[4]));
+    return 0;
+  }
   const int n = argc > 1 ? std::atoi(argv[1]) : 400000;
   thermocomp::Ingest(n);
   thermocomp::Latency(200);

@@ -67,6 +67,7 @@ StatusOr<Config> LoadWithOverrides(const Args& a) {
   if (a.Has("listen")) {
     if (Status s = ParseListen(a.Get("listen"), *c); !s.ok()) return s;
   }
+  if (a.Has("dds-domain")) c->dds_domain = static_cast<uint32_t>(std::stoul(a.Get("dds-domain")));
   log::SetLevel(c->log_level);
   std::filesystem::path dir = std::filesystem::path(c->db_path).parent_path();
   if (!dir.empty()) std::filesystem::create_directories(dir);
@@ -116,7 +117,8 @@ int Serve(const Args& a) {
   std::unique_ptr<dds::DdsBridge> bridge;
   if (a.Has("dds") || config.dds_enabled) {
     dds::BridgeOptions options{config.dds_batch_max, config.dds_batch_max_delay_ms,
-                               config.dds_publish_step_mm, config.dds_publish_every_s * 1000};
+                               config.dds_publish_step_mm, config.dds_publish_every_s * 1000,
+                               config.dds_domain};
     bridge = std::make_unique<dds::DdsBridge>(**app, options);
     if (Status s = bridge->Start(); !s.ok()) return Fail(s.message());
   }
@@ -315,7 +317,7 @@ int SimulateLive(const Args& a, const std::vector<std::string>& names, uint64_t 
   std::unique_ptr<MachineLink> link;
   if (a.Has("dds")) {
     dds::UseLoopbackConfig("deploy/cyclonedds.xml");
-    link = DdsLink();
+    link = DdsLink(static_cast<uint32_t>(std::stoul(a.Get("dds-domain", "0"))));
     std::printf("live simulation of %zu machine(s) over DDS\n", names.size());
   } else {
     const std::string url = a.Get("post", "http://127.0.0.1:8080");
@@ -418,12 +420,12 @@ int Backup(const Args& a) {
 std::string Usage() {
   return R"(usage: thermocomp <command> [options]
 
-  serve     [--config FILE] [--db PATH] [--listen HOST:PORT] [--dds]   run the server
+  serve     [--config FILE] [--db PATH] [--listen HOST:PORT] [--dds [--dds-domain N]]
   import    --machine M [--temperatures FILE] [--probe-points FILE]   (CSV or JSON)
             --study fms_datum_drift.csv [--machine fms-study] [--start RFC3339]
   fit       --machine M --axis Y                                fit a model version now
   simulate  [--machines a,b] [--days 14] [--seed 1]
-            (--out DIR | --db PATH | --live [--post URL | --dds] [--minutes N])
+            (--out DIR | --db PATH | --live [--post URL | --dds [--dds-domain N]] [--minutes N])
   demo      [--db PATH]     simulated line + measured study data, fitted
   backup    FILE [--db PATH]   online backup, safe while the server runs
 

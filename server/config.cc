@@ -89,6 +89,8 @@ StatusOr<Config> LoadConfig(const std::string& path) {
   }
   c.dds_config = t["dds"]["config"].value_or(c.dds_config);
   c.dds_enabled = t["dds"]["enabled"].value_or(c.dds_enabled);
+  c.dds_domain = t["dds"]["domain"].value_or(c.dds_domain);
+  if (c.dds_domain > 232) return Status::InvalidArgument("dds.domain must be 0..232");
   c.dds_batch_max = t["dds"]["batch_max"].value_or(c.dds_batch_max);
   c.dds_batch_max_delay_ms = t["dds"]["batch_max_delay_ms"].value_or(c.dds_batch_max_delay_ms);
   c.dds_publish_step_mm = t["dds"]["publish_step_mm"].value_or(c.dds_publish_step_mm);

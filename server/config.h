@@ -50,6 +50,7 @@ struct Config {
   std::string log_level = "info";
   // [dds]
   bool dds_enabled = false;
+  uint32_t dds_domain = 0;
   std::string dds_config = "deploy/cyclonedds.xml";
   int dds_batch_max = 1000;
   int dds_batch_max_delay_ms = 20;

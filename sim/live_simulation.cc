@@ -68,7 +68,7 @@ class Http : public MachineLink {
 
 class Dds : public MachineLink {
  public:
-  Dds() {
+  explicit Dds(uint32_t domain) : client_(domain) {
     // Volatile data written before the server's reader matched would be lost.
     if (!client_.WaitForServer()) log::Warn("no thermocomp server found on DDS yet");
   }
@@ -100,7 +100,7 @@ class Dds : public MachineLink {
 }  // namespace
 
 std::unique_ptr<MachineLink> HttpLink(const std::string& url) { return std::make_unique<Http>(url); }
-std::unique_ptr<MachineLink> DdsLink() { return std::make_unique<Dds>(); }
+std::unique_ptr<MachineLink> DdsLink(uint32_t domain) { return std::make_unique<Dds>(domain); }
 
 int RunLiveSimulation(const LiveOptions& o, MachineLink& link, const std::atomic<bool>& stop) {
   const int64_t now = NowUnixMs();

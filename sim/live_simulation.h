@@ -28,7 +28,7 @@ class MachineLink {
 };
 
 std::unique_ptr<MachineLink> HttpLink(const std::string& url);
-std::unique_ptr<MachineLink> DdsLink();
+std::unique_ptr<MachineLink> DdsLink(uint32_t domain = 0);
 
 struct LiveOptions {
   std::vector<std::string> machines;

@@ -73,7 +73,7 @@ DdsBridge::~DdsBridge() { Stop(); }
 Status DdsBridge::Start() {
   UseLoopbackConfig(app_.config().dds_config);
   Entities& e = *e_;
-  e.participant = dds_create_participant(DDS_DOMAIN_DEFAULT, nullptr, nullptr);
+  e.participant = dds_create_participant(options_.domain, nullptr, nullptr);
   if (e.participant < 0) {
     return Status::Unavailable(std::string("DDS participant: ") + dds_strretcode(e.participant));
   }

@@ -29,8 +29,8 @@ struct CompensationSeen {
 
 class DdsClient {
  public:
-  DdsClient() {
-    participant_ = dds_create_participant(DDS_DOMAIN_DEFAULT, nullptr, nullptr);
+  explicit DdsClient(uint32_t domain = 0) {
+    participant_ = dds_create_participant(domain, nullptr, nullptr);
     dds_qos_t* reliable = dds_create_qos();
     dds_qset_reliability(reliable, DDS_RELIABILITY_RELIABLE, DDS_SECS(10));
     dds_qset_history(reliable, DDS_HISTORY_KEEP_ALL, 0);  // a write waits rather than drops

@@ -31,7 +31,9 @@ class DdsBridgeTest : public testing::AppFixture {
     AppFixture::TearDown();
   }
   void StartBridge() {
-    bridge_ = std::make_unique<dds::DdsBridge>(*app_, dds::BridgeOptions{});
+    dds::BridgeOptions options;
+    options.domain = testing::TestDomain();
+    bridge_ = std::make_unique<dds::DdsBridge>(*app_, options);
     ASSERT_TRUE(bridge_->Start().ok());
   }
   bool WaitFor(const std::function<bool()>& done, int timeout_ms = 10000) {
@@ -47,7 +49,7 @@ class DdsBridgeTest : public testing::AppFixture {
 
 TEST_F(DdsBridgeTest, PublishedSamplesArriveInSqlite) {
   StartBridge();
-  dds::DdsClient peer;
+  dds::DdsClient peer(testing::TestDomain());
   ASSERT_TRUE(peer.ok());
   ASSERT_TRUE(peer.WaitForServer());
   const int64_t t0 = clock_.NowMs() - 600 * 60000;
@@ -59,7 +61,7 @@ TEST_F(DdsBridgeTest, PublishedSamplesArriveInSqlite) {
 
 TEST_F(DdsBridgeTest, InvalidSampleIsRejectedOverDdsAndStoresNothing) {
   StartBridge();
-  dds::DdsClient peer;
+  dds::DdsClient peer(testing::TestDomain());
   ASSERT_TRUE(peer.WaitForServer());
   peer.Publish(machine_, "T1", clock_.NowMs() - 60000, 999.0);  // outside -40..150 degC
   auto rejection = peer.WaitForRejection(machine_);
@@ -75,7 +77,7 @@ TEST_F(DdsBridgeTest, InvalidSampleIsRejectedOverDdsAndStoresNothing) {
 
 TEST_F(DdsBridgeTest, ABadSampleIsRefusedAloneAndNoReceiptCoversIt) {
   StartBridge();
-  dds::DdsClient peer;
+  dds::DdsClient peer(testing::TestDomain());
   ASSERT_TRUE(peer.WaitForServer());
   const int64_t t0 = clock_.NowMs() - 600 * 60000;
   for (int i = 0; i < 20; ++i) peer.Publish(machine_, "T1", t0 + i * 60000, i == 10 ? 500.0 : 21.0);
@@ -108,7 +110,7 @@ TEST_F(DdsBridgeTest, LateJoinerGetsTheCurrentCompensation) {
   ASSERT_TRUE(app_->ingest().AddProbePoints(machine_, {datum}, "t").status.ok());
   ASSERT_TRUE(app_->ingest().AddTemperatures(machine_, {{"T1", now - 3600000, 20.0}, {"T1", now - 60000, 22.0}}, "t").status.ok());
   StartBridge();
-  dds::DdsClient late;  // joins after the value was published
+  dds::DdsClient late(testing::TestDomain());  // joins after the value was published
   auto seen = late.ReadCompensation(machine_, "Y");
   ASSERT_TRUE(seen.has_value());
   EXPECT_TRUE(seen->valid) << seen->reason;

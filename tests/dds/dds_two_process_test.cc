@@ -33,7 +33,7 @@ TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
   ASSERT_EQ(std::system(sim.c_str()), 0);
 
   const int port = testing::FreePort();
-  testing::ServerGuard server(testing::StartServer(db, port, {"--dds"}));
+  testing::ServerGuard server(testing::StartServer(db, port, {"--dds", "--dds-domain", std::to_string(testing::TestDomain())}));
   ASSERT_GT(server.pid(), 0);
   httplib::Client http("127.0.0.1", port);
   const std::string base = "/api/v1/machines/" + machine;
@@ -53,7 +53,7 @@ TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
   }();
 
   // Samples published by a machine arrive in SQLite.
-  dds::DdsClient peer;
+  dds::DdsClient peer(testing::TestDomain());
   ASSERT_TRUE(peer.WaitForServer());
   const int64_t before = json::parse(http.Get(base.c_str())->body)["samples"];
   const int64_t now = NowUnixMs() / 60000 * 60000;
@@ -84,7 +84,7 @@ TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
 
   // kill -9, restart: the value comes back from SQLite without new data.
   server.Kill();
-  server.Reset(testing::StartServer(db, port, {"--dds"}));
+  server.Reset(testing::StartServer(db, port, {"--dds", "--dds-domain", std::to_string(testing::TestDomain())}));
   ASSERT_GT(server.pid(), 0);
   auto again = peer.ReadCompensation(machine, "Y");
   ASSERT_TRUE(again.has_value());
@@ -108,14 +108,14 @@ TEST(DdsTwoProcessTest, ReceiptedSamplesSurviveKill9) {
   const std::string db = (dir / "receipts.db").string();
   const std::string machine = "ddsk-" + std::to_string(std::random_device{}());
   const int port = testing::FreePort();
-  testing::ServerGuard server(testing::StartServer(db, port, {"--dds"}));
+  testing::ServerGuard server(testing::StartServer(db, port, {"--dds", "--dds-domain", std::to_string(testing::TestDomain())}));
   ASSERT_GT(server.pid(), 0);
   httplib::Client http("127.0.0.1", port);
   ASSERT_EQ(http.Put(("/api/v1/machines/" + machine).c_str(),
                      R"({"sensors": [{"id": "T1"}, {"id": "T2"}], "axes": [{"id": "Y"}]})",
                      "application/json")->status, 201);
 
-  dds::DdsClient peer;
+  dds::DdsClient peer(testing::TestDomain());
   ASSERT_TRUE(peer.WaitForServer());
   const int64_t t0 = NowUnixMs() - 10LL * 86400000;
   struct Pending {
@@ -162,7 +162,7 @@ TEST(DdsTwoProcessTest, ReceiptedSamplesSurviveKill9) {
   }
 
   // Restart and resend what no receipt covers: then everything is stored once.
-  server.Reset(testing::StartServer(db, port, {"--dds"}));
+  server.Reset(testing::StartServer(db, port, {"--dds", "--dds-domain", std::to_string(testing::TestDomain())}));
   ASSERT_GT(server.pid(), 0);
   ASSERT_TRUE(peer.WaitForServer());
   for (int round = 0; round < 20; ++round) {
@@ -207,13 +207,14 @@ TEST(DdsTwoProcessTest, LiveSimulatorPublishesIntoTheServer) {
     ASSERT_TRUE((*d)->Exec("DELETE FROM samples WHERE ts_ms > " + std::to_string(cut)).ok());
   }
   const int port = testing::FreePort();
-  testing::ServerGuard server(testing::StartServer(db, port, {"--dds"}));
+  testing::ServerGuard server(testing::StartServer(db, port, {"--dds", "--dds-domain", std::to_string(testing::TestDomain())}));
   ASSERT_GT(server.pid(), 0);
   httplib::Client http("127.0.0.1", port);
   const std::string base = "/api/v1/machines/" + machine;
   const int64_t before = json::parse(http.Get(base.c_str())->body)["samples"];
   const std::string out = (dir / "sim.out").string();
-  ASSERT_EQ(std::system((bin + " simulate --live --dds --days 1 --machines " + machine +
+  ASSERT_EQ(std::system((bin + " simulate --live --dds --dds-domain " + std::to_string(testing::TestDomain()) +
+                         " --days 1 --machines " + machine +
                          " --minutes 1 > " + out + " 2>&1").c_str()), 0);
   int64_t after = before;
   for (int i = 0; i < 100 && after < before + 7 * 7; ++i) {
