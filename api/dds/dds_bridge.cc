@@ -29,11 +29,13 @@ dds_qos_t* IngestQos() {
   return q;
 }
 
-// Server events (receipts, rejections): reliable, bounded per instance.
+// Server events (receipts, rejections): reliable and bounded, and a write
+// never waits: a client that does not read its events must not hold up
+// ingest. A receipt it misses only makes it resend, stored once.
 dds_qos_t* EventQos() {
   dds_qos_t* q = dds_create_qos();
-  dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-  dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 4096);
+  dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, 0);
+  dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 64);
   return q;
 }
 

@@ -41,18 +41,24 @@ class DdsClient {
     dds_qset_history(state, DDS_HISTORY_KEEP_LAST, 1);
     dds_entity_t t_temp = dds_create_topic(participant_, &thermocomp_TemperatureSample_desc,
                                            "thermocomp/TemperatureSample", reliable, nullptr);
+    // Events are read with a bounded keep-last history: a reader that falls
+    // behind loses the oldest rather than pushing back on the server.
+    dds_qos_t* events = dds_create_qos();
+    dds_qset_reliability(events, DDS_RELIABILITY_RELIABLE, 0);
+    dds_qset_history(events, DDS_HISTORY_KEEP_LAST, 4096);
     dds_entity_t t_rej = dds_create_topic(participant_, &thermocomp_IngestRejection_desc,
-                                          "thermocomp/IngestRejection", reliable, nullptr);
+                                          "thermocomp/IngestRejection", events, nullptr);
     t_comp_ = dds_create_topic(participant_, &thermocomp_CompensationParameters_desc,
                                "thermocomp/CompensationParameters", state, nullptr);
     temperature_writer_ = dds_create_writer(participant_, t_temp, reliable, nullptr);
     dds_entity_t t_probe = dds_create_topic(participant_, &thermocomp_ProbePoint_desc,
                                             "thermocomp/ProbePoint", reliable, nullptr);
     probe_writer_ = dds_create_writer(participant_, t_probe, reliable, nullptr);
-    rejection_reader_ = dds_create_reader(participant_, t_rej, reliable, nullptr);
+    rejection_reader_ = dds_create_reader(participant_, t_rej, events, nullptr);
     dds_entity_t t_rec = dds_create_topic(participant_, &thermocomp_IngestReceipt_desc,
-                                          "thermocomp/IngestReceipt", reliable, nullptr);
-    receipt_reader_ = dds_create_reader(participant_, t_rec, reliable, nullptr);
+                                          "thermocomp/IngestReceipt", events, nullptr);
+    receipt_reader_ = dds_create_reader(participant_, t_rec, events, nullptr);
+    dds_delete_qos(events);
     state_qos_ = state;
     dds_delete_qos(reliable);
   }
