@@ -67,6 +67,15 @@ TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
   }
   EXPECT_EQ(after, before + 7);
 
+  // An invalid sample gets an IngestRejection from the other process and
+  // stores nothing.
+  peer.Publish(machine, "Tco", now + 45000, 400.0);  // outside -40..150 degC
+  auto rejection = peer.WaitForRejection(machine);
+  ASSERT_TRUE(rejection.has_value());
+  EXPECT_EQ(rejection->first, "value");
+  EXPECT_EQ(rejection->second, 400);
+  EXPECT_EQ(json::parse(http.Get(base.c_str())->body)["samples"], after);
+
   // A late joiner gets what HTTP serves.
   auto served = [&] {
     const json body = json::parse(http.Get((base + "/compensation").c_str())->body);
@@ -165,7 +174,9 @@ TEST(DdsTwoProcessTest, ReceiptedSamplesSurviveKill9) {
   server.Reset(testing::StartServer(db, port, {"--dds", "--dds-domain", std::to_string(testing::TestDomain())}));
   ASSERT_GT(server.pid(), 0);
   ASSERT_TRUE(peer.WaitForServer());
-  for (int round = 0; round < 20; ++round) {
+  // Until the peer drops the killed server (its lease runs out) and matches
+  // the new one, resends may go nowhere: keep resending, for 30 s at most.
+  for (int round = 0; round < 100; ++round) {
     size_t open = 0;
     for (const auto& [sensor, ts] : unreceipted) {
       open += ts.size();
