@@ -325,7 +325,8 @@ int SimulateLive(const Args& a, const std::vector<std::string>& names, uint64_t 
     std::printf("live simulation of %zu machine(s) posting to %s\n", names.size(), url.c_str());
   }
   std::fflush(stdout);
-  LiveOptions o{names, seed, days, std::stoll(a.Get("minutes", "0"))};
+  LiveOptions o{names, seed, days, std::stoll(a.Get("minutes", "0")), std::stod(a.Get("speed", "1"))};
+  if (!(o.speed >= 1.0 && o.speed <= 1440.0)) return Fail("--speed must be from 1 to 1440");
   return RunLiveSimulation(o, *link, g_stop);
 }
 
@@ -425,7 +426,8 @@ std::string Usage() {
             --study fms_datum_drift.csv [--machine fms-study] [--start RFC3339]
   fit       --machine M --axis Y                                fit a model version now
   simulate  [--machines a,b] [--days 14] [--seed 1]
-            (--out DIR | --db PATH | --live [--post URL | --dds [--dds-domain N]] [--minutes N])
+            (--out DIR | --db PATH | --live [--post URL | --dds [--dds-domain N]]
+                                    [--speed X] [--minutes N])
   demo      [--db PATH]     simulated line + measured study data, fitted
   backup    FILE [--db PATH]   online backup, safe while the server runs
 

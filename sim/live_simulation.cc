@@ -1,5 +1,6 @@
 #include "sim/live_simulation.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -121,11 +122,16 @@ int RunLiveSimulation(const LiveOptions& o, MachineLink& link, const std::atomic
     int n = 0;
   };
   std::vector<Errors> errors(vms.size());
+  const int64_t wall_start = NowUnixMs();
+  constexpr int64_t kMaxAheadMs = 23 * 3600 * 1000LL;
   for (int64_t minute = 0; !stop && (o.max_minutes == 0 || minute < o.max_minutes); ++minute) {
+    const int64_t wall = NowUnixMs();
+    const int64_t target =
+        std::min(wall_start + static_cast<int64_t>((wall - wall_start) * o.speed), wall + kMaxAheadMs);
     for (size_t i = 0; i < vms.size(); ++i) {
       std::vector<TemperatureInput> samples;
       std::vector<ProbePointInput> points;
-      while (vms[i].now_ms() + kMinuteMs <= NowUnixMs()) vms[i].Step(samples, points);
+      while (vms[i].now_ms() + kMinuteMs <= target) vms[i].Step(samples, points);
       link.Send(o.machines[i], samples, points);
       if (!vms[i].in_run()) continue;
       // A part machined now is off by the drift since the datum, less the
@@ -141,10 +147,17 @@ int RunLiveSimulation(const LiveOptions& o, MachineLink& link, const std::atomic
                   off * 1e3, std::sqrt(e.on_sq / e.n) * 1e3, std::sqrt(e.off_sq / e.n) * 1e3);
     }
     std::fflush(stdout);
-    link.Flush();
+    if (o.speed <= 1.0) link.Flush();  // in real time there is a minute to spare
     if (o.max_minutes != 0 && minute + 1 >= o.max_minutes) break;
-    for (int s = 0; s < 60 && !stop; ++s) std::this_thread::sleep_for(std::chrono::seconds(1));
+    // The next round after a wall minute divided by the speed.
+    const auto pause = std::chrono::milliseconds(static_cast<int64_t>(60000 / std::max(1.0, o.speed)));
+    const auto until = std::chrono::steady_clock::now() + pause;
+    while (!stop && std::chrono::steady_clock::now() < until) {
+      std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(
+          std::chrono::milliseconds(200), until - std::chrono::steady_clock::now()));
+    }
   }
+  link.Flush();  // before the process ends, the server must have it all
   return 0;
 }
 

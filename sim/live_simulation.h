@@ -34,7 +34,10 @@ struct LiveOptions {
   std::vector<std::string> machines;
   uint64_t seed = 1;
   int history_days = 14;  // replayed silently, so the state matches `demo`
-  int64_t max_minutes = 0;  // 0: until stopped
+  int64_t max_minutes = 0;  // simulated minutes to run (a round each); 0: until stopped
+  // Simulated minutes per wall minute. Above 1 the machines run ahead of
+  // the clock (the server takes timestamps up to a day ahead), at most 23 h.
+  double speed = 1.0;
 };
 
 // Runs in real time until `stop` is set or max_minutes passed.

@@ -243,3 +243,42 @@ TEST(DdsTwoProcessTest, LiveSimulatorPublishesIntoTheServer) {
 
 }  // namespace
 }  // namespace thermocomp
+
+namespace thermocomp {
+namespace {
+
+// Accelerated: 1 440 simulated minutes a wall minute, two simulated hours in
+// about five seconds; the machine runs ahead of the clock and the server
+// takes it (up to a day ahead).
+TEST(DdsTwoProcessTest, AcceleratedLiveSimulatorRunsAhead) {
+  testing::UseRepoDdsConfig();
+  auto dir = testing::TempDir();
+  const std::string db = (dir / "fast.db").string();
+  const std::string machine = "ddsa-" + std::to_string(std::random_device{}());
+  const std::string bin = THERMOCOMP_BINARY;
+  ASSERT_EQ(std::system((bin + " simulate --db " + db + " --machines " + machine +
+                         " --days 1 > /dev/null 2>&1").c_str()), 0);
+  const int port = testing::FreePort();
+  testing::ServerGuard server(testing::StartServer(db, port, {"--dds", "--dds-domain", std::to_string(testing::TestDomain())}));
+  ASSERT_GT(server.pid(), 0);
+  httplib::Client http("127.0.0.1", port);
+  const std::string base = "/api/v1/machines/" + machine;
+  const int64_t before = json::parse(http.Get(base.c_str())->body)["samples"];
+  ASSERT_EQ(std::system((bin + " simulate --live --dds --dds-domain " + std::to_string(testing::TestDomain()) +
+                         " --speed 1440 --days 1 --machines " + machine + " --minutes 120 > /dev/null 2>&1").c_str()),
+            0);
+  // About 110 new simulated minutes (the first ten were stored already), 7 sensors.
+  int64_t after = before;
+  for (int i = 0; i < 100 && after < before + 7 * 100; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    after = json::parse(http.Get(base.c_str())->body)["samples"];
+  }
+  EXPECT_GE(after - before, 7 * 100);
+  const std::string last = json::parse(http.Get(base.c_str())->body)["last_sample_ts"];
+  EXPECT_GT(ParseRfc3339(last).value_or(0), NowUnixMs() + 60 * 60000) << "ahead of the clock: " << last;
+  server.Kill(SIGTERM);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace thermocomp
