@@ -75,6 +75,19 @@ class AppFixture : public ::testing::Test {
     s.clear();
     p.clear();
   }
+  // Serves `model_json` as version 1 of axis `axis_id` without a fit, so a
+  // test knows the law exactly.
+  void InsertActiveModel(int64_t axis_id, const std::string& model_json) {
+    {
+      std::lock_guard<std::mutex> lock(app_->db().mutex());
+      Statement q(app_->db(),
+                  "INSERT INTO models(axis_id, version, status, reason, created_ms, model_json,"
+                  " report_json) VALUES (?, 1, 'active', 'test', 0, ?, '{}')");
+      q.Bind(1, axis_id).Bind(2, model_json);
+      ASSERT_TRUE(q.Run().ok());
+    }
+    for (const auto& m : app_->machines().List()) app_->compensation().MarkChanged(m.name);
+  }
   int64_t Count(const std::string& sql) {
     std::lock_guard<std::mutex> lock(app_->db().mutex());
     Statement q(app_->db().handle(), sql);

@@ -97,14 +97,7 @@ TEST_F(DdsBridgeTest, ABadSampleIsRefusedAloneAndNoReceiptCoversIt) {
 }
 
 TEST_F(DdsBridgeTest, LateJoinerGetsTheCurrentCompensation) {
-  {
-    std::lock_guard<std::mutex> lock(app_->db().mutex());
-    ASSERT_TRUE(app_->db()
-                    .Exec(R"(INSERT INTO models(axis_id, version, status, reason, created_ms, model_json, report_json)
-                       VALUES (1, 1, 'active', 'test', 0,
-                       '{"inputs":["T1"],"intercept":0.001,"coefficients":[-0.01],"trained_range":[[-1,3]],"clamp_mm":0.03}', '{}'))")
-                    .ok());
-  }
+  InsertActiveModel(1, R"({"inputs":["T1"],"intercept":0.001,"coefficients":[-0.01],"trained_range":[[-1,3]],"clamp_mm":0.03})");
   const int64_t now = clock_.NowMs();
   ProbePointInput datum{"R1", 0, now - 3600000, {{"Y", {std::nullopt, 0.0}}}, {}};
   ASSERT_TRUE(app_->ingest().AddProbePoints(machine_, {datum}, "t").status.ok());

@@ -21,6 +21,29 @@ namespace {
 
 using nlohmann::json;
 
+// `thermocomp simulate --db` for one machine and `days`, as a separate process.
+void SimulateInto(const std::string& db, const std::string& machine, int days) {
+  const std::string cmd = std::string(THERMOCOMP_BINARY) + " simulate --db " + db + " --machines " +
+                          machine + " --days " + std::to_string(days) + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+}
+
+// The machine's archived sample count, as GET /machines/{m} reports it.
+int64_t Samples(httplib::Client& http, const std::string& machine) {
+  auto r = http.Get(("/api/v1/machines/" + machine).c_str());
+  return r && r->status == 200 ? json::parse(r->body)["samples"].get<int64_t>() : -1;
+}
+
+std::vector<std::string> DdsArgs() {
+  return {"--dds", "--dds-domain", std::to_string(testing::TestDomain())};
+}
+
+}  // namespace
+}  // namespace thermocomp
+
+namespace thermocomp {
+namespace {
+
 TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
   testing::UseRepoDdsConfig();
   auto dir = testing::TempDir();
@@ -28,12 +51,10 @@ TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
   const std::string machine = "ddsp-" + std::to_string(std::random_device{}());
   // Two weeks of simulated history ending now; the server's scheduler fits
   // it at start.
-  const std::string sim = std::string(THERMOCOMP_BINARY) + " simulate --db " + db +
-                          " --machines " + machine + " --days 14 > /dev/null 2>&1";
-  ASSERT_EQ(std::system(sim.c_str()), 0);
+  SimulateInto(db, machine, 14);
 
   const int port = testing::FreePort();
-  testing::ServerGuard server(testing::StartServer(db, port, {"--dds", "--dds-domain", std::to_string(testing::TestDomain())}));
+  testing::ServerGuard server(testing::StartServer(db, port, DdsArgs()));
   ASSERT_GT(server.pid(), 0);
   httplib::Client http("127.0.0.1", port);
   const std::string base = "/api/v1/machines/" + machine;
@@ -55,7 +76,7 @@ TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
   // Samples published by a machine arrive in SQLite.
   dds::DdsClient peer(testing::TestDomain());
   ASSERT_TRUE(peer.WaitForServer());
-  const int64_t before = json::parse(http.Get(base.c_str())->body)["samples"];
+  const int64_t before = Samples(http, machine);
   const int64_t now = NowUnixMs() / 60000 * 60000;
   for (const char* s : {"Tsp", "Tco", "Tcu", "Tcb", "Tbed", "Tenv", "Tbase"}) {
     peer.Publish(machine, s, now + 30000, 21.0);  // between the simulator's minutes
@@ -63,7 +84,7 @@ TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
   int64_t after = before;
   for (int i = 0; i < 200 && after < before + 7; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    after = json::parse(http.Get(base.c_str())->body)["samples"];
+    after = Samples(http, machine);
   }
   EXPECT_EQ(after, before + 7);
 
@@ -74,7 +95,7 @@ TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
   ASSERT_TRUE(rejection.has_value());
   EXPECT_EQ(rejection->first, "value");
   EXPECT_EQ(rejection->second, 400);
-  EXPECT_EQ(json::parse(http.Get(base.c_str())->body)["samples"], after);
+  EXPECT_EQ(Samples(http, machine), after);
 
   // A late joiner gets what HTTP serves.
   auto served = [&] {
@@ -93,7 +114,7 @@ TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
 
   // kill -9, restart: the value comes back from SQLite without new data.
   server.Kill();
-  server.Reset(testing::StartServer(db, port, {"--dds", "--dds-domain", std::to_string(testing::TestDomain())}));
+  server.Reset(testing::StartServer(db, port, DdsArgs()));
   ASSERT_GT(server.pid(), 0);
   auto again = peer.ReadCompensation(machine, "Y");
   ASSERT_TRUE(again.has_value());
@@ -117,7 +138,7 @@ TEST(DdsTwoProcessTest, ReceiptedSamplesSurviveKill9) {
   const std::string db = (dir / "receipts.db").string();
   const std::string machine = "ddsk-" + std::to_string(std::random_device{}());
   const int port = testing::FreePort();
-  testing::ServerGuard server(testing::StartServer(db, port, {"--dds", "--dds-domain", std::to_string(testing::TestDomain())}));
+  testing::ServerGuard server(testing::StartServer(db, port, DdsArgs()));
   ASSERT_GT(server.pid(), 0);
   httplib::Client http("127.0.0.1", port);
   ASSERT_EQ(http.Put(("/api/v1/machines/" + machine).c_str(),
@@ -171,7 +192,7 @@ TEST(DdsTwoProcessTest, ReceiptedSamplesSurviveKill9) {
   }
 
   // Restart and resend what no receipt covers: then everything is stored once.
-  server.Reset(testing::StartServer(db, port, {"--dds", "--dds-domain", std::to_string(testing::TestDomain())}));
+  server.Reset(testing::StartServer(db, port, DdsArgs()));
   ASSERT_GT(server.pid(), 0);
   ASSERT_TRUE(peer.WaitForServer());
   // Until the peer drops the killed server (its lease runs out) and matches
@@ -187,8 +208,7 @@ TEST(DdsTwoProcessTest, ReceiptedSamplesSurviveKill9) {
     absorb(peer.TakeReceipts(), false);
   }
   EXPECT_EQ(unreceipted["T1"].size() + unreceipted["T2"].size(), 0u);
-  auto status = http.Get(("/api/v1/machines/" + machine).c_str());
-  EXPECT_EQ(json::parse(status->body)["samples"], 2 * total);
+  EXPECT_EQ(Samples(http, machine), 2 * total);
   server.Kill(SIGTERM);
   std::filesystem::remove_all(dir);
 }
@@ -207,8 +227,7 @@ TEST(DdsTwoProcessTest, LiveSimulatorPublishesIntoTheServer) {
   const std::string db = (dir / "live.db").string();
   const std::string machine = "ddsl-" + std::to_string(std::random_device{}());
   const std::string bin = THERMOCOMP_BINARY;
-  ASSERT_EQ(std::system((bin + " simulate --db " + db + " --machines " + machine +
-                         " --days 1 > /dev/null 2>&1").c_str()), 0);
+  SimulateInto(db, machine, 1);
   {
     // Take the newest eight minutes out of the archive: only the simulator,
     // publishing over DDS, can bring them back.
@@ -218,11 +237,11 @@ TEST(DdsTwoProcessTest, LiveSimulatorPublishesIntoTheServer) {
     ASSERT_TRUE((*d)->Exec("DELETE FROM samples WHERE ts_ms > " + std::to_string(cut)).ok());
   }
   const int port = testing::FreePort();
-  testing::ServerGuard server(testing::StartServer(db, port, {"--dds", "--dds-domain", std::to_string(testing::TestDomain())}));
+  testing::ServerGuard server(testing::StartServer(db, port, DdsArgs()));
   ASSERT_GT(server.pid(), 0);
   httplib::Client http("127.0.0.1", port);
   const std::string base = "/api/v1/machines/" + machine;
-  const int64_t before = json::parse(http.Get(base.c_str())->body)["samples"];
+  const int64_t before = Samples(http, machine);
   const std::string out = (dir / "sim.out").string();
   ASSERT_EQ(std::system((bin + " simulate --live --dds --dds-domain " + std::to_string(testing::TestDomain()) +
                          " --days 1 --machines " + machine +
@@ -230,7 +249,7 @@ TEST(DdsTwoProcessTest, LiveSimulatorPublishesIntoTheServer) {
   int64_t after = before;
   for (int i = 0; i < 100 && after < before + 7 * 7; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    after = json::parse(http.Get(base.c_str())->body)["samples"];
+    after = Samples(http, machine);
   }
   EXPECT_GE(after - before, 7 * 7) << "7 sensors x at least 7 of the 8 removed minutes";
   std::ifstream text(out);
@@ -256,14 +275,13 @@ TEST(DdsTwoProcessTest, AcceleratedLiveSimulatorRunsAhead) {
   const std::string db = (dir / "fast.db").string();
   const std::string machine = "ddsa-" + std::to_string(std::random_device{}());
   const std::string bin = THERMOCOMP_BINARY;
-  ASSERT_EQ(std::system((bin + " simulate --db " + db + " --machines " + machine +
-                         " --days 1 > /dev/null 2>&1").c_str()), 0);
+  SimulateInto(db, machine, 1);
   const int port = testing::FreePort();
-  testing::ServerGuard server(testing::StartServer(db, port, {"--dds", "--dds-domain", std::to_string(testing::TestDomain())}));
+  testing::ServerGuard server(testing::StartServer(db, port, DdsArgs()));
   ASSERT_GT(server.pid(), 0);
   httplib::Client http("127.0.0.1", port);
   const std::string base = "/api/v1/machines/" + machine;
-  const int64_t before = json::parse(http.Get(base.c_str())->body)["samples"];
+  const int64_t before = Samples(http, machine);
   ASSERT_EQ(std::system((bin + " simulate --live --dds --dds-domain " + std::to_string(testing::TestDomain()) +
                          " --speed 1440 --days 1 --machines " + machine + " --minutes 120 > /dev/null 2>&1").c_str()),
             0);
@@ -271,7 +289,7 @@ TEST(DdsTwoProcessTest, AcceleratedLiveSimulatorRunsAhead) {
   int64_t after = before;
   for (int i = 0; i < 100 && after < before + 7 * 100; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    after = json::parse(http.Get(base.c_str())->body)["samples"];
+    after = Samples(http, machine);
   }
   EXPECT_GE(after - before, 7 * 100);
   const std::string last = json::parse(http.Get(base.c_str())->body)["last_sample_ts"];

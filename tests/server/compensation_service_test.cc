@@ -28,12 +28,7 @@ class CompensationServiceTest : public testing::AppFixture {
     ASSERT_TRUE(app_->ingest().AddProbePoints("m1", {p}, "t").status.ok());
   }
   void ActivateModel() {
-    std::lock_guard<std::mutex> lock(app_->db().mutex());
-    ASSERT_TRUE(app_->db()
-                    .Exec(R"(INSERT INTO models(axis_id, version, status, reason, created_ms, model_json, report_json)
-                       VALUES (1, 1, 'active', 'test', 0,
-                       '{"inputs":["T1"],"intercept":0.001,"coefficients":[-0.01],"trained_range":[[-1,3]],"clamp_mm":0.03}', '{}'))")
-                    .ok());
+    InsertActiveModel(1, R"({"inputs":["T1"],"intercept":0.001,"coefficients":[-0.01],"trained_range":[[-1,3]],"clamp_mm":0.03})");
   }
   AxisCompensation Y() {
     auto c = app_->compensation().Get("m1");
@@ -46,7 +41,6 @@ class CompensationServiceTest : public testing::AppFixture {
 TEST_F(CompensationServiceTest, ReasonsUntilEverythingIsThere) {
   EXPECT_EQ(Y().reason, "no active model");
   ActivateModel();
-  app_->compensation().MarkChanged("m1");
   EXPECT_EQ(Y().reason, "no datum point (k = 0) probed yet");
   Datum(t0_);
   EXPECT_NE(Y().reason.find("no samples from input T1"), std::string::npos);
