@@ -57,8 +57,9 @@ AuthDecision Authorizer::Decide(const std::string& method, const std::string& pa
     if (!SameSecret(t.token, secret)) continue;
     const std::string actor = "token:" + t.name;
     if (!Permitted(t, method, path)) {
-      return {403, "role " + t.role + (t.machine.empty() ? "" : " of machine " + t.machine) +
-                       " may not " + method + " " + path,
+      return {403,
+              "role " + t.role + (t.machine.empty() ? "" : " of machine " + t.machine) +
+                  " may not " + method + " " + path,
               actor};
     }
     return {200, "", actor};

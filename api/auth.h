@@ -16,9 +16,9 @@
 namespace thermocomp::api {
 
 struct AuthDecision {
-  int status = 200;     // 200 allowed, 401 no/unknown token, 403 not permitted
-  std::string reason;   // why not, for the problem detail
-  std::string actor;    // who, for the audit
+  int status = 200;    // 200 allowed, 401 no/unknown token, 403 not permitted
+  std::string reason;  // why not, for the problem detail
+  std::string actor;   // who, for the audit
 };
 
 class Authorizer {

@@ -7,7 +7,9 @@
 namespace thermocomp::api {
 namespace {
 
-long TenthsOfMicron(double mm) { return std::lround(mm * 1e4); }
+long TenthsOfMicron(double mm) {
+  return std::lround(mm * 1e4);
+}
 
 int FanucAxisNumber(const std::string& axis) {
   static const std::string order = "XYZABC";
@@ -55,15 +57,16 @@ std::string RenderForController(const MachineCompensation& c, const std::string&
     } else if (format == "fanuc") {
       int n = FanucAxisNumber(a.axis);
       if (n == 0) {
-        std::snprintf(line, sizeof line, "(%s has no external work offset variable)\n", a.axis.c_str());
+        std::snprintf(line, sizeof line, "(%s has no external work offset variable)\n",
+                      a.axis.c_str());
       } else {
         std::snprintf(line, sizeof line, "#520%d=%.4f\n", n, a.offset_mm);
       }
     } else {  // linuxcnc
       std::string ax = Lower(a.axis);
       std::snprintf(line, sizeof line,
-                    "setp axis.%s.eoffset-scale 0.0001\nsetp axis.%s.eoffset-counts %ld\n", ax.c_str(),
-                    ax.c_str(), TenthsOfMicron(a.offset_mm));
+                    "setp axis.%s.eoffset-scale 0.0001\nsetp axis.%s.eoffset-counts %ld\n",
+                    ax.c_str(), ax.c_str(), TenthsOfMicron(a.offset_mm));
     }
     out += line;
   }

@@ -34,11 +34,11 @@ bool IsCsv(const Req& req) {
 bool CheckMediaType(const Req& req, Res& res, bool csv_ok) {
   const std::string type = req.get_header_value("Content-Type");
   if (type.rfind("application/json", 0) == 0 || (csv_ok && IsCsv(req))) return true;
-  WriteProblem(res, 415, "Content-Type must be application/json" +
-                             std::string(csv_ok ? " or text/csv" : "") + ", got '" + type + "'");
+  WriteProblem(res, 415,
+               "Content-Type must be application/json" + std::string(csv_ok ? " or text/csv" : "") +
+                   ", got '" + type + "'");
   return false;
 }
-
 
 void WriteIngest(Res& res, const IngestResult& r) {
   if (!r.status.ok()) return WriteProblem(res, r.status, r.errors);
@@ -49,7 +49,7 @@ std::optional<std::vector<std::string>> StringList(const json& body, const char*
                                                    std::vector<FieldError>& errors) {
   if (!body.contains(key)) return std::nullopt;
   if (!body[key].is_array() || !std::all_of(body[key].begin(), body[key].end(),
-                                             [](const json& v) { return v.is_string(); })) {
+                                            [](const json& v) { return v.is_string(); })) {
     errors.push_back({0, key, "must be an array of strings"});
     return std::nullopt;
   }
@@ -60,12 +60,17 @@ std::optional<std::vector<std::string>> StringList(const json& body, const char*
 
 // The actor recorded in the audit: the token's name, or the client address.
 std::string HttpServer::Actor(const Req& req) const {
-  return auth_.Decide(req.method, req.path, req.remote_addr, req.get_header_value("Authorization")).actor;
+  return auth_.Decide(req.method, req.path, req.remote_addr, req.get_header_value("Authorization"))
+      .actor;
 }
 
-HttpServer::HttpServer(App& app) : app_(app), auth_(app.config().tokens) { Routes(); }
+HttpServer::HttpServer(App& app) : app_(app), auth_(app.config().tokens) {
+  Routes();
+}
 
-HttpServer::~HttpServer() { Stop(); }
+HttpServer::~HttpServer() {
+  Stop();
+}
 
 Status HttpServer::Start(const std::string& host, int port) {
   const Config& c = app_.config();
@@ -76,8 +81,10 @@ Status HttpServer::Start(const std::string& host, int port) {
   server_.set_payload_max_length(c.max_body_bytes);
   server_.set_keep_alive_max_count(100000);
   server_.set_keep_alive_timeout(60);
-  port_ = port == 0 ? server_.bind_to_any_port(host) : (server_.bind_to_port(host, port) ? port : -1);
-  if (port_ < 0) return Status::Unavailable("cannot listen on " + host + ":" + std::to_string(port));
+  port_ =
+      port == 0 ? server_.bind_to_any_port(host) : (server_.bind_to_port(host, port) ? port : -1);
+  if (port_ < 0)
+    return Status::Unavailable("cannot listen on " + host + ":" + std::to_string(port));
   thread_ = std::thread([this] { server_.listen_after_bind(); });
   while (!server_.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   return Status::Ok();
@@ -106,25 +113,31 @@ void HttpServer::Routes() {
   auto& s = server_;
   s.set_pre_routing_handler([this](const Req& req, Res& res) {
     t_request_start = std::chrono::steady_clock::now();
-    AuthDecision d = auth_.Decide(req.method, req.path, req.remote_addr,
-                                  req.get_header_value("Authorization"));
+    AuthDecision d =
+        auth_.Decide(req.method, req.path, req.remote_addr, req.get_header_value("Authorization"));
     if (d.status == 200) return httplib::Server::HandlerResponse::Unhandled;
     WriteProblem(res, d.status, d.reason);
     return httplib::Server::HandlerResponse::Handled;
   });
   s.set_logger([this](const Req& req, const Res& res) {
-    double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_request_start).count();
+    double secs =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_request_start).count();
     app_.metrics().ObserveRequest(secs);
-    if (res.status >= 500) log::Error("request failed", "method=" + req.method + " path=" + req.path);
+    if (res.status >= 500)
+      log::Error("request failed", "method=" + req.method + " path=" + req.path);
   });
   s.set_error_handler([](const Req& req, Res& res) {
     if (!res.body.empty()) return;
     switch (res.status) {
-      case 404: return WriteProblem(res, 404, "no such resource: " + req.method + " " + req.path);
-      case 413: return WriteProblem(res, 413, "request body too large");
+      case 404:
+        return WriteProblem(res, 404, "no such resource: " + req.method + " " + req.path);
+      case 413:
+        return WriteProblem(res, 413, "request body too large");
       case 400:
-        return WriteProblem(res, 400, "malformed HTTP request (a POST needs Content-Length, e.g. curl -d '')");
-      default: return WriteProblem(res, res.status, "request failed");
+        return WriteProblem(
+            res, 400, "malformed HTTP request (a POST needs Content-Length, e.g. curl -d '')");
+      default:
+        return WriteProblem(res, res.status, "request failed");
     }
   });
   s.set_exception_handler([](const Req&, Res& res, std::exception_ptr ep) {
@@ -166,7 +179,8 @@ void HttpServer::Routes() {
     if (!CheckMediaType(req, res, false)) return;
     std::vector<FieldError> errors;
     auto record = MachineFromJson(req.matches[1], req.body, errors);
-    if (!record) return WriteProblem(res, Status::InvalidArgument("invalid machine definition"), errors);
+    if (!record)
+      return WriteProblem(res, Status::InvalidArgument("invalid machine definition"), errors);
     auto created = app_.machines().Register(*record, Actor(req), &errors);
     if (!created.ok()) return WriteProblem(res, created.status(), errors);
     (void)app_.compensation().Recompute(record->name);
@@ -203,8 +217,10 @@ void HttpServer::Routes() {
       return WriteProblem(res, Status::InvalidArgument("malformed probe points"), errors);
     }
     IngestResult r = app_.ingest().AddProbePoints(req.matches[1], points, Actor(req));
-    if (r.status.ok()) app_.metrics().probe_points_accepted += r.accepted;
-    else app_.metrics().ingest_rejected++;
+    if (r.status.ok())
+      app_.metrics().probe_points_accepted += r.accepted;
+    else
+      app_.metrics().ingest_rejected++;
     WriteIngest(res, r);
   });
 
@@ -215,12 +231,14 @@ void HttpServer::Routes() {
       if (!CheckMediaType(req, res, false)) return;
       json body = json::parse(req.body, nullptr, false);
       std::vector<FieldError> errors;
-      if (body.is_discarded() || !body.is_object()) errors.push_back({0, "body", "must be a JSON object"});
+      if (body.is_discarded() || !body.is_object())
+        errors.push_back({0, "body", "must be a JSON object"});
       else {
         fr.inputs = StringList(body, "inputs", errors);
         fr.holdout_runs = StringList(body, "holdout_runs", errors);
       }
-      if (!errors.empty()) return WriteProblem(res, Status::InvalidArgument("invalid fit request"), errors);
+      if (!errors.empty())
+        return WriteProblem(res, Status::InvalidArgument("invalid fit request"), errors);
     }
     auto report = app_.fits().Fit(req.matches[1], req.matches[2], fr);
     if (!report.ok()) return WriteProblem(res, report.status());
@@ -253,8 +271,9 @@ void HttpServer::Routes() {
       return res.set_content(CompensationBody(req.matches[1], *c), "application/json");
     }
     if (!KnownControllerFormat(format)) {
-      return WriteProblem(res, 400, "format: must be json, sinumerik, beckhoff, heidenhain, fanuc or linuxcnc",
-                          {{0, "format", "unknown format '" + format + "'"}});
+      return WriteProblem(
+          res, 400, "format: must be json, sinumerik, beckhoff, heidenhain, fanuc or linuxcnc",
+          {{0, "format", "unknown format '" + format + "'"}});
     }
     res.set_content(RenderForController(**c, format), "text/plain");
   });

@@ -37,7 +37,8 @@ class HttpServer {
   App& app_;
   Authorizer auth_;
   std::shared_mutex rendered_mutex_;
-  std::map<std::string, std::pair<std::shared_ptr<const MachineCompensation>, std::string>> rendered_;
+  std::map<std::string, std::pair<std::shared_ptr<const MachineCompensation>, std::string>>
+      rendered_;
   httplib::Server server_;
   std::thread thread_;
   int port_ = 0;

@@ -14,7 +14,8 @@ using nlohmann::json;
 
 std::string_view Trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
   return s;
 }
 
@@ -32,7 +33,8 @@ std::vector<std::vector<std::string_view>> SplitCsv(std::string_view body) {
     size_t c = 0;
     while (true) {
       size_t comma = line.find(',', c);
-      cells.push_back(Trim(line.substr(c, comma == std::string_view::npos ? line.npos : comma - c)));
+      cells.push_back(
+          Trim(line.substr(c, comma == std::string_view::npos ? line.npos : comma - c)));
       if (comma == std::string_view::npos) break;
       c = comma + 1;
     }
@@ -68,7 +70,6 @@ std::optional<json> ParseJson(const std::string& body, std::vector<FieldError>& 
     return std::nullopt;
   }
 }
-
 
 }  // namespace
 
@@ -145,13 +146,12 @@ class TemperatureSax : public nlohmann::json_sax<json> {
   bool number_unsigned(number_unsigned_t v) override {
     return Number(static_cast<double>(v), static_cast<int64_t>(v));
   }
-  bool number_float(number_float_t v, const string_t&) override {
-    return Number(v, std::nullopt);
-  }
+  bool number_float(number_float_t v, const string_t&) override { return Number(v, std::nullopt); }
   bool boolean(bool) override { return InSample() || Top("samples"); }
   bool null() override { return InSample() || Top("samples"); }
   bool binary(binary_t&) override { return Fail("body", "binary values are not JSON"); }
-  bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception&) override {
+  bool parse_error(std::size_t position, const std::string&,
+                   const nlohmann::detail::exception&) override {
     errors_.push_back({0, "body", "malformed JSON at byte " + std::to_string(position)});
     return false;
   }
@@ -207,7 +207,8 @@ bool ParseTemperaturesCsv(const std::string& body, std::vector<TemperatureInput>
                           std::vector<FieldError>& errors) {
   auto rows = SplitCsv(body);
   if (rows.empty() || rows[0].empty() || rows[0][0] != "ts" || rows[0].size() < 2) {
-    errors.push_back({0, "header", "CSV must start with a header ts,sensor,value or ts,<sensor>,..."});
+    errors.push_back(
+        {0, "header", "CSV must start with a header ts,sensor,value or ts,<sensor>,..."});
     return false;
   }
   const auto& header = rows[0];
@@ -217,8 +218,9 @@ bool ParseTemperaturesCsv(const std::string& body, std::vector<TemperatureInput>
     const auto& cells = rows[r];
     const size_t index = r - 1;
     if (cells.size() != header.size()) {
-      errors.push_back({index, "row", "expected " + std::to_string(header.size()) + " fields, got " +
-                                          std::to_string(cells.size())});
+      errors.push_back({index, "row",
+                        "expected " + std::to_string(header.size()) + " fields, got " +
+                            std::to_string(cells.size())});
       continue;
     }
     auto ts = ParseTs(std::string(cells[0]));
@@ -228,15 +230,19 @@ bool ParseTemperaturesCsv(const std::string& body, std::vector<TemperatureInput>
     }
     if (long_form) {
       auto v = ParseDouble(cells[2]);
-      if (!v) errors.push_back({index, "value", "not a number"});
-      else out.push_back({std::string(cells[1]), *ts, *v});
+      if (!v)
+        errors.push_back({index, "value", "not a number"});
+      else
+        out.push_back({std::string(cells[1]), *ts, *v});
       continue;
     }
     for (size_t c = 1; c < cells.size(); ++c) {
       if (cells[c].empty()) continue;  // a sensor without a reading at this time
       auto v = ParseDouble(cells[c]);
-      if (!v) errors.push_back({index, std::string(header[c]), "not a number"});
-      else out.push_back({std::string(header[c]), *ts, *v});
+      if (!v)
+        errors.push_back({index, std::string(header[c]), "not a number"});
+      else
+        out.push_back({std::string(header[c]), *ts, *v});
     }
     if (errors.size() > 100) break;
   }
@@ -258,12 +264,18 @@ bool ParseProbePointsJson(const std::string& body, std::vector<ProbePointInput>&
       errors.push_back({i++, "point", "must be an object"});
       continue;
     }
-    if (auto it = p.find("run"); it != p.end() && it->is_string()) in.run = *it;
-    else errors.push_back({i, "run", "required string"});
-    if (auto it = p.find("k"); it != p.end() && it->is_number_integer()) in.k = it->get<int>();
-    else errors.push_back({i, "k", "required integer"});
-    if (auto ts = p.contains("ts") ? TsFromJson(p["ts"]) : std::nullopt) in.ts_ms = *ts;
-    else errors.push_back({i, "ts", kTsHelp});
+    if (auto it = p.find("run"); it != p.end() && it->is_string())
+      in.run = *it;
+    else
+      errors.push_back({i, "run", "required string"});
+    if (auto it = p.find("k"); it != p.end() && it->is_number_integer())
+      in.k = it->get<int>();
+    else
+      errors.push_back({i, "k", "required integer"});
+    if (auto ts = p.contains("ts") ? TsFromJson(p["ts"]) : std::nullopt)
+      in.ts_ms = *ts;
+    else
+      errors.push_back({i, "ts", kTsHelp});
     for (const char* part : {"position", "deviation"}) {
       if (!p.contains(part)) continue;
       if (!p[part].is_object()) {
@@ -284,8 +296,10 @@ bool ParseProbePointsJson(const std::string& body, std::vector<ProbePointInput>&
         errors.push_back({i, "temperatures", "must be an object of sensor: degC"});
       } else {
         for (auto& [sensor, v] : p["temperatures"].items()) {
-          if (v.is_number()) in.temperatures[sensor] = v.get<double>();
-          else errors.push_back({i, "temperatures." + sensor, "must be a number"});
+          if (v.is_number())
+            in.temperatures[sensor] = v.get<double>();
+          else
+            errors.push_back({i, "temperatures." + sensor, "must be a number"});
         }
       }
     }
@@ -300,7 +314,9 @@ bool ParseProbePointsCsv(const std::string& body, std::vector<ProbePointInput>& 
   auto rows = SplitCsv(body);
   if (rows.empty() || rows[0].size() < 4 || rows[0][0] != "ts" || rows[0][1] != "run" ||
       rows[0][2] != "k") {
-    errors.push_back({0, "header", "CSV must start with ts,run,k, then pos_<axis>/dev_<axis> and sensor columns"});
+    errors.push_back(
+        {0, "header",
+         "CSV must start with ts,run,k, then pos_<axis>/dev_<axis> and sensor columns"});
     return false;
   }
   const auto& header = rows[0];
@@ -313,8 +329,10 @@ bool ParseProbePointsCsv(const std::string& body, std::vector<ProbePointInput>& 
     }
     ProbePointInput in;
     auto ts = ParseTs(std::string(cells[0]));
-    if (!ts) errors.push_back({index, "ts", kTsHelp});
-    else in.ts_ms = *ts;
+    if (!ts)
+      errors.push_back({index, "ts", kTsHelp});
+    else
+      in.ts_ms = *ts;
     in.run = std::string(cells[1]);
     int k = -1;
     auto [p, ec] = std::from_chars(cells[2].data(), cells[2].data() + cells[2].size(), k);
@@ -330,9 +348,12 @@ bool ParseProbePointsCsv(const std::string& body, std::vector<ProbePointInput>& 
         errors.push_back({index, name, "not a number"});
         continue;
       }
-      if (name.rfind("pos_", 0) == 0) in.axes[name.substr(4)].position_mm = *v;
-      else if (name.rfind("dev_", 0) == 0) in.axes[name.substr(4)].deviation_mm = *v;
-      else in.temperatures[name] = *v;
+      if (name.rfind("pos_", 0) == 0)
+        in.axes[name.substr(4)].position_mm = *v;
+      else if (name.rfind("dev_", 0) == 0)
+        in.axes[name.substr(4)].deviation_mm = *v;
+      else
+        in.temperatures[name] = *v;
     }
     out.push_back(std::move(in));
   }

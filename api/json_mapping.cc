@@ -20,11 +20,16 @@ json MachineToJson(const MachineRecord& m) {
                     {"reference_position_mm", a.reference_position_mm},
                     {"model", {{"inputs", a.inputs}, {"clamp_mm", a.clamp_mm}}}});
   }
-  return {{"machine", m.name}, {"name", m.display_name}, {"controller", m.controller},
-          {"sensors", sensors}, {"axes", axes}};
+  return {{"machine", m.name},
+          {"name", m.display_name},
+          {"controller", m.controller},
+          {"sensors", sensors},
+          {"axes", axes}};
 }
 
-std::string MachineToJsonText(const MachineRecord& m) { return MachineToJson(m).dump(2); }
+std::string MachineToJsonText(const MachineRecord& m) {
+  return MachineToJson(m).dump(2);
+}
 
 std::optional<MachineRecord> MachineFromJson(const std::string& name, const std::string& body,
                                              std::vector<FieldError>& errors) {
@@ -113,28 +118,36 @@ StatusOr<json> ListModels(App& app, const std::string& machine, const std::strin
   json out = json::array();
   for (const auto& r : *list) {
     json j = ModelJson(r);
-    out.push_back({{"version", r.version}, {"status", r.status}, {"reason", r.reason},
-                   {"created_at", FormatRfc3339(r.created_ms)}, {"inputs", j.value("inputs", json::array())},
-                   {"r2", j.value("r2", json())}, {"rmse_mm", j.value("rmse_mm", json())},
+    out.push_back({{"version", r.version},
+                   {"status", r.status},
+                   {"reason", r.reason},
+                   {"created_at", FormatRfc3339(r.created_ms)},
+                   {"inputs", j.value("inputs", json::array())},
+                   {"r2", j.value("r2", json())},
+                   {"rmse_mm", j.value("rmse_mm", json())},
                    {"validation", j.value("validation", json())}});
   }
   return json{{"machine", machine}, {"axis", axis}, {"models", out}};
 }
 
-StatusOr<json> GetModel(App& app, const std::string& machine, const std::string& axis, int version) {
+StatusOr<json> GetModel(App& app, const std::string& machine, const std::string& axis,
+                        int version) {
   auto r = app.fits().Model(machine, axis, version);
   if (!r.ok()) return r.status();
   return ModelJson(*r);
 }
 
-bool ParseHistoryQuery(const httplib::Request& req, HistoryQuery& q, std::vector<FieldError>& errors) {
+bool ParseHistoryQuery(const httplib::Request& req, HistoryQuery& q,
+                       std::vector<FieldError>& errors) {
   q.axis = req.get_param_value("axis");
   if (q.axis.empty()) errors.push_back({0, "axis", "required, e.g. axis=Y"});
   for (const char* key : {"from", "to"}) {
     if (!req.has_param(key)) continue;
     auto ts = ParseTs(req.get_param_value(key));
-    if (!ts) errors.push_back({0, key, "must be RFC 3339 UTC or Unix milliseconds"});
-    else (std::string(key) == "from" ? q.from_ms : q.to_ms) = *ts;
+    if (!ts)
+      errors.push_back({0, key, "must be RFC 3339 UTC or Unix milliseconds"});
+    else
+      (std::string(key) == "from" ? q.from_ms : q.to_ms) = *ts;
   }
   if (req.has_param("max_points")) {
     const std::string v = req.get_param_value("max_points");

@@ -23,6 +23,7 @@ StatusOr<nlohmann::json> ListModels(App& app, const std::string& machine, const 
 StatusOr<nlohmann::json> GetModel(App& app, const std::string& machine, const std::string& axis,
                                   int version);
 // axis (required), from, to, max_points of GET /drift.
-bool ParseHistoryQuery(const httplib::Request& req, HistoryQuery& q, std::vector<FieldError>& errors);
+bool ParseHistoryQuery(const httplib::Request& req, HistoryQuery& q,
+                       std::vector<FieldError>& errors);
 
 }  // namespace thermocomp::api

@@ -22,7 +22,9 @@ namespace thermocomp {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double Seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
+double Seconds(Clock::time_point a) {
+  return std::chrono::duration<double>(Clock::now() - a).count();
+}
 
 std::string Fresh(const std::string& name) {
   auto dir = std::filesystem::temp_directory_path() / "thermocomp-bench";
@@ -34,10 +36,12 @@ std::string Fresh(const std::string& name) {
 double RawSqliteRate(int n) {
   sqlite3* db;
   sqlite3_open(Fresh("dds-raw.db").c_str(), &db);
-  sqlite3_exec(db, "PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL;"
-                   "CREATE TABLE samples (sensor_id INTEGER NOT NULL, ts_ms INTEGER NOT NULL,"
-                   " value REAL NOT NULL, filtered REAL NOT NULL, PRIMARY KEY (sensor_id, ts_ms)) WITHOUT ROWID",
-               nullptr, nullptr, nullptr);
+  sqlite3_exec(
+      db,
+      "PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL;"
+      "CREATE TABLE samples (sensor_id INTEGER NOT NULL, ts_ms INTEGER NOT NULL,"
+      " value REAL NOT NULL, filtered REAL NOT NULL, PRIMARY KEY (sensor_id, ts_ms)) WITHOUT ROWID",
+      nullptr, nullptr, nullptr);
   sqlite3_stmt* ins;
   sqlite3_prepare_v2(db, "INSERT INTO samples VALUES (?, ?, ?, ?)", -1, &ins, nullptr);
   auto start = Clock::now();
@@ -88,10 +92,11 @@ void Ingest(int n) {
   const double secs = Seconds(start);
   const double raw = RawSqliteRate(n);
   const double rate = bridge.samples_stored() / secs;
-  std::printf("dds ingest: %llu of %d samples stored in %.2f s = %.0f samples/s;"
-              " raw SQLite in this run %.0f rows/s; ratio %.0f %%\n",
-              static_cast<unsigned long long>(bridge.samples_stored()), n, secs, rate, raw,
-              100 * rate / raw);
+  std::printf(
+      "dds ingest: %llu of %d samples stored in %.2f s = %.0f samples/s;"
+      " raw SQLite in this run %.0f rows/s; ratio %.0f %%\n",
+      static_cast<unsigned long long>(bridge.samples_stored()), n, secs, rate, raw,
+      100 * rate / raw);
   bridge.Stop();
 }
 
@@ -99,7 +104,8 @@ void Latency(int rounds) {
   auto app = OpenApp("dds-latency.db");
   {
     std::lock_guard<std::mutex> lock(app->db().mutex());
-    app->db().Exec(R"(INSERT INTO models(axis_id, version, status, reason, created_ms, model_json, report_json)
+    app->db().Exec(
+        R"(INSERT INTO models(axis_id, version, status, reason, created_ms, model_json, report_json)
       VALUES (1, 1, 'active', 'bench', 0,
       '{"inputs":["T0"],"intercept":0.0,"coefficients":[-0.001],"trained_range":[[-100,100]],"clamp_mm":0.03}', '{}'))");
   }
@@ -121,7 +127,8 @@ void Latency(int rounds) {
     bool seen = false;
     while (!seen && Seconds(sent) < 2) {
       for (const auto& c : client.TakeCompensation()) {
-        if (c.machine == "m1" && c.axis == "Y" && std::fabs(c.offset_mm - expect) < 1e-9) seen = true;
+        if (c.machine == "m1" && c.axis == "Y" && std::fabs(c.offset_mm - expect) < 1e-9)
+          seen = true;
       }
       if (!seen) std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
@@ -129,12 +136,15 @@ void Latency(int rounds) {
       ms.push_back(Seconds(sent) * 1000);
     } else {
       auto now = app->compensation().Get("m1");
-      std::fprintf(stderr, "round %d: value %.1f expected %.5f, served %.5f valid %d reason %s\n", r, value,
-                   expect, (*now)->axes[0].offset_mm, (*now)->axes[0].valid, (*now)->axes[0].reason.c_str());
+      std::fprintf(stderr, "round %d: value %.1f expected %.5f, served %.5f valid %d reason %s\n",
+                   r, value, expect, (*now)->axes[0].offset_mm, (*now)->axes[0].valid,
+                   (*now)->axes[0].reason.c_str());
     }
   }
   std::sort(ms.begin(), ms.end());
-  auto pct = [&](double p) { return ms.empty() ? 0.0 : ms[std::min(ms.size() - 1, size_t(p * ms.size()))]; };
+  auto pct = [&](double p) {
+    return ms.empty() ? 0.0 : ms[std::min(ms.size() - 1, size_t(p * ms.size()))];
+  };
   std::printf("publish -> compensation: %zu of %d rounds, p50 %.1f ms, p99 %.1f ms, max %.1f ms\n",
               ms.size(), rounds, pct(0.5), pct(0.99), ms.empty() ? 0.0 : ms.back());
   bridge.Stop();
@@ -154,7 +164,8 @@ void Publish(int machines, int sensors, int seconds) {
                        21.0 + 0.1 * std::sin((s + m + k) / 60.0));
       }
     }
-    std::this_thread::sleep_until(std::chrono::system_clock::time_point(std::chrono::milliseconds(ts + 1000)));
+    std::this_thread::sleep_until(
+        std::chrono::system_clock::time_point(std::chrono::milliseconds(ts + 1000)));
   }
   client.WaitForAcks();
 }

@@ -66,7 +66,8 @@ std::unique_ptr<App> BuildYear(const Config& config, const Clock& clock) {
     }
     LogStore log(db);
     for (int i = 0; i < kMinutes; ++i) {
-      log.AppendCompensation(1, {kStart + i * kMinute, 0.001 * std::sin(i / 300.0), 0.0, true, false, 1});
+      log.AppendCompensation(
+          1, {kStart + i * kMinute, 0.001 * std::sin(i / 300.0), 0.0, true, false, 1});
     }
     DriftModel model;
     model.inputs = {"T0", "T1"};
@@ -91,7 +92,8 @@ void BM_DriftHistoryYear(benchmark::State& state) {
   auto cold_start = std::chrono::steady_clock::now();
   (void)app->history().Drift(q);
   state.counters["cold_ms"] =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cold_start).count();
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cold_start)
+          .count();
   for (auto _ : state) {
     auto h = app->history().Drift(q);
     if (!h.ok()) {

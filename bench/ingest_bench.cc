@@ -33,11 +33,13 @@ void BM_RawSqlite(benchmark::State& state) {
   sqlite3* db;
   sqlite3_open(FreshPath("raw.db").c_str(), &db);
   sqlite3_exec(db, "PRAGMA journal_mode=WAL", nullptr, nullptr, nullptr);
-  sqlite3_exec(db, (std::string("PRAGMA synchronous=") + kSync[state.range(0)]).c_str(), nullptr, nullptr, nullptr);
-  sqlite3_exec(db,
-               "CREATE TABLE samples (sensor_id INTEGER NOT NULL, ts_ms INTEGER NOT NULL,"
-               " value REAL NOT NULL, filtered REAL NOT NULL, PRIMARY KEY (sensor_id, ts_ms)) WITHOUT ROWID",
-               nullptr, nullptr, nullptr);
+  sqlite3_exec(db, (std::string("PRAGMA synchronous=") + kSync[state.range(0)]).c_str(), nullptr,
+               nullptr, nullptr);
+  sqlite3_exec(
+      db,
+      "CREATE TABLE samples (sensor_id INTEGER NOT NULL, ts_ms INTEGER NOT NULL,"
+      " value REAL NOT NULL, filtered REAL NOT NULL, PRIMARY KEY (sensor_id, ts_ms)) WITHOUT ROWID",
+      nullptr, nullptr, nullptr);
   sqlite3_stmt* ins;
   sqlite3_prepare_v2(db, "INSERT INTO samples VALUES (?, ?, ?, ?)", -1, &ins, nullptr);
   int64_t n = 0;
@@ -83,7 +85,8 @@ std::string Body(Shape shape, int64_t first_row) {
   }
   b = "ts,T0,T1,T2,T3,T4,T5,T6,T7\n";
   for (int r = 0; r < kBatch / 8; ++r) {
-    b += FormatRfc3339(kStart + (first_row + r) * 60000) + ",21.1,21.2,21.3,21.4,21.5,21.6,21.7,21.8\n";
+    b += FormatRfc3339(kStart + (first_row + r) * 60000) +
+         ",21.1,21.2,21.3,21.4,21.5,21.6,21.7,21.8\n";
   }
   return b;
 }

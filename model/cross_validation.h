@@ -11,8 +11,8 @@ namespace thermocomp {
 
 struct CrossValidation {
   int folds = 0;
-  double rmse = 0;  // sqrt(mean squared prediction error over all rows)
-  double r2 = 0;    // 1 - PRESS / SST
+  double rmse = 0;              // sqrt(mean squared prediction error over all rows)
+  double r2 = 0;                // 1 - PRESS / SST
   Eigen::VectorXd predictions;  // out-of-fold prediction of every row
 };
 

@@ -15,10 +15,10 @@ struct InputRange {
 };
 
 struct DriftModel {
-  std::vector<std::string> inputs;  // term names: sensor ids (dT since datum)
-  double intercept = 0;             // mm
-  std::vector<double> coefficients; // mm per unit of each term
-  std::vector<InputRange> trained;  // training range of each term
+  std::vector<std::string> inputs;   // term names: sensor ids (dT since datum)
+  double intercept = 0;              // mm
+  std::vector<double> coefficients;  // mm per unit of each term
+  std::vector<InputRange> trained;   // training range of each term
   double clamp_mm = 0.03;
 
   // The model a fit describes, with the training ranges of its terms taken

@@ -30,15 +30,15 @@ struct LinearFit {
   int n = 0;                         // observations
   int k = 0;                         // predictors in the fit (without intercept)
   double r2 = 0, adj_r2 = 0;
-  double f = 0, f_p = 1;             // F(k, n-k-1) and its upper-tail p
+  double f = 0, f_p = 1;  // F(k, n-k-1) and its upper-tail p
   double sse = 0;
-  double rmse = 0;                   // sqrt(SSE / n), as methods.md defines it
-  double sigma = 0;                  // sqrt(SSE / (n - k - 1))
-  double durbin_watson = 0;          // in row order
+  double rmse = 0;           // sqrt(SSE / n), as methods.md defines it
+  double sigma = 0;          // sqrt(SSE / (n - k - 1))
+  double durbin_watson = 0;  // in row order
   Eigen::VectorXd fitted;
   Eigen::VectorXd residuals;
-  Eigen::VectorXd leverage;               // diagonal of the hat matrix
-  Eigen::VectorXd standardized_residuals; // e / (sigma * sqrt(1 - h)), R's rstandard()
+  Eigen::VectorXd leverage;                // diagonal of the hat matrix
+  Eigen::VectorXd standardized_residuals;  // e / (sigma * sqrt(1 - h)), R's rstandard()
 
   // Predicts for one row of the *original* columns (aliased ones ignored).
   double Predict(const Eigen::Ref<const Eigen::RowVectorXd>& row,

@@ -44,10 +44,9 @@ StatusOr<std::vector<std::string>> Eliminate(const Observations& obs, const std:
     int drop = worst_collinear >= 0 ? worst_collinear : worst_p;
     if (drop < 0) return terms;
     const TermStats& s = stats[drop];
-    removed.push_back({s.name,
-                       worst_collinear >= 0 ? Threshold("VIF", opt.vif_max)
-                                            : Threshold("p", opt.p_max),
-                       s.p, s.vif});
+    removed.push_back(
+        {s.name, worst_collinear >= 0 ? Threshold("VIF", opt.vif_max) : Threshold("p", opt.p_max),
+         s.p, s.vif});
     terms.erase(std::find(terms.begin(), terms.end(), s.name));
   }
   return terms;

@@ -31,12 +31,12 @@ struct RemovedTerm {
 };
 
 struct SelectionResult {
-  std::vector<std::string> terms;     // kept, in column order
-  std::vector<RemovedTerm> removed;   // in order of removal
-  std::vector<int> rows;              // rows of the input that remain
-  std::vector<int> outlier_rows;      // rows of the input removed as outliers
+  std::vector<std::string> terms;    // kept, in column order
+  std::vector<RemovedTerm> removed;  // in order of removal
+  std::vector<int> rows;             // rows of the input that remain
+  std::vector<int> outlier_rows;     // rows of the input removed as outliers
   int outlier_steps = 0;
-  LinearFit fit;                      // final fit on `rows` and `terms`
+  LinearFit fit;  // final fit on `rows` and `terms`
 };
 
 StatusOr<SelectionResult> SelectModel(const Observations& obs, const SelectionOptions& options);

@@ -12,14 +12,14 @@ class Status {
  public:
   enum class Code {
     kOk = 0,
-    kInvalidArgument,    // malformed input (HTTP 400)
-    kNotFound,           // unknown machine, axis, model (404)
-    kConflict,           // same key, different value (409)
-    kUnprocessable,      // valid syntax, unusable content (422)
-    kTooLarge,           // body or batch too large (413)
-    kFailedPrecondition, // state does not allow it (409)
-    kUnavailable,        // not ready (503)
-    kInternal,           // a bug or an I/O failure (500)
+    kInvalidArgument,     // malformed input (HTTP 400)
+    kNotFound,            // unknown machine, axis, model (404)
+    kConflict,            // same key, different value (409)
+    kUnprocessable,       // valid syntax, unusable content (422)
+    kTooLarge,            // body or batch too large (413)
+    kFailedPrecondition,  // state does not allow it (409)
+    kUnavailable,         // not ready (503)
+    kInternal,            // a bug or an I/O failure (500)
   };
 
   Status() = default;
@@ -50,7 +50,7 @@ class Status {
 template <typename T>
 class StatusOr {
  public:
-  StatusOr(T value) : value_(std::move(value)) {}  // NOLINT: implicit by design
+  StatusOr(T value) : value_(std::move(value)) {}          // NOLINT: implicit by design
   StatusOr(Status status) : status_(std::move(status)) {}  // NOLINT
   bool ok() const { return status_.ok(); }
   const Status& status() const { return status_; }

@@ -27,8 +27,8 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
   app->ingest_->SetListener(changed);
   app->fits_->SetListener(changed);
   compensation->Start();
-  log::Info("database open", "path=" + config.db_path +
-                                 " schema_version=" + std::to_string(d.schema_version()));
+  log::Info("database open",
+            "path=" + config.db_path + " schema_version=" + std::to_string(d.schema_version()));
   return app;
 }
 

@@ -8,10 +8,10 @@
 #include <sstream>
 #include <thread>
 
+#include "api/dds/dds_bridge.h"
 #include "api/http_server.h"
 #include "api/ingest_parsers.h"
 #include "api/json_mapping.h"
-#include "api/dds/dds_bridge.h"
 #include "server/log.h"
 #include "server/time_format.h"
 #include "sim/live_simulation.h"
@@ -92,7 +92,8 @@ std::string ReadFile(const std::string& path, bool& ok) {
 
 std::string Describe(const IngestResult& r) {
   if (r.status.ok()) {
-    return std::to_string(r.accepted) + " accepted, " + std::to_string(r.duplicates) + " duplicates";
+    return std::to_string(r.accepted) + " accepted, " + std::to_string(r.duplicates) +
+           " duplicates";
   }
   std::string s = r.status.message();
   for (size_t i = 0; i < r.errors.size() && i < 5; ++i) {
@@ -103,7 +104,9 @@ std::string Describe(const IngestResult& r) {
 }
 
 std::atomic<bool> g_stop{false};
-void OnSignal(int) { g_stop = true; }
+void OnSignal(int) {
+  g_stop = true;
+}
 
 // ---------------------------------------------------------------- serve
 int Serve(const Args& a) {
@@ -112,7 +115,8 @@ int Serve(const Args& a) {
   const Config& config = (*app)->config();
   for (const auto& m : (*app)->machines().List()) (void)(*app)->compensation().Recompute(m.name);
   api::HttpServer http(**app);
-  if (Status s = http.Start(config.listen_host, config.listen_port); !s.ok()) return Fail(s.message());
+  if (Status s = http.Start(config.listen_host, config.listen_port); !s.ok())
+    return Fail(s.message());
   (*app)->scheduler().Start(std::chrono::seconds(60));
   std::unique_ptr<dds::DdsBridge> bridge;
   if (a.Has("dds") || config.dds_enabled) {
@@ -144,16 +148,17 @@ int Serve(const Args& a) {
 // run, one run every 4 hours from `start`.
 StatusOr<std::pair<int, int>> ImportStudy(App& app, const std::string& machine,
                                           const std::string& text, int64_t start_ms) {
-  static const std::vector<std::string> kColumns = {"dT_co", "dT_cl", "dT_x1", "dT_x2",
+  static const std::vector<std::string> kColumns = {"dT_co",  "dT_cl", "dT_x1", "dT_x2",
                                                     "dT_env", "dT_y1", "dT_y2", "dT_z"};
-  static const std::vector<std::string> kSensors = {"Tco", "Tcl", "Tx1", "Tx2",
+  static const std::vector<std::string> kSensors = {"Tco",  "Tcl", "Tx1", "Tx2",
                                                     "Tenv", "Ty1", "Ty2", "Tz"};
   static const std::vector<double> kAlpha = {0.40, 0.35, 0.15, 0.15, 0.20, 0.30, 0.20, 0.10};
   if (!app.machines().Find(machine)) {
     MachineRecord m;
     m.name = machine;
     m.display_name = "5-axis HMC, FMS study (SINUMERIK 840D sl)";
-    for (size_t i = 0; i < kSensors.size(); ++i) m.sensors.push_back({0, kSensors[i], "", kAlpha[i]});
+    for (size_t i = 0; i < kSensors.size(); ++i)
+      m.sensors.push_back({0, kSensors[i], "", kAlpha[i]});
     m.axes = {{0, "X", 0.0, kSensors, 0.03}, {0, "Y", 0.0, kSensors, 0.03}};
     std::vector<FieldError> errors;
     auto created = app.machines().Register(m, "import", &errors);
@@ -162,7 +167,8 @@ StatusOr<std::pair<int, int>> ImportStudy(App& app, const std::string& machine,
   std::istringstream in(text);
   std::string line;
   std::getline(in, line);
-  if (line.rfind("obs,run,", 0) != 0) return Status::InvalidArgument("not the study table: header " + line);
+  if (line.rfind("obs,run,", 0) != 0)
+    return Status::InvalidArgument("not the study table: header " + line);
   std::vector<ProbePointInput> points;
   std::map<std::string, int> k_of_run;
   std::map<std::string, int64_t> run_start;
@@ -172,7 +178,8 @@ StatusOr<std::pair<int, int>> ImportStudy(App& app, const std::string& machine,
     std::vector<std::string> cells;
     std::stringstream ss(line);
     for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
-    if (cells.size() != 12) return Status::InvalidArgument("row " + std::to_string(rows + 1) + ": 12 fields expected");
+    if (cells.size() != 12)
+      return Status::InvalidArgument("row " + std::to_string(rows + 1) + ": 12 fields expected");
     const std::string run = cells[1];
     if (!run_start.count(run)) {
       int64_t t0 = start_ms + static_cast<int64_t>(run_start.size()) * 4 * 60 * kMinuteMs;
@@ -190,7 +197,8 @@ StatusOr<std::pair<int, int>> ImportStudy(App& app, const std::string& machine,
     p.run = run;
     p.k = ++k_of_run[run];
     p.ts_ms = run_start[run] + p.k * 10 * kMinuteMs;
-    for (size_t i = 0; i < kSensors.size(); ++i) p.temperatures[kSensors[i]] = std::stod(cells[2 + i]);
+    for (size_t i = 0; i < kSensors.size(); ++i)
+      p.temperatures[kSensors[i]] = std::stod(cells[2 + i]);
     p.axes["Y"].deviation_mm = std::stod(cells[10]);
     p.axes["X"].deviation_mm = std::stod(cells[11]);
     points.push_back(p);
@@ -233,10 +241,11 @@ int Import(const Args& a) {
     const int64_t start = ParseRfc3339(a.Get("start", "2026-01-05T06:00:00Z")).value_or(0);
     auto r = ImportStudy(**app, name, text, start);
     if (!r.ok()) return Fail(r.status().message());
-    std::printf("imported %d study rows of %d runs into machine %s: added a datum point p0 (all zeros)\n"
-                "per run and evenly spaced timestamps (runs 4 h apart from %s, points 10 min apart);\n"
-                "temperatures are stored as the study's smoothed dT snapshots.\n",
-                r->first, r->second, name.c_str(), FormatRfc3339(start).c_str());
+    std::printf(
+        "imported %d study rows of %d runs into machine %s: added a datum point p0 (all zeros)\n"
+        "per run and evenly spaced timestamps (runs 4 h apart from %s, points 10 min apart);\n"
+        "temperatures are stored as the study's smoothed dT snapshots.\n",
+        r->first, r->second, name.c_str(), FormatRfc3339(start).c_str());
     return 0;
   }
   if (machine.empty()) return Fail("import needs --machine (or --study FILE)");
@@ -293,14 +302,16 @@ Status SimulateIntoApp(App& app, const std::vector<std::string>& names, int days
   const int64_t start = (end_ms / kDayMs - days) * kDayMs;
   for (size_t i = 0; i < names.size(); ++i) {
     std::vector<FieldError> errors;
-    auto created = app.machines().Register(VirtualMachine::Definition(names[i]), "simulate", &errors);
+    auto created =
+        app.machines().Register(VirtualMachine::Definition(names[i]), "simulate", &errors);
     if (!created.ok()) return created.status();
     VirtualMachine vm({names[i], seed + i, start});
     Status failed;
     RunSimulation(vm, end_ms, [&](const auto& samples, const auto& points) {
       if (!failed.ok()) return;
       IngestResult r = app.ingest().AddTemperatures(names[i], samples, "simulate");
-      if (r.status.ok() && !points.empty()) r = app.ingest().AddProbePoints(names[i], points, "simulate");
+      if (r.status.ok() && !points.empty())
+        r = app.ingest().AddProbePoints(names[i], points, "simulate");
       if (!r.status.ok()) failed = Status::Internal(Describe(r));
     });
     if (!failed.ok()) return failed;
@@ -325,7 +336,8 @@ int SimulateLive(const Args& a, const std::vector<std::string>& names, uint64_t 
     std::printf("live simulation of %zu machine(s) posting to %s\n", names.size(), url.c_str());
   }
   std::fflush(stdout);
-  LiveOptions o{names, seed, days, std::stoll(a.Get("minutes", "0")), std::stod(a.Get("speed", "1"))};
+  LiveOptions o{names, seed, days, std::stoll(a.Get("minutes", "0")),
+                std::stod(a.Get("speed", "1"))};
   if (!(o.speed >= 1.0 && o.speed <= 1440.0)) return Fail("--speed must be from 1 to 1440");
   return RunLiveSimulation(o, *link, g_stop);
 }
@@ -346,7 +358,8 @@ int Simulate(const Args& a) {
       temps << "ts,sensor,value\n";
       probes << "ts,run,k,pos_X,pos_Y,dev_X,dev_Y\n";
       RunSimulation(vm, end, [&](const auto& samples, const auto& points) {
-        for (const auto& s : samples) temps << FormatRfc3339(s.ts_ms) << ',' << s.sensor << ',' << s.value << '\n';
+        for (const auto& s : samples)
+          temps << FormatRfc3339(s.ts_ms) << ',' << s.sensor << ',' << s.value << '\n';
         for (const auto& p : points) {
           probes << FormatRfc3339(p.ts_ms) << ',' << p.run << ',' << p.k << ','
                  << *p.axes.at("X").position_mm << ',' << *p.axes.at("Y").position_mm << ','
@@ -355,13 +368,15 @@ int Simulate(const Args& a) {
       });
       std::ofstream def(dir + "/" + names[i] + "_machine.json");
       def << api::MachineToJsonText(VirtualMachine::Definition(names[i]));
-      std::printf("wrote %s/%s_{machine.json,temperatures.csv,probe_points.csv}\n", dir.c_str(), names[i].c_str());
+      std::printf("wrote %s/%s_{machine.json,temperatures.csv,probe_points.csv}\n", dir.c_str(),
+                  names[i].c_str());
     }
     return 0;
   }
   auto app = OpenApp(a);
   if (!app.ok()) return Fail(app.status().message());
-  if (Status s = SimulateIntoApp(**app, names, days, seed, NowUnixMs()); !s.ok()) return Fail(s.message());
+  if (Status s = SimulateIntoApp(**app, names, days, seed, NowUnixMs()); !s.ok())
+    return Fail(s.message());
   std::printf("simulated %d days of %zu machine(s) into %s\n", days, names.size(),
               (*app)->config().db_path.c_str());
   return 0;
@@ -375,7 +390,8 @@ int Demo(const Args& a) {
   const auto names = MachineNames(a);
   const int days = std::stoi(a.Get("days", "14"));
   const uint64_t seed = std::stoull(a.Get("seed", "1"));
-  if (Status s = SimulateIntoApp(app_ref, names, days, seed, NowUnixMs()); !s.ok()) return Fail(s.message());
+  if (Status s = SimulateIntoApp(app_ref, names, days, seed, NowUnixMs()); !s.ok())
+    return Fail(s.message());
   std::printf("demo: %d days of simulated history for %zu machine(s)\n", days, names.size());
   bool ok = false;
   const std::string study = a.Get("study", "deploy/demo/fms_datum_drift.csv");
@@ -383,7 +399,8 @@ int Demo(const Args& a) {
   if (ok) {
     auto r = ImportStudy(app_ref, "fms-study", text, ParseRfc3339("2026-01-05T06:00:00Z").value());
     if (!r.ok()) return Fail(r.status().message());
-    std::printf("demo: measured study data, %d probe points of %d runs, as machine fms-study\n", r->first, r->second);
+    std::printf("demo: measured study data, %d probe points of %d runs, as machine fms-study\n",
+                r->first, r->second);
   }
   for (const auto& m : app_ref.machines().List()) {
     for (const auto& axis : m.axes) {
@@ -391,7 +408,8 @@ int Demo(const Args& a) {
       req.actor = "demo";
       auto report = app_ref.fits().Fit(m.name, axis.name, req);
       if (!report.ok()) {
-        std::printf("demo: fit %s/%s: %s\n", m.name.c_str(), axis.name.c_str(), report.status().message().c_str());
+        std::printf("demo: fit %s/%s: %s\n", m.name.c_str(), axis.name.c_str(),
+                    report.status().message().c_str());
         continue;
       }
       std::printf("demo: fit %s/%s v%d %s (R2 %.3f, held-out RMSE %s mm): %s\n", m.name.c_str(),

@@ -107,7 +107,8 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
       if (x.axis == axis.name) a = &x;
     }
     auto last = log.LatestCompensation(axis.id);
-    if (!last || last->valid != a->valid || std::fabs(last->offset_mm - a->offset_mm) > kLogStepMm ||
+    if (!last || last->valid != a->valid ||
+        std::fabs(last->offset_mm - a->offset_mm) > kLogStepMm ||
         mc.computed_at_ms - last->ts_ms >= kLogEveryMs) {
       log.AppendCompensation(axis.id, {mc.computed_at_ms, a->offset_mm, a->predicted_drift_mm,
                                        a->valid, a->clamped, a->model_version});

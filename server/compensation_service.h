@@ -13,12 +13,12 @@
 #include <condition_variable>
 #include <functional>
 #include <map>
-#include <set>
-#include <thread>
 #include <memory>
 #include <optional>
+#include <set>
 #include <shared_mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "server/clock.h"
@@ -91,7 +91,7 @@ class CompensationService {
   std::map<std::string, Snapshot> cache_;
   std::mutex dirty_mutex_;
   std::condition_variable dirty_cv_;
-  std::set<std::string> dirty_;             // the worker's queue
+  std::set<std::string> dirty_;              // the worker's queue
   std::map<std::string, uint64_t> changes_;  // per machine, counts MarkChanged
   std::mutex publisher_mutex_;
   Publisher publisher_;

@@ -50,8 +50,10 @@ StatusOr<Config> LoadConfig(const std::string& path) {
   c.gross_error_mm = t["fit"]["gross_error_mm"].value_or(c.gross_error_mm);
   c.selection.p_max = t["fit"]["p_max"].value_or(c.selection.p_max);
   c.selection.vif_max = t["fit"]["vif_max"].value_or(c.selection.vif_max);
-  c.selection.outlier_threshold = t["fit"]["outlier_threshold"].value_or(c.selection.outlier_threshold);
-  c.selection.outliers_per_step = t["fit"]["outliers_per_step"].value_or(c.selection.outliers_per_step);
+  c.selection.outlier_threshold =
+      t["fit"]["outlier_threshold"].value_or(c.selection.outlier_threshold);
+  c.selection.outliers_per_step =
+      t["fit"]["outliers_per_step"].value_or(c.selection.outliers_per_step);
   c.acceptance.min_r2 = t["fit"]["min_r2"].value_or(c.acceptance.min_r2);
   c.acceptance.min_adj_r2 = t["fit"]["min_adj_r2"].value_or(c.acceptance.min_adj_r2);
   c.acceptance.min_observations_per_term =
@@ -76,13 +78,17 @@ StatusOr<Config> LoadConfig(const std::string& path) {
       a.role = (*tt)["role"].value_or(std::string());
       a.machine = (*tt)["machine"].value_or(std::string());
       if (a.name.empty() || a.token.size() < 16) {
-        return Status::InvalidArgument("auth.tokens: each needs a name and a token of 16 characters or more");
+        return Status::InvalidArgument(
+            "auth.tokens: each needs a name and a token of 16 characters or more");
       }
-      if (a.role != "machine" && a.role != "reader" && a.role != "maintenance" && a.role != "admin") {
-        return Status::InvalidArgument("auth.tokens." + a.name + ": role must be machine, reader, maintenance or admin");
+      if (a.role != "machine" && a.role != "reader" && a.role != "maintenance" &&
+          a.role != "admin") {
+        return Status::InvalidArgument("auth.tokens." + a.name +
+                                       ": role must be machine, reader, maintenance or admin");
       }
       if (a.role == "machine" && a.machine.empty()) {
-        return Status::InvalidArgument("auth.tokens." + a.name + ": role machine needs machine = \"...\"");
+        return Status::InvalidArgument("auth.tokens." + a.name +
+                                       ": role machine needs machine = \"...\"");
       }
       c.tokens.push_back(a);
     }
@@ -97,7 +103,9 @@ StatusOr<Config> LoadConfig(const std::string& path) {
   c.dds_publish_every_s = t["dds"]["publish_every_s"].value_or(c.dds_publish_every_s);
   if (c.dds_batch_max < 1 || c.dds_batch_max_delay_ms < 1 || c.dds_publish_every_s < 1 ||
       !(c.dds_publish_step_mm >= 0)) {
-    return Status::InvalidArgument("dds: batch_max, batch_max_delay_ms and publish_every_s must be positive, publish_step_mm >= 0");
+    return Status::InvalidArgument(
+        "dds: batch_max, batch_max_delay_ms and publish_every_s must be positive, publish_step_mm "
+        ">= 0");
   }
 
   if (c.http_threads < 1) return Status::InvalidArgument("server.threads must be at least 1");

@@ -14,7 +14,7 @@ namespace thermocomp {
 
 // A bearer token and what it may do (see api/auth.h for the roles).
 struct AccessToken {
-  std::string name;     // who, in the audit
+  std::string name;  // who, in the audit
   std::string token;
   std::string role;     // machine | reader | maintenance | admin
   std::string machine;  // for role "machine"
@@ -39,7 +39,7 @@ struct Config {
   int refit_interval_min = 1440;  // 0: off
   int refit_after_new_runs = 5;   // 0: off
   int holdout_runs = 2;
-  double gross_error_mm = 0.1;    // |drift| at or above: chips in the hole, discarded
+  double gross_error_mm = 0.1;  // |drift| at or above: chips in the hole, discarded
   SelectionOptions selection;
   AcceptanceRules acceptance;
   // [[auth.tokens]]; none: loopback clients only, without tokens

@@ -48,7 +48,8 @@ DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const
     for (const auto& p : run.points) {
       if (p.k == 0) datum = &p;
     }
-    auto datum_axis = datum ? datum->axes.find(axis) : std::map<std::string, AxisValue>::const_iterator{};
+    auto datum_axis =
+        datum ? datum->axes.find(axis) : std::map<std::string, AxisValue>::const_iterator{};
     if (!datum || datum_axis == datum->axes.end() || !datum_axis->second.deviation_mm) {
       for (const auto& p : run.points) {
         if (p.k > 0 && p.axes.count(axis)) ++d.skipped_no_datum;
@@ -94,12 +95,14 @@ Observations DriftDataset::ToObservations(const std::vector<int>& row_ids,
                                           const std::vector<std::string>& columns) const {
   std::vector<int> cols;
   for (const auto& c : columns) {
-    cols.push_back(static_cast<int>(std::find(sensors.begin(), sensors.end(), c) - sensors.begin()));
+    cols.push_back(
+        static_cast<int>(std::find(sensors.begin(), sensors.end(), c) - sensors.begin()));
   }
   std::vector<int> usable;
   for (int r : row_ids) {
     bool ok = true;
-    for (int c : cols) ok = ok && c < static_cast<int>(sensors.size()) && std::isfinite(rows[r].delta_t[c]);
+    for (int c : cols)
+      ok = ok && c < static_cast<int>(sensors.size()) && std::isfinite(rows[r].delta_t[c]);
     if (ok) usable.push_back(r);
   }
   Observations obs;

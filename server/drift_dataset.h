@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "model/observations.h"
-#include "storage/database.h"
 #include "server/probe_temperature_cache.h"
+#include "storage/database.h"
 #include "storage/records.h"
 
 namespace thermocomp {
@@ -26,8 +26,8 @@ struct DriftDataset {
   std::vector<std::string> sensors;
   std::vector<std::string> runs;  // ordered by the run's first time
   std::vector<DriftRow> rows;
-  int skipped_gross = 0;       // |drift| >= gross error limit (chips in the hole)
-  int skipped_no_datum = 0;    // run without a p0 deviation on this axis
+  int skipped_gross = 0;     // |drift| >= gross error limit (chips in the hole)
+  int skipped_no_datum = 0;  // run without a p0 deviation on this axis
 
   // Rows of the given runs (by name), or of all other runs when `invert`.
   std::vector<int> RowsOfRuns(const std::vector<std::string>& runs, bool invert) const;

@@ -71,7 +71,8 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
     for (const auto& s : machine->sensors) inputs.push_back(s.name);
   }
   for (const auto& in : inputs) {
-    if (!machine->FindSensor(in)) return Status::Unprocessable("inputs: unknown sensor '" + in + "'");
+    if (!machine->FindSensor(in))
+      return Status::Unprocessable("inputs: unknown sensor '" + in + "'");
   }
 
   DriftDataset data = BuildDriftDataset(db_, *machine, axis_name, config_.gross_error_mm,
@@ -86,7 +87,8 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
     }
   } else {
     const int h = std::min<int>(config_.holdout_runs, static_cast<int>(data.runs.size()) - 2);
-    for (int i = static_cast<int>(data.runs.size()) - std::max(h, 0); i < int(data.runs.size()); ++i) {
+    for (int i = static_cast<int>(data.runs.size()) - std::max(h, 0); i < int(data.runs.size());
+         ++i) {
       holdout.push_back(data.runs[i]);
     }
   }
@@ -127,9 +129,10 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
   } else if (active_errors && validation.rmse > active_errors->rmse) {
     status = "rejected";
     char buf[200];
-    std::snprintf(buf, sizeof buf,
-                  "held-out RMSE %.4f mm is worse than active version %d's %.4f mm on the same runs",
-                  validation.rmse, *active_version, active_errors->rmse);
+    std::snprintf(
+        buf, sizeof buf,
+        "held-out RMSE %.4f mm is worse than active version %d's %.4f mm on the same runs",
+        validation.rmse, *active_version, active_errors->rmse);
     reason = buf;
   } else if (active_errors) {
     reason += "; held-out RMSE not worse than active version " + std::to_string(*active_version);
@@ -144,13 +147,14 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
   nlohmann::json largest = nlohmann::json::array();
   for (int i = 0; i < std::min(fit.n, 5); ++i) {
     const DriftRow& row = data.rows[kept.source[by_size[i]]];
-    largest.push_back({{"run", data.runs[row.run]}, {"k", row.k}, {"ts", FormatRfc3339(row.ts_ms)},
+    largest.push_back({{"run", data.runs[row.run]},
+                       {"k", row.k},
+                       {"ts", FormatRfc3339(row.ts_ms)},
                        {"value", r(by_size[i])}});
   }
-  nlohmann::json residuals = {
-      {"standardized_max_abs", fit.n ? r.cwiseAbs().maxCoeff() : 0.0},
-      {"standardized_over_2", (r.array().abs() > 2).count()},
-      {"largest", largest}};
+  nlohmann::json residuals = {{"standardized_max_abs", fit.n ? r.cwiseAbs().maxCoeff() : 0.0},
+                              {"standardized_over_2", (r.array().abs() > 2).count()},
+                              {"largest", largest}};
   if (checks.ok()) {
     residuals["skewness"] = checks->skewness;
     residuals["excess_kurtosis"] = checks->excess_kurtosis;
@@ -163,11 +167,14 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
 
   nlohmann::json removed_terms = nlohmann::json::array();
   for (const auto& r : sel->removed) {
-    removed_terms.push_back({{"term", r.name}, {"reason", r.reason}, {"p", FiniteOrNull(r.p)},
+    removed_terms.push_back({{"term", r.name},
+                             {"reason", r.reason},
+                             {"p", FiniteOrNull(r.p)},
                              {"vif", FiniteOrNull(r.vif)}});
   }
   nlohmann::json coefficients = {{"intercept", model.intercept}};
-  for (size_t j = 0; j < model.inputs.size(); ++j) coefficients[model.inputs[j]] = model.coefficients[j];
+  for (size_t j = 0; j < model.inputs.size(); ++j)
+    coefficients[model.inputs[j]] = model.coefficients[j];
   nlohmann::json ranges = nlohmann::json::object();
   for (size_t j = 0; j < model.inputs.size(); ++j) {
     ranges[model.inputs[j]] = {{"min", model.trained[j].min}, {"max", model.trained[j].max}};
@@ -201,11 +208,13 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
       {"training_runs", static_cast<int>(data.runs.size() - holdout.size())},
       {"training_range", ranges},
       {"cross_validation",
-       {{"method", "leave-one-run-out"}, {"folds", cv.ok() ? cv->folds : 0},
+       {{"method", "leave-one-run-out"},
+        {"folds", cv.ok() ? cv->folds : 0},
         {"rmse_mm", cv.ok() ? FiniteOrNull(cv->rmse) : nullptr},
         {"r2", cv.ok() ? FiniteOrNull(cv->r2) : nullptr}}},
       {"validation",
-       {{"runs", holdout}, {"n", validation.n},
+       {{"runs", holdout},
+        {"n", validation.n},
         {"rmse_mm", validation.n ? FiniteOrNull(validation.rmse) : nullptr},
         {"r2", validation.n ? FiniteOrNull(validation.r2) : nullptr}}},
       {"acceptance", {{"passed", verdict.passed}, {"reasons", verdict.reasons}}},
@@ -273,8 +282,8 @@ StatusOr<std::vector<ModelRecord>> FitService::Models(const std::string& machine
   return ModelStore(db_).List(axis->id);
 }
 
-StatusOr<ModelRecord> FitService::Model(const std::string& machine_name, const std::string& axis_name,
-                                        int version) {
+StatusOr<ModelRecord> FitService::Model(const std::string& machine_name,
+                                        const std::string& axis_name, int version) {
   auto all = Models(machine_name, axis_name);
   if (!all.ok()) return all.status();
   for (auto& m : *all) {

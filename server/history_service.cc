@@ -63,7 +63,8 @@ StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
   }
   // Probe points are few; thin them together on the measured drift so the
   // three series stay aligned point by point.
-  std::vector<size_t> keep = ThinLttb(std::vector<double>(ts.begin(), ts.end()), measured, q.max_points);
+  std::vector<size_t> keep =
+      ThinLttb(std::vector<double>(ts.begin(), ts.end()), measured, q.max_points);
   nlohmann::json points = nlohmann::json::array();
   for (size_t i : keep) {
     points.push_back({{"ts", FormatRfc3339(ts[i])},

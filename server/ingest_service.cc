@@ -1,8 +1,8 @@
 #include "server/ingest_service.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cctype>
+#include <cmath>
 
 #include "model/ewma_filter.h"
 #include "server/time_format.h"
@@ -95,8 +95,9 @@ IngestResult IngestService::AddTemperatures(const std::string& machine_name,
         if (samples[idx[n - 1]].value == s.value) {
           ++result.duplicates;
         } else {
-          conflicts.push_back({idx[n], "value", "two different values for " + s.sensor + " at " +
-                                                    FormatRfc3339(s.ts_ms)});
+          conflicts.push_back(
+              {idx[n], "value",
+               "two different values for " + s.sensor + " at " + FormatRfc3339(s.ts_ms)});
         }
         continue;
       }
@@ -143,8 +144,8 @@ IngestResult IngestService::AddTemperatures(const std::string& machine_name,
   if (!conflicts.empty()) {
     return Rejected(conflicts, Status::Conflict("samples conflict with stored values"));
   }
-  if (Status st = LogStore(db_).Audit(clock_.NowMs(), actor, "temperatures", machine_name,
-                                      result.accepted);
+  if (Status st =
+          LogStore(db_).Audit(clock_.NowMs(), actor, "temperatures", machine_name, result.accepted);
       !st.ok()) {
     return Rejected({}, st);
   }
@@ -188,7 +189,8 @@ IngestResult IngestService::AddProbePoints(const std::string& machine_name,
         if (!std::isfinite(*v.deviation_mm) || std::fabs(*v.deviation_mm) > kMaxAbsDeviationMm) {
           bad.push_back({i, "deviation." + axis, "must be finite and within +-10 mm"});
         } else if (!machine->FindAxis(axis)) {
-          unknown.push_back({i, "deviation." + axis, "unknown axis '" + axis + "' on " + machine_name});
+          unknown.push_back(
+              {i, "deviation." + axis, "unknown axis '" + axis + "' on " + machine_name});
         }
       }
     }
@@ -218,8 +220,8 @@ IngestResult IngestService::AddProbePoints(const std::string& machine_name,
           existing->temperatures == p.temperatures) {
         ++result.duplicates;
       } else {
-        conflicts.push_back({i, "k", "run " + p.run + " already has a different point k=" +
-                                         std::to_string(p.k)});
+        conflicts.push_back(
+            {i, "k", "run " + p.run + " already has a different point k=" + std::to_string(p.k)});
       }
       continue;
     }
@@ -230,8 +232,8 @@ IngestResult IngestService::AddProbePoints(const std::string& machine_name,
   if (!conflicts.empty()) {
     return Rejected(conflicts, Status::Conflict("probe points conflict with stored points"));
   }
-  if (Status st = LogStore(db_).Audit(clock_.NowMs(), actor, "probe-points", machine_name,
-                                      result.accepted);
+  if (Status st =
+          LogStore(db_).Audit(clock_.NowMs(), actor, "probe-points", machine_name, result.accepted);
       !st.ok()) {
     return Rejected({}, st);
   }

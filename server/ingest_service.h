@@ -65,8 +65,7 @@ class IngestService {
                                const std::vector<TemperatureInput>& samples,
                                const std::string& actor);
   IngestResult AddProbePoints(const std::string& machine,
-                              const std::vector<ProbePointInput>& points,
-                              const std::string& actor);
+                              const std::vector<ProbePointInput>& points, const std::string& actor);
   // Called after a commit that changed the machine's data.
   void SetListener(Listener listener) { listener_ = std::move(listener); }
 

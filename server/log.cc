@@ -20,7 +20,9 @@ void SetLevel(std::string_view level) {
   }
 }
 
-bool Enabled(Level level) { return static_cast<int>(level) >= g_level.load(); }
+bool Enabled(Level level) {
+  return static_cast<int>(level) >= g_level.load();
+}
 
 void Write(Level level, std::string_view msg, std::string_view fields) {
   if (!Enabled(level)) return;

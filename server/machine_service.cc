@@ -21,13 +21,15 @@ StatusOr<bool> MachineService::Register(const MachineRecord& m, const std::strin
   std::vector<FieldError> e;
   if (!ValidIdentifier(m.name)) e.push_back({0, "machine", "must match [A-Za-z0-9_.-]{1,64}"});
   if (!kControllers.count(m.controller)) {
-    e.push_back({0, "controller", "must be one of sinumerik, beckhoff, heidenhain, fanuc, linuxcnc"});
+    e.push_back(
+        {0, "controller", "must be one of sinumerik, beckhoff, heidenhain, fanuc, linuxcnc"});
   }
   std::set<std::string> sensors;
   for (size_t i = 0; i < m.sensors.size(); ++i) {
     const auto& s = m.sensors[i];
     if (!ValidIdentifier(s.name)) e.push_back({i, "sensors.id", "must match [A-Za-z0-9_.-]{1,64}"});
-    if (!sensors.insert(s.name).second) e.push_back({i, "sensors.id", "duplicate sensor " + s.name});
+    if (!sensors.insert(s.name).second)
+      e.push_back({i, "sensors.id", "duplicate sensor " + s.name});
     if (!EwmaFilter::ValidAlpha(s.ewma_alpha)) {
       e.push_back({i, "sensors.ewma_alpha", "must be in (0, 1]"});
     }
@@ -43,7 +45,8 @@ StatusOr<bool> MachineService::Register(const MachineRecord& m, const std::strin
   std::set<std::string> axes;
   for (size_t i = 0; i < m.axes.size(); ++i) {
     const auto& a = m.axes[i];
-    if (!ValidAxisName(a.name)) e.push_back({i, "axes.id", "must be an axis letter X Y Z A B C U V W"});
+    if (!ValidAxisName(a.name))
+      e.push_back({i, "axes.id", "must be an axis letter X Y Z A B C U V W"});
     if (!axes.insert(a.name).second) e.push_back({i, "axes.id", "duplicate axis " + a.name});
     if (!std::isfinite(a.clamp_mm) || a.clamp_mm < 0 || a.clamp_mm > 1.0) {
       e.push_back({i, "axes.model.clamp_mm", "must be within 0..1 mm"});
@@ -64,9 +67,11 @@ StatusOr<bool> MachineService::Register(const MachineRecord& m, const std::strin
   if (!tx.status().ok()) return tx.status();
   auto created = MachineStore(db_).Upsert(m, clock_.NowMs());
   if (!created.ok()) return created.status();
-  if (Status s = LogStore(db_).Audit(clock_.NowMs(), actor, "machine", m.name, 1); !s.ok()) return s;
+  if (Status s = LogStore(db_).Audit(clock_.NowMs(), actor, "machine", m.name, 1); !s.ok())
+    return s;
   if (Status s = tx.Commit(); !s.ok()) return s;
-  if (cache_ && existing) cache_->InvalidateMachine(existing->id);  // the sensor list may have changed
+  if (cache_ && existing)
+    cache_->InvalidateMachine(existing->id);  // the sensor list may have changed
   return *created;
 }
 

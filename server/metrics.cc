@@ -24,13 +24,16 @@ std::string Metrics::Render(const std::string& extra) const {
   counter("thermocomp_samples_duplicate_total", "Temperature samples re-sent identically.",
           samples_duplicate);
   counter("thermocomp_probe_points_accepted_total", "Probe points stored.", probe_points_accepted);
-  counter("thermocomp_ingest_rejected_total", "Write requests rejected as a whole.", ingest_rejected);
+  counter("thermocomp_ingest_rejected_total", "Write requests rejected as a whole.",
+          ingest_rejected);
   counter("thermocomp_fits_total", "Model fits run.", fits);
-  out += "# HELP thermocomp_http_request_duration_seconds HTTP request latency.\n"
-         "# TYPE thermocomp_http_request_duration_seconds histogram\n";
+  out +=
+      "# HELP thermocomp_http_request_duration_seconds HTTP request latency.\n"
+      "# TYPE thermocomp_http_request_duration_seconds histogram\n";
   for (size_t i = 0; i < kBucketsS.size(); ++i) {
-    std::snprintf(line, sizeof line, "thermocomp_http_request_duration_seconds_bucket{le=\"%g\"} %llu\n",
-                  kBucketsS[i], static_cast<unsigned long long>(buckets_[i].load()));
+    std::snprintf(line, sizeof line,
+                  "thermocomp_http_request_duration_seconds_bucket{le=\"%g\"} %llu\n", kBucketsS[i],
+                  static_cast<unsigned long long>(buckets_[i].load()));
     out += line;
   }
   std::snprintf(line, sizeof line,

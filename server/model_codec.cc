@@ -4,7 +4,9 @@
 
 namespace thermocomp {
 
-nlohmann::json FiniteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
+nlohmann::json FiniteOrNull(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nullptr;
+}
 
 nlohmann::json DriftModelToJson(const DriftModel& m) {
   nlohmann::json ranges = nlohmann::json::array();

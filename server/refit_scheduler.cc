@@ -53,8 +53,8 @@ int RefitScheduler::Tick() {
     if (report.ok()) {
       ++fitted;
     } else {
-      log::Warn("scheduled fit failed", "machine=" + d.machine + " axis=" + d.axis +
-                                            " error=\"" + report.status().message() + "\"");
+      log::Warn("scheduled fit failed", "machine=" + d.machine + " axis=" + d.axis + " error=\"" +
+                                            report.status().message() + "\"");
     }
   }
   return fitted;

@@ -22,7 +22,8 @@ constexpr int64_t kDayMs = 24 * 60 * kMinuteMs;
 
 nlohmann::json SamplesJson(const std::vector<TemperatureInput>& s) {
   nlohmann::json arr = nlohmann::json::array();
-  for (const auto& x : s) arr.push_back({{"sensor", x.sensor}, {"ts", x.ts_ms}, {"value", x.value}});
+  for (const auto& x : s)
+    arr.push_back({{"sensor", x.sensor}, {"ts", x.ts_ms}, {"value", x.value}});
   return {{"samples", arr}};
 }
 
@@ -34,7 +35,8 @@ nlohmann::json PointsJson(const std::vector<ProbePointInput>& pts) {
       if (v.position_mm) pos[axis] = *v.position_mm;
       if (v.deviation_mm) dev[axis] = *v.deviation_mm;
     }
-    arr.push_back({{"run", p.run}, {"k", p.k}, {"ts", p.ts_ms}, {"position", pos}, {"deviation", dev}});
+    arr.push_back(
+        {{"run", p.run}, {"k", p.k}, {"ts", p.ts_ms}, {"position", pos}, {"deviation", dev}});
   }
   return {{"points", arr}};
 }
@@ -87,7 +89,8 @@ class Dds : public MachineLink {
   }
   std::optional<double> OffsetY(const std::string& machine) override {
     for (const auto& c : client_.TakeCompensation()) {
-      if (c.axis == "Y") latest_[c.machine] = c.valid ? std::optional<double>(c.offset_mm) : std::nullopt;
+      if (c.axis == "Y")
+        latest_[c.machine] = c.valid ? std::optional<double>(c.offset_mm) : std::nullopt;
     }
     auto it = latest_.find(machine);
     return it == latest_.end() ? std::nullopt : it->second;
@@ -100,8 +103,12 @@ class Dds : public MachineLink {
 
 }  // namespace
 
-std::unique_ptr<MachineLink> HttpLink(const std::string& url) { return std::make_unique<Http>(url); }
-std::unique_ptr<MachineLink> DdsLink(uint32_t domain) { return std::make_unique<Dds>(domain); }
+std::unique_ptr<MachineLink> HttpLink(const std::string& url) {
+  return std::make_unique<Http>(url);
+}
+std::unique_ptr<MachineLink> DdsLink(uint32_t domain) {
+  return std::make_unique<Dds>(domain);
+}
 
 int RunLiveSimulation(const LiveOptions& o, MachineLink& link, const std::atomic<bool>& stop) {
   const int64_t now = NowUnixMs();
@@ -126,8 +133,8 @@ int RunLiveSimulation(const LiveOptions& o, MachineLink& link, const std::atomic
   constexpr int64_t kMaxAheadMs = 23 * 3600 * 1000LL;
   for (int64_t minute = 0; !stop && (o.max_minutes == 0 || minute < o.max_minutes); ++minute) {
     const int64_t wall = NowUnixMs();
-    const int64_t target =
-        std::min(wall_start + static_cast<int64_t>((wall - wall_start) * o.speed), wall + kMaxAheadMs);
+    const int64_t target = std::min(
+        wall_start + static_cast<int64_t>((wall - wall_start) * o.speed), wall + kMaxAheadMs);
     for (size_t i = 0; i < vms.size(); ++i) {
       std::vector<TemperatureInput> samples;
       std::vector<ProbePointInput> points;
@@ -142,15 +149,18 @@ int RunLiveSimulation(const LiveOptions& o, MachineLink& link, const std::atomic
       e.on_sq += on * on;
       e.off_sq += off * off;
       ++e.n;
-      std::printf("%s %s  Y error: compensation on %+6.1f um, off %+6.1f um  (RMS so far: on %.1f, off %.1f um)\n",
-                  o.machines[i].c_str(), FormatRfc3339(vms[i].now_ms()).substr(11, 5).c_str(), on * 1e3,
-                  off * 1e3, std::sqrt(e.on_sq / e.n) * 1e3, std::sqrt(e.off_sq / e.n) * 1e3);
+      std::printf(
+          "%s %s  Y error: compensation on %+6.1f um, off %+6.1f um  (RMS so far: on %.1f, off "
+          "%.1f um)\n",
+          o.machines[i].c_str(), FormatRfc3339(vms[i].now_ms()).substr(11, 5).c_str(), on * 1e3,
+          off * 1e3, std::sqrt(e.on_sq / e.n) * 1e3, std::sqrt(e.off_sq / e.n) * 1e3);
     }
     std::fflush(stdout);
     if (o.speed <= 1.0) link.Flush();  // in real time there is a minute to spare
     if (o.max_minutes != 0 && minute + 1 >= o.max_minutes) break;
     // The next round after a wall minute divided by the speed.
-    const auto pause = std::chrono::milliseconds(static_cast<int64_t>(60000 / std::max(1.0, o.speed)));
+    const auto pause =
+        std::chrono::milliseconds(static_cast<int64_t>(60000 / std::max(1.0, o.speed)));
     const auto until = std::chrono::steady_clock::now() + pause;
     while (!stop && std::chrono::steady_clock::now() < until) {
       std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(

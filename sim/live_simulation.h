@@ -33,7 +33,7 @@ std::unique_ptr<MachineLink> DdsLink(uint32_t domain = 0);
 struct LiveOptions {
   std::vector<std::string> machines;
   uint64_t seed = 1;
-  int history_days = 14;  // replayed silently, so the state matches `demo`
+  int history_days = 14;    // replayed silently, so the state matches `demo`
   int64_t max_minutes = 0;  // simulated minutes to run (a round each); 0: until stopped
   // Simulated minutes per wall minute. Above 1 the machines run ahead of
   // the clock (the server takes timestamps up to a day ahead), at most 23 h.

@@ -28,10 +28,11 @@ MachineRecord VirtualMachine::Definition(const std::string& name) {
   m.name = name;
   m.display_name = "Simulated HMC " + name;
   m.controller = "sinumerik";
-  m.sensors = {{0, "Tsp", "spindle housing", 0.40},  {0, "Tco", "spindle-cooling glycol", 0.40},
-               {0, "Tcu", "Y column, upper", 0.30},  {0, "Tcb", "Y column, base", 0.20},
-               {0, "Tbed", "bed under the column", 0.15}, {0, "Tenv", "shop air", 0.20},
-               {0, "Tbase", "machine base", 0.10}};
+  m.sensors = {
+      {0, "Tsp", "spindle housing", 0.40},       {0, "Tco", "spindle-cooling glycol", 0.40},
+      {0, "Tcu", "Y column, upper", 0.30},       {0, "Tcb", "Y column, base", 0.20},
+      {0, "Tbed", "bed under the column", 0.15}, {0, "Tenv", "shop air", 0.20},
+      {0, "Tbase", "machine base", 0.10}};
   m.axes = {{0, "X", 0.0, {"Tbed", "Tcb", "Tenv"}, 0.03},
             {0, "Y", 0.0, {"Tco", "Tcb", "Tbed"}, 0.03}};
   return m;
@@ -43,13 +44,17 @@ double VirtualMachine::AirTemperature() const {
   return 20.0 + air_offset_ + 1.8 * std::sin(2 * kPi * (day_fraction - 0.375));
 }
 
-bool VirtualMachine::InRun() const { return run_k_ >= 0; }
+bool VirtualMachine::InRun() const {
+  return run_k_ >= 0;
+}
 
 double VirtualMachine::TrueDriftY() const {
   return -0.0126 * (n_.colbase - 20.0) + 0.0098 * (n_.bed - 20.0) - 0.0025 * (n_.coolant - 20.0);
 }
 
-double VirtualMachine::TrueDriftX() const { return 0.0030 * (n_.bed - 20.0); }
+double VirtualMachine::TrueDriftX() const {
+  return 0.0030 * (n_.bed - 20.0);
+}
 
 void VirtualMachine::Step(std::vector<TemperatureInput>& samples,
                           std::vector<ProbePointInput>& points) {
@@ -83,7 +88,8 @@ void VirtualMachine::Step(std::vector<TemperatureInput>& samples,
   n_.base = Lag(n_.base, n_.air, 400);
 
   auto sense = [&](const char* sensor, double t) {
-    samples.push_back({sensor, now_ms_, std::round((t + opt_.sensor_noise_c * unit_(rng_)) * 100) / 100});
+    samples.push_back(
+        {sensor, now_ms_, std::round((t + opt_.sensor_noise_c * unit_(rng_)) * 100) / 100});
   };
   sense("Tsp", n_.spindle);
   sense("Tco", n_.coolant);

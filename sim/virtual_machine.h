@@ -27,9 +27,9 @@ namespace thermocomp {
 struct SimOptions {
   std::string machine = "sim-1";
   uint64_t seed = 1;
-  int64_t start_ms = 0;             // Unix ms of the first sample
-  double sensor_noise_c = 0.02;     // PT100 class A after conversion
-  double probe_noise_mm = 0.0008;   // single-point repeatability of the probe
+  int64_t start_ms = 0;            // Unix ms of the first sample
+  double sensor_noise_c = 0.02;    // PT100 class A after conversion
+  double probe_noise_mm = 0.0008;  // single-point repeatability of the probe
 };
 
 class VirtualMachine {

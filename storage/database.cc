@@ -76,9 +76,9 @@ StatusOr<std::unique_ptr<Database>> Database::Open(const std::string& path,
                                                    const DatabaseOptions& options) {
   std::unique_ptr<Database> db(new Database());
   db->path_ = path;
-  int rc = sqlite3_open_v2(path.c_str(), &db->db_,
-                           SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX,
-                           nullptr);
+  int rc =
+      sqlite3_open_v2(path.c_str(), &db->db_,
+                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX, nullptr);
   if (rc != SQLITE_OK) {
     return Status::Unavailable("cannot open database " + path + ": " +
                                (db->db_ ? sqlite3_errmsg(db->db_) : "out of memory"));
@@ -161,9 +161,9 @@ Status Database::Backup(const std::string& dest_path) {
     if (rc == SQLITE_BUSY || rc == SQLITE_LOCKED) sqlite3_sleep(10);
   } while (rc == SQLITE_OK || rc == SQLITE_BUSY || rc == SQLITE_LOCKED);
   sqlite3_backup_finish(b);
-  Status s = rc == SQLITE_DONE ? Status::Ok()
-                               : Status::Internal(std::string("backup failed: ") +
-                                                  sqlite3_errmsg(dest));
+  Status s = rc == SQLITE_DONE
+                 ? Status::Ok()
+                 : Status::Internal(std::string("backup failed: ") + sqlite3_errmsg(dest));
   sqlite3_close(dest);
   return s;
 }

@@ -3,25 +3,31 @@
 namespace thermocomp {
 
 Status LogStore::AppendCompensation(int64_t axis_id, const CompensationLogRow& r) {
-  Statement q(db_,
-              "INSERT OR REPLACE INTO compensation_log(axis_id, ts_ms, offset_mm, predicted_drift_mm,"
-              " valid, clamped, model_version) VALUES (?, ?, ?, ?, ?, ?, ?)");
-  q.Bind(1, axis_id).Bind(2, r.ts_ms).Bind(3, r.offset_mm).Bind(4, r.predicted_drift_mm)
-      .Bind(5, int64_t{r.valid}).Bind(6, int64_t{r.clamped});
+  Statement q(
+      db_,
+      "INSERT OR REPLACE INTO compensation_log(axis_id, ts_ms, offset_mm, predicted_drift_mm,"
+      " valid, clamped, model_version) VALUES (?, ?, ?, ?, ?, ?, ?)");
+  q.Bind(1, axis_id)
+      .Bind(2, r.ts_ms)
+      .Bind(3, r.offset_mm)
+      .Bind(4, r.predicted_drift_mm)
+      .Bind(5, int64_t{r.valid})
+      .Bind(6, int64_t{r.clamped});
   if (r.model_version) {
     q.Bind(7, int64_t{*r.model_version});
   } else {
     q.BindNull(7);
   }
   if (Status s = q.Run(); !s.ok()) return s;
-  Statement up(db_,
-               "INSERT INTO compensation_rollup(axis_id, bucket_ms, n, min_mm, min_ts_ms, max_mm, max_ts_ms)"
-               " VALUES (?1, ?2 / 3600000 * 3600000, 1, ?3, ?2, ?3, ?2)"
-               " ON CONFLICT(axis_id, bucket_ms) DO UPDATE SET n = n + 1,"
-               " min_ts_ms = CASE WHEN excluded.min_mm < min_mm THEN excluded.min_ts_ms ELSE min_ts_ms END,"
-               " min_mm = MIN(min_mm, excluded.min_mm),"
-               " max_ts_ms = CASE WHEN excluded.max_mm > max_mm THEN excluded.max_ts_ms ELSE max_ts_ms END,"
-               " max_mm = MAX(max_mm, excluded.max_mm)");
+  Statement up(
+      db_,
+      "INSERT INTO compensation_rollup(axis_id, bucket_ms, n, min_mm, min_ts_ms, max_mm, max_ts_ms)"
+      " VALUES (?1, ?2 / 3600000 * 3600000, 1, ?3, ?2, ?3, ?2)"
+      " ON CONFLICT(axis_id, bucket_ms) DO UPDATE SET n = n + 1,"
+      " min_ts_ms = CASE WHEN excluded.min_mm < min_mm THEN excluded.min_ts_ms ELSE min_ts_ms END,"
+      " min_mm = MIN(min_mm, excluded.min_mm),"
+      " max_ts_ms = CASE WHEN excluded.max_mm > max_mm THEN excluded.max_ts_ms ELSE max_ts_ms END,"
+      " max_mm = MAX(max_mm, excluded.max_mm)");
   up.Bind(1, axis_id).Bind(2, r.ts_ms).Bind(3, r.offset_mm);
   return up.Run();
 }
@@ -48,9 +54,10 @@ std::vector<std::pair<int64_t, double>> LogStore::CompensationEnvelope(int64_t a
 
 std::vector<CompensationLogRow> LogStore::Compensation(int64_t axis_id, int64_t from_ms,
                                                        int64_t to_ms) {
-  Statement q(db_,
-              "SELECT ts_ms, offset_mm, predicted_drift_mm, valid, clamped, model_version"
-              " FROM compensation_log WHERE axis_id = ? AND ts_ms >= ? AND ts_ms <= ? ORDER BY ts_ms");
+  Statement q(
+      db_,
+      "SELECT ts_ms, offset_mm, predicted_drift_mm, valid, clamped, model_version"
+      " FROM compensation_log WHERE axis_id = ? AND ts_ms >= ? AND ts_ms <= ? ORDER BY ts_ms");
   q.Bind(1, axis_id).Bind(2, from_ms).Bind(3, to_ms);
   std::vector<CompensationLogRow> out;
   while (q.Step()) {
@@ -72,16 +79,18 @@ std::optional<CompensationLogRow> LogStore::LatestCompensation(int64_t axis_id) 
 }
 
 std::pair<int64_t, int64_t> LogStore::CompensationExtent(int64_t axis_id, int64_t from_ms,
-                                                        int64_t to_ms) {
+                                                         int64_t to_ms) {
   // Two index seeks; MIN and MAX together over a range would scan it.
-  Statement first(db_,
-                  "SELECT ts_ms FROM compensation_log WHERE axis_id = ? AND ts_ms >= ? AND ts_ms <= ?"
-                  " ORDER BY ts_ms LIMIT 1");
+  Statement first(
+      db_,
+      "SELECT ts_ms FROM compensation_log WHERE axis_id = ? AND ts_ms >= ? AND ts_ms <= ?"
+      " ORDER BY ts_ms LIMIT 1");
   first.Bind(1, axis_id).Bind(2, from_ms).Bind(3, to_ms);
   if (!first.Step()) return {0, 0};
-  Statement last(db_,
-                 "SELECT ts_ms FROM compensation_log WHERE axis_id = ? AND ts_ms >= ? AND ts_ms <= ?"
-                 " ORDER BY ts_ms DESC LIMIT 1");
+  Statement last(
+      db_,
+      "SELECT ts_ms FROM compensation_log WHERE axis_id = ? AND ts_ms >= ? AND ts_ms <= ?"
+      " ORDER BY ts_ms DESC LIMIT 1");
   last.Bind(1, axis_id).Bind(2, from_ms).Bind(3, to_ms);
   last.Step();
   return {first.Int(0), last.Int(0)};
@@ -89,8 +98,9 @@ std::pair<int64_t, int64_t> LogStore::CompensationExtent(int64_t axis_id, int64_
 
 Status LogStore::Audit(int64_t ts_ms, const std::string& actor, const std::string& action,
                        const std::string& machine, int64_t count, const std::string& detail) {
-  Statement q(db_,
-              "INSERT INTO audit(ts_ms, actor, action, machine, count, detail) VALUES (?, ?, ?, ?, ?, ?)");
+  Statement q(
+      db_,
+      "INSERT INTO audit(ts_ms, actor, action, machine, count, detail) VALUES (?, ?, ?, ?, ?, ?)");
   q.Bind(1, ts_ms).Bind(2, actor).Bind(3, action).Bind(4, machine).Bind(5, count).Bind(6, detail);
   return q.Run();
 }

@@ -35,13 +35,17 @@ StatusOr<bool> MachineStore::Upsert(const MachineRecord& m, int64_t now_ms) {
     Statement ins(db_,
                   "INSERT INTO machines(name, display_name, controller, created_ms, updated_ms)"
                   " VALUES (?, ?, ?, ?, ?)");
-    ins.Bind(1, m.name).Bind(2, m.display_name).Bind(3, m.controller).Bind(4, now_ms).Bind(5, now_ms);
+    ins.Bind(1, m.name)
+        .Bind(2, m.display_name)
+        .Bind(3, m.controller)
+        .Bind(4, now_ms)
+        .Bind(5, now_ms);
     if (Status s = ins.Run(); !s.ok()) return s;
     id = db_.LastInsertId();
     created = true;
   } else {
-    Statement up(db_,
-                 "UPDATE machines SET display_name = ?, controller = ?, updated_ms = ? WHERE id = ?");
+    Statement up(
+        db_, "UPDATE machines SET display_name = ?, controller = ?, updated_ms = ? WHERE id = ?");
     up.Bind(1, m.display_name).Bind(2, m.controller).Bind(3, now_ms).Bind(4, id);
     if (Status s = up.Run(); !s.ok()) return s;
   }
@@ -61,7 +65,10 @@ StatusOr<bool> MachineStore::Upsert(const MachineRecord& m, int64_t now_ms) {
                  " inputs = excluded.inputs, clamp_mm = excluded.clamp_mm");
   for (const auto& a : m.axes) {
     axis.Reset();
-    axis.Bind(1, id).Bind(2, a.name).Bind(3, a.reference_position_mm).Bind(4, Join(a.inputs))
+    axis.Bind(1, id)
+        .Bind(2, a.name)
+        .Bind(3, a.reference_position_mm)
+        .Bind(4, Join(a.inputs))
         .Bind(5, a.clamp_mm);
     if (Status st = axis.Run(); !st.ok()) return st;
   }
@@ -79,8 +86,8 @@ std::optional<MachineRecord> MachineStore::Find(const std::string& name) {
     m.display_name = q.Text(1);
     m.controller = q.Text(2);
   }
-  Statement s(db_,
-              "SELECT id, name, location, ewma_alpha FROM sensors WHERE machine_id = ? ORDER BY id");
+  Statement s(
+      db_, "SELECT id, name, location, ewma_alpha FROM sensors WHERE machine_id = ? ORDER BY id");
   s.Bind(1, m.id);
   while (s.Step()) m.sensors.push_back({s.Int(0), s.Text(1), s.Text(2), s.Double(3)});
   Statement a(db_,

@@ -20,16 +20,21 @@ StatusOr<int> ModelStore::Insert(int64_t axis_id, const ModelRecord& r) {
     if (q.Step()) version = static_cast<int>(q.Int(0));
   }
   if (r.status == "active") {
-    Statement retire(db_,
-                     "UPDATE models SET status = 'retired' WHERE axis_id = ? AND status = 'active'");
+    Statement retire(
+        db_, "UPDATE models SET status = 'retired' WHERE axis_id = ? AND status = 'active'");
     retire.Bind(1, axis_id);
     if (Status s = retire.Run(); !s.ok()) return s;
   }
   Statement ins(db_,
                 "INSERT INTO models(axis_id, version, status, reason, created_ms, model_json,"
                 " report_json) VALUES (?, ?, ?, ?, ?, ?, ?)");
-  ins.Bind(1, axis_id).Bind(2, int64_t{version}).Bind(3, r.status).Bind(4, r.reason)
-      .Bind(5, r.created_ms).Bind(6, r.model_json).Bind(7, r.report_json);
+  ins.Bind(1, axis_id)
+      .Bind(2, int64_t{version})
+      .Bind(3, r.status)
+      .Bind(4, r.reason)
+      .Bind(5, r.created_ms)
+      .Bind(6, r.model_json)
+      .Bind(7, r.report_json);
   if (Status s = ins.Run(); !s.ok()) return s;
   return version;
 }

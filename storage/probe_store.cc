@@ -2,8 +2,7 @@
 
 namespace thermocomp {
 
-StatusOr<int64_t> ProbeStore::EnsureRun(int64_t machine_id, const std::string& run,
-                                        int64_t ts_ms) {
+StatusOr<int64_t> ProbeStore::EnsureRun(int64_t machine_id, const std::string& run, int64_t ts_ms) {
   Statement q(db_, "SELECT id, first_ts_ms FROM runs WHERE machine_id = ? AND name = ?");
   q.Bind(1, machine_id).Bind(2, run);
   if (q.Step()) {
@@ -40,9 +39,10 @@ std::optional<ProbePointRecord> ProbeStore::FindPoint(int64_t run_id, int k) {
     if (!a.IsNull(2)) v.deviation_mm = a.Double(2);
     p.axes[a.Text(0)] = v;
   }
-  Statement t(db_,
-              "SELECT s.name, t.value FROM probe_temperatures t JOIN sensors s ON s.id = t.sensor_id"
-              " WHERE t.point_id = ?");
+  Statement t(
+      db_,
+      "SELECT s.name, t.value FROM probe_temperatures t JOIN sensors s ON s.id = t.sensor_id"
+      " WHERE t.point_id = ?");
   t.Bind(1, p.id);
   while (t.Step()) p.temperatures[t.Text(0)] = t.Double(1);
   return p;
@@ -62,8 +62,7 @@ Status ProbeStore::InsertPoint(int64_t run_id, const ProbePointRecord& p,
     a.Bind(1, id).Bind(2, axis).Bind(3, v.position_mm).Bind(4, v.deviation_mm);
     if (Status s = a.Run(); !s.ok()) return s;
   }
-  Statement t(db_,
-              "INSERT INTO probe_temperatures(point_id, sensor_id, value) VALUES (?, ?, ?)");
+  Statement t(db_, "INSERT INTO probe_temperatures(point_id, sensor_id, value) VALUES (?, ?, ?)");
   for (const auto& [sensor, value] : p.temperatures) {
     t.Reset();
     t.Bind(1, id).Bind(2, sensor_ids.at(sensor)).Bind(3, value);
@@ -75,15 +74,17 @@ Status ProbeStore::InsertPoint(int64_t run_id, const ProbePointRecord& p,
 std::vector<RunRecord> ProbeStore::LoadAxisRuns(int64_t machine_id, const std::string& axis) {
   std::vector<RunRecord> runs;
   {
-    Statement q(db_,
-                "SELECT r.id, r.name, r.first_ts_ms, p.id, p.k, p.ts_ms, v.position_mm, v.deviation_mm"
-                " FROM runs r JOIN probe_points p ON p.run_id = r.id"
-                " JOIN probe_axis_values v ON v.point_id = p.id AND v.axis = ?"
-                " WHERE r.machine_id = ? AND v.deviation_mm IS NOT NULL"
-                " ORDER BY r.first_ts_ms, r.id, p.k");
+    Statement q(
+        db_,
+        "SELECT r.id, r.name, r.first_ts_ms, p.id, p.k, p.ts_ms, v.position_mm, v.deviation_mm"
+        " FROM runs r JOIN probe_points p ON p.run_id = r.id"
+        " JOIN probe_axis_values v ON v.point_id = p.id AND v.axis = ?"
+        " WHERE r.machine_id = ? AND v.deviation_mm IS NOT NULL"
+        " ORDER BY r.first_ts_ms, r.id, p.k");
     q.Bind(1, axis).Bind(2, machine_id);
     while (q.Step()) {
-      if (runs.empty() || runs.back().id != q.Int(0)) runs.push_back({q.Int(0), q.Text(1), q.Int(2), {}});
+      if (runs.empty() || runs.back().id != q.Int(0))
+        runs.push_back({q.Int(0), q.Text(1), q.Int(2), {}});
       ProbePointRecord p;
       p.id = q.Int(3);
       p.k = static_cast<int>(q.Int(4));
@@ -104,7 +105,8 @@ std::vector<RunRecord> ProbeStore::LoadAxisRuns(int64_t machine_id, const std::s
   if (!snapshots.empty()) {
     for (auto& run : runs) {
       for (auto& p : run.points) {
-        if (auto it = snapshots.find(p.id); it != snapshots.end()) p.temperatures = std::move(it->second);
+        if (auto it = snapshots.find(p.id); it != snapshots.end())
+          p.temperatures = std::move(it->second);
       }
     }
   }

@@ -67,8 +67,8 @@ struct ProbePointRecord {
   int64_t id = 0;
   int k = 0;
   int64_t ts_ms = 0;
-  std::map<std::string, AxisValue> axes;         // by axis name
-  std::map<std::string, double> temperatures;    // by sensor name (snapshot)
+  std::map<std::string, AxisValue> axes;       // by axis name
+  std::map<std::string, double> temperatures;  // by sensor name (snapshot)
 };
 
 struct RunRecord {

@@ -3,18 +3,18 @@
 namespace thermocomp {
 
 std::optional<FilterState> SampleStore::LoadFilterState(int64_t sensor_id) {
-  Statement q(db_,
-              "SELECT last_ts_ms, last_value, state FROM filter_state WHERE sensor_id = ?");
+  Statement q(db_, "SELECT last_ts_ms, last_value, state FROM filter_state WHERE sensor_id = ?");
   q.Bind(1, sensor_id);
   if (!q.Step()) return std::nullopt;
   return FilterState{q.Int(0), q.Double(1), q.Double(2)};
 }
 
 Status SampleStore::SaveFilterState(int64_t sensor_id, const FilterState& s) {
-  Statement q(db_,
-              "INSERT INTO filter_state(sensor_id, last_ts_ms, last_value, state) VALUES (?, ?, ?, ?)"
-              " ON CONFLICT(sensor_id) DO UPDATE SET last_ts_ms = excluded.last_ts_ms,"
-              " last_value = excluded.last_value, state = excluded.state");
+  Statement q(
+      db_,
+      "INSERT INTO filter_state(sensor_id, last_ts_ms, last_value, state) VALUES (?, ?, ?, ?)"
+      " ON CONFLICT(sensor_id) DO UPDATE SET last_ts_ms = excluded.last_ts_ms,"
+      " last_value = excluded.last_value, state = excluded.state");
   q.Bind(1, sensor_id).Bind(2, s.last_ts_ms).Bind(3, s.last_value).Bind(4, s.state);
   return q.Run();
 }

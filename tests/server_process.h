@@ -37,8 +37,8 @@ inline pid_t StartServer(const std::string& db, int port, std::vector<std::strin
   if (pid == 0) {
     freopen("/dev/null", "w", stdout);
     freopen("/dev/null", "w", stderr);
-    std::vector<std::string> args = {"thermocomp", "serve", "--db", db, "--listen",
-                                     "127.0.0.1:" + std::to_string(port)};
+    std::vector<std::string> args = {"thermocomp", "serve",    "--db",
+                                     db,           "--listen", "127.0.0.1:" + std::to_string(port)};
     args.insert(args.end(), extra.begin(), extra.end());
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
@@ -70,7 +70,10 @@ class ServerGuard {
     if (pid_ > 0) KillServer(pid_, sig);
     pid_ = -1;
   }
-  void Reset(pid_t pid) { Kill(); pid_ = pid; }
+  void Reset(pid_t pid) {
+    Kill();
+    pid_ = pid;
+  }
   pid_t pid() const { return pid_; }
 
  private:

@@ -16,7 +16,9 @@ namespace {
 
 constexpr int kTakeMax = 256;
 
-char* Str(const std::string& s) { return const_cast<char*>(s.c_str()); }
+char* Str(const std::string& s) {
+  return const_cast<char*>(s.c_str());
+}
 
 // Ingest: reliable, keep-all within resource limits. Bounded, and when the
 // bound is reached a reliable writer waits instead of samples being
@@ -70,7 +72,9 @@ struct DdsBridge::Entities {
 DdsBridge::DdsBridge(App& app, BridgeOptions options)
     : app_(app), options_(options), e_(std::make_unique<Entities>()) {}
 
-DdsBridge::~DdsBridge() { Stop(); }
+DdsBridge::~DdsBridge() {
+  Stop();
+}
 
 Status DdsBridge::Start() {
   UseLoopbackConfig(app_.config().dds_config);
@@ -85,10 +89,13 @@ Status DdsBridge::Start() {
   auto topic = [&](const dds_topic_descriptor_t* d, const char* name, const dds_qos_t* q) {
     return dds_create_topic(e.participant, d, name, q, nullptr);
   };
-  dds_entity_t t_temp = topic(&thermocomp_TemperatureSample_desc, "thermocomp/TemperatureSample", ingest);
+  dds_entity_t t_temp =
+      topic(&thermocomp_TemperatureSample_desc, "thermocomp/TemperatureSample", ingest);
   dds_entity_t t_probe = topic(&thermocomp_ProbePoint_desc, "thermocomp/ProbePoint", ingest);
-  dds_entity_t t_comp = topic(&thermocomp_CompensationParameters_desc, "thermocomp/CompensationParameters", state);
-  dds_entity_t t_rej = topic(&thermocomp_IngestRejection_desc, "thermocomp/IngestRejection", events);
+  dds_entity_t t_comp =
+      topic(&thermocomp_CompensationParameters_desc, "thermocomp/CompensationParameters", state);
+  dds_entity_t t_rej =
+      topic(&thermocomp_IngestRejection_desc, "thermocomp/IngestRejection", events);
   dds_entity_t t_rec = topic(&thermocomp_IngestReceipt_desc, "thermocomp/IngestReceipt", events);
   e.temperature_reader = dds_create_reader(e.participant, t_temp, ingest, nullptr);
   e.probe_reader = dds_create_reader(e.participant, t_probe, ingest, nullptr);
@@ -98,9 +105,9 @@ Status DdsBridge::Start() {
   dds_delete_qos(ingest);
   dds_delete_qos(state);
   dds_delete_qos(events);
-  for (dds_entity_t x : {t_temp, t_probe, t_comp, t_rej, t_rec, e.temperature_reader,
-                         e.probe_reader, e.compensation_writer, e.rejection_writer,
-                         e.receipt_writer}) {
+  for (dds_entity_t x :
+       {t_temp, t_probe, t_comp, t_rej, t_rec, e.temperature_reader, e.probe_reader,
+        e.compensation_writer, e.rejection_writer, e.receipt_writer}) {
     if (x < 0) return Status::Unavailable(std::string("DDS entity: ") + dds_strretcode(x));
   }
   e.waitset = dds_create_waitset(e.participant);
@@ -109,7 +116,8 @@ Status DdsBridge::Start() {
     dds_waitset_attach(e.waitset, cond, r);
   }
   // What was served last survives in SQLite; DDS keeps no durable history.
-  app_.compensation().SetPublisher([this](const MachineCompensation& c) { PublishCompensation(c, false); });
+  app_.compensation().SetPublisher(
+      [this](const MachineCompensation& c) { PublishCompensation(c, false); });
   for (const auto& m : app_.machines().List()) {
     if (auto c = app_.compensation().Get(m.name); c.ok()) PublishCompensation(**c, true);
   }
@@ -203,7 +211,8 @@ void DdsBridge::Flush() {
 // A batch mixes publishers: the refused items must not take the others
 // down. Refused items are reported and the rest is stored without them;
 // should that fail too, each sample is stored on its own.
-void DdsBridge::StoreTemperatures(const std::string& machine, std::vector<TemperatureInput> samples) {
+void DdsBridge::StoreTemperatures(const std::string& machine,
+                                  std::vector<TemperatureInput> samples) {
   IngestResult r = app_.ingest().AddTemperatures(machine, samples, "dds");
   if (r.status.ok()) {
     samples_stored_ += r.accepted;
@@ -238,7 +247,8 @@ void DdsBridge::StoreTemperatures(const std::string& machine, std::vector<Temper
       samples_stored_ += one.accepted;
       PublishReceipts(machine, {s});
     } else {
-      PublishRejection(machine, "TemperatureSample", s.sensor + "@" + FormatRfc3339(s.ts_ms), one, 0);
+      PublishRejection(machine, "TemperatureSample", s.sensor + "@" + FormatRfc3339(s.ts_ms), one,
+                       0);
     }
   }
 }
@@ -266,9 +276,8 @@ void DdsBridge::PublishReceipts(const std::string& machine,
     std::sort(cut.begin(), cut.end());
     size_t start = 0;
     for (size_t i = 1; i <= ts.size(); ++i) {
-      const bool split = i == ts.size() ||
-                         std::upper_bound(cut.begin(), cut.end(), ts[i - 1]) !=
-                             std::lower_bound(cut.begin(), cut.end(), ts[i]);
+      const bool split = i == ts.size() || std::upper_bound(cut.begin(), cut.end(), ts[i - 1]) !=
+                                               std::lower_bound(cut.begin(), cut.end(), ts[i]);
       if (split) {
         write(sensor, ts[start], ts[i - 1], static_cast<int64_t>(i - start));
         start = i;
@@ -294,10 +303,11 @@ void DdsBridge::PublishRejection(const std::string& machine, const char* topic,
   msg.status = r.status.code() == Status::Code::kNotFound        ? 404
                : r.status.code() == Status::Code::kUnprocessable ? 422
                : r.status.code() == Status::Code::kConflict      ? 409
-                                                                  : 400;
+                                                                 : 400;
   msg.ts_ms = NowUnixMs();
   dds_write(e_->rejection_writer, &msg);
-  log::Warn("dds ingest rejected", "machine=" + machine + " item=" + item + " error=\"" + message + "\"");
+  log::Warn("dds ingest rejected",
+            "machine=" + machine + " item=" + item + " error=\"" + message + "\"");
 }
 
 void DdsBridge::PublishCompensation(const MachineCompensation& c, bool force) {

@@ -23,11 +23,11 @@
 namespace thermocomp::dds {
 
 struct BridgeOptions {
-  int batch_max = 1000;          // flush a batch at this many samples...
-  int batch_max_delay_ms = 20;   // ...or when its oldest sample waited this long
-  double publish_step_mm = 1e-4; // publish compensation on a change above this
-  int publish_every_ms = 60000;  // and at least this often
-  uint32_t domain = 0;           // DDS domain id
+  int batch_max = 1000;           // flush a batch at this many samples...
+  int batch_max_delay_ms = 20;    // ...or when its oldest sample waited this long
+  double publish_step_mm = 1e-4;  // publish compensation on a change above this
+  int publish_every_ms = 60000;   // and at least this often
+  uint32_t domain = 0;            // DDS domain id
 };
 
 class DdsBridge {

@@ -6,12 +6,12 @@
 
 #include <algorithm>
 #include <chrono>
-#include <map>
-#include <vector>
 #include <cstdlib>
+#include <map>
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <dds/dds.h>
 
@@ -97,8 +97,9 @@ class DdsClient {
     dds_write(temperature_writer_, &s);
   }
 
-  void PublishProbePoint(const std::string& machine, const std::string& run, int k, int64_t ts_ms,
-                         const std::map<std::string, std::pair<std::optional<double>, std::optional<double>>>& axes) {
+  void PublishProbePoint(
+      const std::string& machine, const std::string& run, int k, int64_t ts_ms,
+      const std::map<std::string, std::pair<std::optional<double>, std::optional<double>>>& axes) {
     std::vector<thermocomp_AxisReading> readings;
     for (const auto& [axis, v] : axes) {
       thermocomp_AxisReading r{};
@@ -151,7 +152,8 @@ class DdsClient {
     while ((n = dds_take(receipt_reader_, buf, info, 64, 64)) > 0) {
       for (int i = 0; i < n; ++i) {
         auto* r = static_cast<thermocomp_IngestReceipt*>(buf[i]);
-        if (info[i].valid_data) out.push_back({r->machine, r->sensor, r->first_ts_ms, r->last_ts_ms, r->samples});
+        if (info[i].valid_data)
+          out.push_back({r->machine, r->sensor, r->first_ts_ms, r->last_ts_ms, r->samples});
       }
       dds_return_loan(receipt_reader_, buf, n);
       std::fill(std::begin(buf), std::end(buf), nullptr);
@@ -183,7 +185,8 @@ class DdsClient {
   }
 
   // Joins late: a new transient-local reader gets the current value at once.
-  std::optional<CompensationSeen> ReadCompensation(const std::string& machine, const std::string& axis,
+  std::optional<CompensationSeen> ReadCompensation(const std::string& machine,
+                                                   const std::string& axis,
                                                    int timeout_ms = 10000) {
     dds_entity_t reader = dds_create_reader(participant_, t_comp_, state_qos_, nullptr);
     std::optional<CompensationSeen> seen;
@@ -194,7 +197,8 @@ class DdsClient {
       for (int i = 0; i < n; ++i) {
         auto* c = static_cast<thermocomp_CompensationParameters*>(buf[i]);
         if (info[i].valid_data && machine == c->machine && axis == c->axis) {
-          seen = CompensationSeen{c->machine, c->axis, c->offset_mm, c->valid, c->model_version, c->reason};
+          seen = CompensationSeen{c->machine, c->axis,          c->offset_mm,
+                                  c->valid,   c->model_version, c->reason};
         }
       }
       if (n > 0) dds_return_loan(reader, buf, n);

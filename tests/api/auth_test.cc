@@ -22,12 +22,13 @@ TEST(AuthorizerTest, WithoutTokensOnlyLoopbackIsServed) {
 }
 
 TEST(AuthorizerTest, RolesLimitWhatATokenMayDo) {
-  api::Authorizer a({{"admin", kAdmin, "admin", ""}, {"cell-1", kCell, "machine", "m1"},
+  api::Authorizer a({{"admin", kAdmin, "admin", ""},
+                     {"cell-1", kCell, "machine", "m1"},
                      {"dash", kReader, "reader", ""}});
   auto as = [&](const std::string& token, const char* method, const std::string& path) {
     return a.Decide(method, path, "127.0.0.1", token.empty() ? "" : "Bearer " + token).status;
   };
-  EXPECT_EQ(as("", "GET", "/api/v1/machines"), 401);           // tokens exist: loopback is not enough
+  EXPECT_EQ(as("", "GET", "/api/v1/machines"), 401);  // tokens exist: loopback is not enough
   EXPECT_EQ(as("wrong-token-000000000", "GET", "/api/v1/machines"), 401);
   EXPECT_EQ(as(kCell, "POST", "/api/v1/machines/m1/temperatures"), 200);
   EXPECT_EQ(as(kCell, "POST", "/api/v1/machines/m1/probe-points"), 200);
@@ -38,7 +39,8 @@ TEST(AuthorizerTest, RolesLimitWhatATokenMayDo) {
   EXPECT_EQ(as(kReader, "GET", "/api/v1/machines/m1/drift"), 200);
   EXPECT_EQ(as(kReader, "POST", "/api/v1/machines/m1/temperatures"), 403);
   EXPECT_EQ(as(kAdmin, "PUT", "/api/v1/machines/m9"), 200);
-  EXPECT_EQ(a.Decide("GET", "/api/v1/machines", "127.0.0.1", "Bearer " + kReader).actor, "token:dash");
+  EXPECT_EQ(a.Decide("GET", "/api/v1/machines", "127.0.0.1", "Bearer " + kReader).actor,
+            "token:dash");
 }
 
 class AuthHttpTest : public testing::AppFixture {
@@ -61,11 +63,14 @@ TEST_F(AuthHttpTest, TokensAreEnforcedAndAudited) {
   httplib::Headers cell = {{"Authorization", "Bearer " + kCell}};
   EXPECT_EQ(c.Put("/api/v1/machines/m1", admin, body, "application/json")->status, 201);
   EXPECT_EQ(c.Put("/api/v1/machines/m2", cell, body, "application/json")->status, 403);
-  auto post = c.Post("/api/v1/machines/m1/temperatures", cell,
-                     R"({"samples": [{"sensor": "T1", "ts": "2026-03-02T00:00:00Z", "value": 21}]})",
-                     "application/json");
+  auto post =
+      c.Post("/api/v1/machines/m1/temperatures", cell,
+             R"({"samples": [{"sensor": "T1", "ts": "2026-03-02T00:00:00Z", "value": 21}]})",
+             "application/json");
   EXPECT_EQ(post->status, 200) << post->body;
-  EXPECT_EQ(Count("SELECT COUNT(*) FROM audit WHERE actor = 'token:cell-1' AND action = 'temperatures'"), 1);
+  EXPECT_EQ(
+      Count("SELECT COUNT(*) FROM audit WHERE actor = 'token:cell-1' AND action = 'temperatures'"),
+      1);
   EXPECT_EQ(c.Get("/healthz")->status, 200);
   EXPECT_EQ(c.Get("/metrics")->status, 401);
 }

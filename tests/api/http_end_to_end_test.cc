@@ -9,7 +9,6 @@
 
 #include "server/time_format.h"
 
-
 namespace thermocomp {
 namespace {
 
@@ -54,8 +53,9 @@ TEST_F(HttpEndToEndTest, RegisterPostFitCompensateHistory) {
   // New data arrives over HTTP in all three shapes: a fresh datum now, then
   // temperatures a few minutes later.
   const int64_t now = clock_.NowMs();
-  json datum = {{"points", {{{"run", "LIVE1"}, {"k", 0}, {"ts", FormatRfc3339(now)},
-                            {"deviation", {{"Y", 0.001}}}}}}};
+  json datum = {
+      {"points",
+       {{{"run", "LIVE1"}, {"k", 0}, {"ts", FormatRfc3339(now)}, {"deviation", {{"Y", 0.001}}}}}}};
   auto r = client_->Post((base + "/probe-points").c_str(), datum.dump(), "application/json");
   ASSERT_EQ(r->status, 200) << r->body;
   clock_.Advance(120000);
@@ -95,12 +95,14 @@ TEST_F(HttpEndToEndTest, RegisterPostFitCompensateHistory) {
   // Independent check of the law: intercept + sum(b_i * (Tf_i - Tref_i)).
   // Temperatures jumped from the datum's filtered values to 26 degC through
   // the filters, so the prediction must differ from the intercept.
-  EXPECT_NE(y["predicted_drift_mm"].get<double>(), report["coefficients"]["intercept"].get<double>());
+  EXPECT_NE(y["predicted_drift_mm"].get<double>(),
+            report["coefficients"]["intercept"].get<double>());
 
   auto sin = client_->Get((base + "/compensation?format=sinumerik").c_str());
   ASSERT_EQ(sin->status, 200);
   char expected[64];
-  std::snprintf(expected, sizeof expected, "$SA_TEMP_COMP_ABS_VALUE[Y]=%.6f", y["offset_mm"].get<double>());
+  std::snprintf(expected, sizeof expected, "$SA_TEMP_COMP_ABS_VALUE[Y]=%.6f",
+                y["offset_mm"].get<double>());
   EXPECT_NE(sin->body.find(expected), std::string::npos) << sin->body;
   for (const char* f : {"beckhoff", "heidenhain", "fanuc", "linuxcnc"}) {
     auto fr = client_->Get((base + "/compensation?format=" + f).c_str());
@@ -132,8 +134,10 @@ TEST_F(HttpEndToEndTest, RegisterPostFitCompensateHistory) {
   EXPECT_EQ(models["models"][0]["status"], "active");
 
   auto metrics = client_->Get("/metrics");
-  EXPECT_NE(metrics->body.find("thermocomp_samples_accepted_total 21"), std::string::npos) << metrics->body;
-  EXPECT_NE(metrics->body.find("thermocomp_model_age_seconds{machine=\"m2\",axis=\"Y\"}"), std::string::npos);
+  EXPECT_NE(metrics->body.find("thermocomp_samples_accepted_total 21"), std::string::npos)
+      << metrics->body;
+  EXPECT_NE(metrics->body.find("thermocomp_model_age_seconds{machine=\"m2\",axis=\"Y\"}"),
+            std::string::npos);
   EXPECT_EQ(GetJson("/readyz")["status"], "ready");
 }
 
@@ -158,7 +162,8 @@ TEST_F(HttpEndToEndTest, RejectedRefitKeepsActiveModelAndRollbackWorks) {
   models = GetJson(base + "/models");
   EXPECT_EQ(models["models"][0]["status"], "retired");
   EXPECT_EQ(models["models"][1]["status"], "active");
-  EXPECT_EQ(client_->Post((base + "/models/9/activate").c_str(), "", "application/json")->status, 404);
+  EXPECT_EQ(client_->Post((base + "/models/9/activate").c_str(), "", "application/json")->status,
+            404);
 }
 
 }  // namespace

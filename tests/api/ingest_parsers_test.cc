@@ -34,7 +34,8 @@ TEST(IngestParsersTest, JsonErrorsNameTheItemAndField) {
 
   errors.clear();
   out.clear();
-  EXPECT_FALSE(ParseTemperaturesJson(R"({"samples": [{"sensor": "T", "value": {"x": 1}}]})", out, errors));
+  EXPECT_FALSE(
+      ParseTemperaturesJson(R"({"samples": [{"sensor": "T", "value": {"x": 1}}]})", out, errors));
   EXPECT_EQ(errors[0].field, "sample");
   errors.clear();
   out.clear();
@@ -45,8 +46,8 @@ TEST(IngestParsersTest, JsonErrorsNameTheItemAndField) {
 TEST(IngestParsersTest, WideCsvSkipsEmptyCellsAndLongCsvReadsRows) {
   std::vector<TemperatureInput> out;
   std::vector<FieldError> errors;
-  ASSERT_TRUE(ParseTemperaturesCsv("ts,T1,T2\r\n2026-03-01T06:00:00Z,21.5,\r\n2026-03-01T06:01:00Z,21.6,22\r\n",
-                                   out, errors));
+  ASSERT_TRUE(ParseTemperaturesCsv(
+      "ts,T1,T2\r\n2026-03-01T06:00:00Z,21.5,\r\n2026-03-01T06:01:00Z,21.6,22\r\n", out, errors));
   ASSERT_EQ(out.size(), 3u);  // the empty cell is no reading
   EXPECT_EQ(out[2].sensor, "T2");
   out.clear();
@@ -57,8 +58,8 @@ TEST(IngestParsersTest, WideCsvSkipsEmptyCellsAndLongCsvReadsRows) {
 TEST(IngestParsersTest, ProbeCsvSplitsPositionDeviationAndSnapshot) {
   std::vector<ProbePointInput> out;
   std::vector<FieldError> errors;
-  ASSERT_TRUE(ParseProbePointsCsv("ts,run,k,pos_X,dev_Y,Ty2\n2026-03-01T06:00:00Z,E7,0,350,-0.0031,21.4\n",
-                                  out, errors));
+  ASSERT_TRUE(ParseProbePointsCsv(
+      "ts,run,k,pos_X,dev_Y,Ty2\n2026-03-01T06:00:00Z,E7,0,350,-0.0031,21.4\n", out, errors));
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].run, "E7");
   EXPECT_DOUBLE_EQ(*out[0].axes["X"].position_mm, 350.0);

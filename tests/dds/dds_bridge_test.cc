@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include "tests/app_fixture.h"
 #include "api/dds/dds_client.h"
+#include "tests/app_fixture.h"
 #include "tests/dds/dds_config.h"
 
 namespace thermocomp {
@@ -90,18 +90,24 @@ TEST_F(DdsBridgeTest, ABadSampleIsRefusedAloneAndNoReceiptCoversIt) {
   int64_t receipted = 0;
   for (const auto& r : peer.TakeReceipts()) {
     if (r.machine != machine_) continue;
-    EXPECT_FALSE(r.first_ts_ms <= bad_ts && bad_ts <= r.last_ts_ms) << r.first_ts_ms << ".." << r.last_ts_ms;
+    EXPECT_FALSE(r.first_ts_ms <= bad_ts && bad_ts <= r.last_ts_ms)
+        << r.first_ts_ms << ".." << r.last_ts_ms;
     receipted += r.samples;
   }
   EXPECT_EQ(receipted, 19);
 }
 
 TEST_F(DdsBridgeTest, LateJoinerGetsTheCurrentCompensation) {
-  InsertActiveModel(1, R"({"inputs":["T1"],"intercept":0.001,"coefficients":[-0.01],"trained_range":[[-1,3]],"clamp_mm":0.03})");
+  InsertActiveModel(
+      1,
+      R"({"inputs":["T1"],"intercept":0.001,"coefficients":[-0.01],"trained_range":[[-1,3]],"clamp_mm":0.03})");
   const int64_t now = clock_.NowMs();
   ProbePointInput datum{"R1", 0, now - 3600000, {{"Y", {std::nullopt, 0.0}}}, {}};
   ASSERT_TRUE(app_->ingest().AddProbePoints(machine_, {datum}, "t").status.ok());
-  ASSERT_TRUE(app_->ingest().AddTemperatures(machine_, {{"T1", now - 3600000, 20.0}, {"T1", now - 60000, 22.0}}, "t").status.ok());
+  ASSERT_TRUE(
+      app_->ingest()
+          .AddTemperatures(machine_, {{"T1", now - 3600000, 20.0}, {"T1", now - 60000, 22.0}}, "t")
+          .status.ok());
   StartBridge();
   dds::DdsClient late(testing::TestDomain());  // joins after the value was published
   auto seen = late.ReadCompensation(machine_, "Y");

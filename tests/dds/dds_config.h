@@ -12,7 +12,9 @@ namespace thermocomp::testing {
 
 // A DDS domain of this test process's own, so tests running in parallel
 // (or any other DDS process on the machine) never match each other.
-inline uint32_t TestDomain() { return 1 + static_cast<uint32_t>(getpid()) % 200; }
+inline uint32_t TestDomain() {
+  return 1 + static_cast<uint32_t>(getpid()) % 200;
+}
 
 inline void UseRepoDdsConfig() {
   setenv("CYCLONEDDS_URI",

@@ -28,7 +28,9 @@ class CompensationServiceTest : public testing::AppFixture {
     ASSERT_TRUE(app_->ingest().AddProbePoints("m1", {p}, "t").status.ok());
   }
   void ActivateModel() {
-    InsertActiveModel(1, R"({"inputs":["T1"],"intercept":0.001,"coefficients":[-0.01],"trained_range":[[-1,3]],"clamp_mm":0.03})");
+    InsertActiveModel(
+        1,
+        R"({"inputs":["T1"],"intercept":0.001,"coefficients":[-0.01],"trained_range":[[-1,3]],"clamp_mm":0.03})");
   }
   AxisCompensation Y() {
     auto c = app_->compensation().Get("m1");

@@ -47,7 +47,9 @@ TEST(CrashTest, AcknowledgedSamplesSurviveKill9) {
       for (int b = 0; b < 100000; ++b) {
         nlohmann::json body = {{"samples", nlohmann::json::array()}};
         for (int i = 0; i < 250; ++i) {
-          body["samples"].push_back({{"sensor", sensor}, {"ts", t0 + (b * 250LL + i) * 1000}, {"value", 20.0 + i * 0.01}});
+          body["samples"].push_back({{"sensor", sensor},
+                                     {"ts", t0 + (b * 250LL + i) * 1000},
+                                     {"value", 20.0 + i * 0.01}});
         }
         auto r = c.Post("/api/v1/machines/m1/temperatures", body.dump(), "application/json");
         if (!r || r->status != 200) return;  // the server is gone
@@ -55,7 +57,8 @@ TEST(CrashTest, AcknowledgedSamplesSurviveKill9) {
       }
     });
   }
-  while (acked_batches[0] + acked_batches[1] < 40) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  while (acked_batches[0] + acked_batches[1] < 40)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
   server.Kill();
   for (auto& t : writers) t.join();
   const int acked[2] = {acked_batches[0], acked_batches[1]};
@@ -76,7 +79,9 @@ TEST(CrashTest, AcknowledgedSamplesSurviveKill9) {
       Statement q((*check)->handle(),
                   "SELECT COUNT(*) FROM samples s JOIN sensors n ON n.id = s.sensor_id"
                   " WHERE n.name = ? AND s.ts_ms >= ? AND s.ts_ms < ?");
-      q.Bind(1, std::string(w == 0 ? "T1" : "T2")).Bind(2, int64_t{t0}).Bind(3, int64_t{t0 + acked[w] * 250LL * 1000});
+      q.Bind(1, std::string(w == 0 ? "T1" : "T2"))
+          .Bind(2, int64_t{t0})
+          .Bind(3, int64_t{t0 + acked[w] * 250LL * 1000});
       ASSERT_TRUE(q.Step());
       EXPECT_EQ(q.Int(0), acked[w] * 250LL) << "writer " << w;
     }

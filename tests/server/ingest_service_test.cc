@@ -34,7 +34,8 @@ TEST_F(IngestServiceTest, FilteredValuesFollowTheEwma) {
 
 TEST_F(IngestServiceTest, LateSampleReplaysTheFilterFromItsTime) {
   const int64_t t = testing::kT0;
-  ASSERT_TRUE(app_->ingest().AddTemperatures("m1", {{"T", t, 10}, {"T", t + 120000, 30}}, "t").status.ok());
+  ASSERT_TRUE(
+      app_->ingest().AddTemperatures("m1", {{"T", t, 10}, {"T", t + 120000, 30}}, "t").status.ok());
   // A sample for the minute in between arrives late.
   auto r = app_->ingest().AddTemperatures("m1", {{"T", t + 60000, 20}}, "test");
   ASSERT_TRUE(r.status.ok());
@@ -52,7 +53,8 @@ TEST_F(IngestServiceTest, LateSampleReplaysTheFilterFromItsTime) {
 
 TEST_F(IngestServiceTest, FilterStateSurvivesReopen) {
   const int64_t t = testing::kT0;
-  ASSERT_TRUE(app_->ingest().AddTemperatures("m1", {{"T", t, 10}, {"T", t + 60000, 20}}, "t").status.ok());
+  ASSERT_TRUE(
+      app_->ingest().AddTemperatures("m1", {{"T", t, 10}, {"T", t + 60000, 20}}, "t").status.ok());
   app_.reset();
   auto app = App::Open(config_, clock_);
   ASSERT_TRUE(app.ok());

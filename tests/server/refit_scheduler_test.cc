@@ -102,14 +102,17 @@ TEST(ConfigTest, ParsesTokensAndDailyTimeAndRejectsBadOnes) {
   };
   auto ok = write(
       "[fit]\ndaily_at = \"02:30\"\n"
-      "[[auth.tokens]]\nname = \"cell-3\"\ntoken = \"0123456789abcdef0\"\nrole = \"machine\"\nmachine = \"m3\"\n");
+      "[[auth.tokens]]\nname = \"cell-3\"\ntoken = \"0123456789abcdef0\"\nrole = "
+      "\"machine\"\nmachine = \"m3\"\n");
   ASSERT_TRUE(ok.ok()) << ok.status().ToString();
   EXPECT_EQ(ok->refit_daily_at_min, 150);
   ASSERT_EQ(ok->tokens.size(), 1u);
   EXPECT_EQ(ok->tokens[0].machine, "m3");
   EXPECT_FALSE(write("[fit]\ndaily_at = \"25:00\"\n").ok());
   EXPECT_FALSE(write("[[auth.tokens]]\nname = \"x\"\ntoken = \"short\"\nrole = \"admin\"\n").ok());
-  EXPECT_FALSE(write("[[auth.tokens]]\nname = \"x\"\ntoken = \"0123456789abcdef0\"\nrole = \"boss\"\n").ok());
+  EXPECT_FALSE(
+      write("[[auth.tokens]]\nname = \"x\"\ntoken = \"0123456789abcdef0\"\nrole = \"boss\"\n")
+          .ok());
   auto bad = write("[server]\nlisten = \"localhost:http\"\n");
   EXPECT_FALSE(bad.ok());
   EXPECT_NE(bad.status().message().find("listen"), std::string::npos);

@@ -32,7 +32,9 @@ TEST_F(MigrationTest, FromEmptyAppliesAllAndRecordsVersions) {
             static_cast<int64_t>(EmbeddedMigrations().size()));
   for (const char* table : {"machines", "sensors", "axes", "samples", "filter_state", "runs",
                             "probe_points", "models", "compensation_log", "audit"}) {
-    EXPECT_EQ(Scalar(**db, std::string("SELECT COUNT(*) FROM sqlite_master WHERE name = '") + table + "'"), 1)
+    EXPECT_EQ(Scalar(**db, std::string("SELECT COUNT(*) FROM sqlite_master WHERE name = '") +
+                               table + "'"),
+              1)
         << table;
   }
   EXPECT_EQ(Scalar(**db, "PRAGMA foreign_keys"), 1);
@@ -51,7 +53,10 @@ TEST_F(MigrationTest, FromEveryEarlierVersionUpgradesKeepingData) {
       auto old = Database::Open(Path(), opt);
       ASSERT_TRUE(old.ok());
       ASSERT_EQ((*old)->schema_version(), m.version);
-      ASSERT_TRUE((*old)->Exec("INSERT INTO machines(name, created_ms, updated_ms) VALUES ('m1', 1, 1)").ok());
+      ASSERT_TRUE(
+          (*old)
+              ->Exec("INSERT INTO machines(name, created_ms, updated_ms) VALUES ('m1', 1, 1)")
+              .ok());
     }
     auto db = Database::Open(Path());
     ASSERT_TRUE(db.ok()) << "from version " << m.version << ": " << db.status().ToString();
@@ -84,17 +89,20 @@ TEST_F(MigrationTest, FailingMigrationRollsBackAndKeepsVersion) {
   auto db = Database::Open(Path());
   ASSERT_TRUE(db.ok());
   std::vector<Migration> more = EmbeddedMigrations();
-  more.push_back({9000, "9000_broken", "CREATE TABLE half_done(x); INSERT INTO nowhere VALUES (1);"});
+  more.push_back(
+      {9000, "9000_broken", "CREATE TABLE half_done(x); INSERT INTO nowhere VALUES (1);"});
   auto v = Migrate(**db, more);
   EXPECT_FALSE(v.ok());
   EXPECT_EQ(Scalar(**db, "SELECT COUNT(*) FROM sqlite_master WHERE name = 'half_done'"), 0);
-  EXPECT_EQ(Scalar(**db, "SELECT MAX(version) FROM schema_migrations"), EmbeddedMigrations().back().version);
+  EXPECT_EQ(Scalar(**db, "SELECT MAX(version) FROM schema_migrations"),
+            EmbeddedMigrations().back().version);
 }
 
 TEST_F(MigrationTest, OnlineBackupIsACompleteDatabase) {
   auto db = Database::Open(Path());
   ASSERT_TRUE(db.ok());
-  ASSERT_TRUE((*db)->Exec("INSERT INTO machines(name, created_ms, updated_ms) VALUES ('m1', 1, 1)").ok());
+  ASSERT_TRUE(
+      (*db)->Exec("INSERT INTO machines(name, created_ms, updated_ms) VALUES ('m1', 1, 1)").ok());
   const std::string copy = (dir_ / "backup.db").string();
   ASSERT_TRUE((*db)->Backup(copy).ok());
   auto restored = Database::Open(copy);
