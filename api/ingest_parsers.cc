@@ -117,7 +117,6 @@ class TemperatureSax : public nlohmann::json_sax<json> {
     if (depth_ == 1 && key_ == "samples") {
       in_samples_ = true;
       saw_samples_ = true;
-      ++array_depth_;
       return true;
     }
     if (depth_ >= 2) return Fail("sample", "must be a flat object");
@@ -125,7 +124,6 @@ class TemperatureSax : public nlohmann::json_sax<json> {
   }
   bool end_array() override {
     in_samples_ = false;
-    --array_depth_;
     return true;
   }
   bool key(string_t& k) override {
@@ -191,7 +189,7 @@ class TemperatureSax : public nlohmann::json_sax<json> {
   std::vector<FieldError>& errors_;
   TemperatureInput current_;
   std::string key_;
-  int depth_ = 0, array_depth_ = 0, seen_ = 0;
+  int depth_ = 0, seen_ = 0;
   bool in_samples_ = false, saw_samples_ = false;
 };
 

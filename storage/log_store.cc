@@ -105,10 +105,4 @@ Status LogStore::Audit(int64_t ts_ms, const std::string& actor, const std::strin
   return q.Run();
 }
 
-int64_t LogStore::CountAudit(const std::string& action) {
-  Statement q(db_, "SELECT COUNT(*) FROM audit WHERE action = ?");
-  q.Bind(1, action);
-  return q.Step() ? q.Int(0) : 0;
-}
-
 }  // namespace thermocomp

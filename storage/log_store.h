@@ -25,7 +25,6 @@ class LogStore {
   std::pair<int64_t, int64_t> CompensationExtent(int64_t axis_id, int64_t from_ms, int64_t to_ms);
   Status Audit(int64_t ts_ms, const std::string& actor, const std::string& action,
                const std::string& machine, int64_t count, const std::string& detail = "");
-  int64_t CountAudit(const std::string& action);
 
  private:
   Database& db_;

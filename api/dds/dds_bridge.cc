@@ -289,7 +289,6 @@ void DdsBridge::PublishReceipts(const std::string& machine,
 void DdsBridge::PublishRejection(const std::string& machine, const char* topic,
                                  const std::string& item, const IngestResult& r,
                                  size_t error_index) {
-  ++rejections_;
   app_.metrics().ingest_rejected++;
   const bool has = error_index < r.errors.size();
   const std::string field = has ? r.errors[error_index].field : "";

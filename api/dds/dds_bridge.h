@@ -37,9 +37,8 @@ class DdsBridge {
   Status Start();
   void Stop();
 
-  // Counters for tests and /metrics.
+  // Samples committed so far (benchmarks wait on it).
   uint64_t samples_stored() const { return samples_stored_; }
-  uint64_t rejections() const { return rejections_; }
 
  private:
   struct Entities;
@@ -66,7 +65,7 @@ class DdsBridge {
     int64_t at_ms = 0;
   };
   std::map<std::string, Published> published_;  // by "machine/axis"
-  std::atomic<uint64_t> samples_stored_{0}, rejections_{0};
+  std::atomic<uint64_t> samples_stored_{0};
 };
 
 // Points CYCLONEDDS_URI at `config_file` unless the environment sets it.
