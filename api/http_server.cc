@@ -242,7 +242,6 @@ void HttpServer::Routes() {
     }
     auto report = app_.fits().Fit(req.matches[1], req.matches[2], fr);
     if (!report.ok()) return WriteProblem(res, report.status());
-    app_.metrics().fits++;
     WriteJson(res, *report, 201);
   });
   s.Get(axis + "/models", [this](const Req& req, Res& res) {

@@ -34,6 +34,11 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
 
 std::string App::ModelGauges() {
   std::string out =
+      "# HELP thermocomp_fits_total Model versions fitted and stored.\n"
+      "# TYPE thermocomp_fits_total counter\n"
+      "thermocomp_fits_total " +
+      std::to_string(fits_->fits_stored()) + "\n";
+  out +=
       "# HELP thermocomp_model_age_seconds Age of the active model per axis.\n"
       "# TYPE thermocomp_model_age_seconds gauge\n";
   std::lock_guard<std::mutex> lock(db_->mutex());

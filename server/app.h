@@ -33,7 +33,7 @@ class App {
   HistoryService& history() { return *history_; }
   RefitScheduler& scheduler() { return *scheduler_; }
   Metrics& metrics() { return metrics_; }
-  // Gauges for /metrics that need the database (model age per axis).
+  // /metrics lines the services own: fits stored, model age per axis.
   std::string ModelGauges();
 
  private:

@@ -243,6 +243,7 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
     return s;
   }
   if (Status s = tx.Commit(); !s.ok()) return s;
+  ++fits_stored_;
   lock.unlock();
   log::Info("model fitted", "machine=" + machine_name + " axis=" + axis_name +
                                 " version=" + std::to_string(*version) + " status=" + status);

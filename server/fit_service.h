@@ -6,6 +6,7 @@
 // reason, and the active model stays. A failed fit never replaces a model.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <optional>
 #include <string>
@@ -46,6 +47,8 @@ class FitService {
   StatusOr<std::vector<ModelRecord>> Models(const std::string& machine, const std::string& axis);
   StatusOr<ModelRecord> Model(const std::string& machine, const std::string& axis, int version);
   void SetListener(Listener l) { listener_ = std::move(l); }
+  // Fits that stored a version (manual and scheduled), for /metrics.
+  uint64_t fits_stored() const { return fits_stored_; }
 
  private:
   Database& db_;
@@ -53,6 +56,7 @@ class FitService {
   const Config& config_;
   ProbeTemperatureCache* cache_;
   Listener listener_;
+  std::atomic<uint64_t> fits_stored_{0};
 };
 
 }  // namespace thermocomp

@@ -26,7 +26,6 @@ std::string Metrics::Render(const std::string& extra) const {
   counter("thermocomp_probe_points_accepted_total", "Probe points stored.", probe_points_accepted);
   counter("thermocomp_ingest_rejected_total", "Write requests rejected as a whole.",
           ingest_rejected);
-  counter("thermocomp_fits_total", "Model fits run.", fits);
   out +=
       "# HELP thermocomp_http_request_duration_seconds HTTP request latency.\n"
       "# TYPE thermocomp_http_request_duration_seconds histogram\n";

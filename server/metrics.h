@@ -17,7 +17,6 @@ class Metrics {
   std::atomic<uint64_t> samples_duplicate{0};
   std::atomic<uint64_t> probe_points_accepted{0};
   std::atomic<uint64_t> ingest_rejected{0};
-  std::atomic<uint64_t> fits{0};
 
   void ObserveRequest(double seconds);
   // `extra` is appended verbatim (gauges computed at scrape time).

@@ -30,6 +30,7 @@ TEST_F(RefitSchedulerTest, FitsWhenDueAndOnlyThen) {
   while (vm.now_ms() + 60000 <= clock_.NowMs()) vm.Step(samples, points);
   Flush("m1", samples, points);
   EXPECT_EQ(s.Tick(), 2);
+  EXPECT_NE(app_->ModelGauges().find("thermocomp_fits_total 4\n"), std::string::npos);
   auto models = app_->fits().Models("m1", "Y");
   ASSERT_TRUE(models.ok());
   EXPECT_EQ(models->size(), 2u);
