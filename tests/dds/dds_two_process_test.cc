@@ -34,6 +34,17 @@ int64_t Samples(httplib::Client& http, const std::string& machine) {
   return r && r->status == 200 ? json::parse(r->body)["samples"].get<int64_t>() : -1;
 }
 
+// Polls the sample count until it reaches `at_least` or 10 s passed;
+// returns the last count seen.
+int64_t WaitForSamples(httplib::Client& http, const std::string& machine, int64_t at_least) {
+  int64_t n = Samples(http, machine);
+  for (int i = 0; i < 200 && n < at_least; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    n = Samples(http, machine);
+  }
+  return n;
+}
+
 std::vector<std::string> DdsArgs() {
   return {"--dds", "--dds-domain", std::to_string(testing::TestDomain())};
 }
@@ -82,11 +93,7 @@ TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
   for (const char* s : {"Tsp", "Tco", "Tcu", "Tcb", "Tbed", "Tenv", "Tbase"}) {
     peer.Publish(machine, s, now + 30000, 21.0);  // between the simulator's minutes
   }
-  int64_t after = before;
-  for (int i = 0; i < 200 && after < before + 7; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    after = Samples(http, machine);
-  }
+  const int64_t after = WaitForSamples(http, machine, before + 7);
   EXPECT_EQ(after, before + 7);
 
   // An invalid sample gets an IngestRejection from the other process and
@@ -255,11 +262,7 @@ TEST(DdsTwoProcessTest, LiveSimulatorPublishesIntoTheServer) {
                          " --minutes 1 > " + out + " 2>&1")
                             .c_str()),
             0);
-  int64_t after = before;
-  for (int i = 0; i < 100 && after < before + 7 * 7; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    after = Samples(http, machine);
-  }
+  const int64_t after = WaitForSamples(http, machine, before + 7 * 7);
   EXPECT_GE(after - before, 7 * 7) << "7 sensors x at least 7 of the 8 removed minutes";
   std::ifstream text(out);
   std::string first;
@@ -298,11 +301,7 @@ TEST(DdsTwoProcessTest, AcceleratedLiveSimulatorRunsAhead) {
                       .c_str()),
       0);
   // About 110 new simulated minutes (the first ten were stored already), 7 sensors.
-  int64_t after = before;
-  for (int i = 0; i < 100 && after < before + 7 * 100; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    after = Samples(http, machine);
-  }
+  const int64_t after = WaitForSamples(http, machine, before + 7 * 100);
   EXPECT_GE(after - before, 7 * 100);
   const std::string last = json::parse(http.Get(base.c_str())->body)["last_sample_ts"];
   EXPECT_GT(ParseRfc3339(last).value_or(0), NowUnixMs() + 60 * 60000)
