@@ -436,6 +436,8 @@ int Backup(const Args& a) {
 
 }  // namespace
 
+static int Dispatch(const std::string& name, const Args& a);
+
 std::string Usage() {
   return R"(usage: thermocomp <command> [options]
 
@@ -454,7 +456,16 @@ Common: --config FILE (TOML, see deploy/thermocomp.toml), --db PATH.
 }
 
 int RunCommand(const std::string& name, const std::vector<std::string>& raw) {
-  Args a = Parse(raw);
+  try {
+    return Dispatch(name, Parse(raw));
+  } catch (const std::invalid_argument&) {
+    return Fail("an option that takes a number got something else\n" + Usage());
+  } catch (const std::out_of_range&) {
+    return Fail("a number given as an option is out of range");
+  }
+}
+
+static int Dispatch(const std::string& name, const Args& a) {
   if (name == "serve") return Serve(a);
   if (name == "import") return Import(a);
   if (name == "fit") return FitCommand(a);
