@@ -8,6 +8,9 @@ namespace {
 constexpr int64_t kMinute = 60000;
 constexpr int64_t kDay = 24 * 60 * kMinute;
 constexpr double kPi = 3.14159265358979323846;
+constexpr HiddenEffect kAllHidden[] = {HiddenEffect::kSensor,   HiddenEffect::kLag,
+                                       HiddenEffect::kPosition, HiddenEffect::kTrend,
+                                       HiddenEffect::kStep,     HiddenEffect::kSignal};
 
 // First-order approach of x towards target over dt minutes with time constant tau.
 double Lag(double x, double target, double tau_min) {
@@ -16,11 +19,57 @@ double Lag(double x, double target, double tau_min) {
 
 }  // namespace
 
+const char* HiddenEffectName(HiddenEffect e) {
+  switch (e) {
+    case HiddenEffect::kSensor:
+      return "sensor";
+    case HiddenEffect::kLag:
+      return "lag";
+    case HiddenEffect::kPosition:
+      return "position";
+    case HiddenEffect::kTrend:
+      return "trend";
+    case HiddenEffect::kStep:
+      return "step";
+    case HiddenEffect::kSignal:
+      return "signal";
+  }
+  return "";
+}
+
+std::optional<HiddenEffect> ParseHiddenEffect(const std::string& name) {
+  for (HiddenEffect e : kAllHidden) {
+    if (name == HiddenEffectName(e)) return e;
+  }
+  return std::nullopt;
+}
+
 VirtualMachine::VirtualMachine(const SimOptions& o)
-    : opt_(o), rng_(o.seed), now_ms_(o.start_ms - o.start_ms % kMinute) {
+    : opt_(o), rng_(o.seed), now_ms_(o.start_ms - o.start_ms % kMinute), start_ms_(now_ms_) {
   air_offset_ = 0.5 * unit_(rng_);
   const double air = AirTemperature();
-  n_ = {air, air, air, air, air, air, air, air, air};
+  n_ = {air, air, air, air, air, air, air, air, air, air, 0.0};
+  // Hidden-effect parameters come from their own stream, drawn whether or
+  // not an effect is on, so one seed always means the same machine.
+  std::mt19937_64 draw(o.seed * 7919 + 17);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto sign = [&] { return u(draw) < 0.5 ? -1.0 : 1.0; };
+  auto between = [&](double lo, double hi) { return lo + (hi - lo) * u(draw); };
+  // The spindle housing: fast, and driven by the cutting load, which no
+  // declared input follows closely.
+  truth_.sensor = "Tsp";
+  truth_.sensor_mm_per_c = sign() * between(1.5, 3.0) * 1e-3;
+  truth_.lag_tau_min = std::exp(between(std::log(10.0), std::log(240.0)));
+  // A short lag differs from the sensor itself only while it changes, so
+  // its coefficient is larger: what the model lacks stays a few um.
+  truth_.lag_mm_per_c =
+      sign() * between(4.0, 8.0) * std::max(1.0, 60.0 / truth_.lag_tau_min) * 1e-3;
+  truth_.position_mm_per_m_c = sign() * between(8.0, 15.0) * 1e-3;
+  truth_.trend_mm_per_day = sign() * between(0.3, 0.6) * 1e-3;
+  truth_.step_ts_ms = start_ms_ + static_cast<int64_t>(between(10.0, 16.0) * kDay);
+  truth_.step_mm = sign() * between(3.0, 6.0) * 1e-3;
+  truth_.signal_tau_min = between(15.0, 60.0);
+  truth_.signal_mm_per_rpm = sign() * between(0.6, 1.2) * 1e-6;
 }
 
 MachineRecord VirtualMachine::Definition(const std::string& name) {
@@ -48,8 +97,24 @@ bool VirtualMachine::InRun() const {
   return run_k_ >= 0;
 }
 
-double VirtualMachine::TrueDriftY() const {
-  return -0.0126 * (n_.colbase - 20.0) + 0.0098 * (n_.bed - 20.0) - 0.0025 * (n_.coolant - 20.0);
+double VirtualMachine::DeviationY(double position_mm, bool seated) const {
+  double d =
+      -0.0126 * (n_.colbase - 20.0) + 0.0098 * (n_.bed - 20.0) - 0.0025 * (n_.coolant - 20.0);
+  if (Has(HiddenEffect::kSensor)) {
+    d += truth_.sensor_mm_per_c * (n_.spindle - 20.0);
+  }
+  if (Has(HiddenEffect::kLag)) d += truth_.lag_mm_per_c * (n_.coolant_lag - 20.0);
+  if (Has(HiddenEffect::kPosition)) {
+    d += truth_.position_mm_per_m_c * (position_mm / 1000.0) * (n_.colbase - 20.0);
+  }
+  if (Has(HiddenEffect::kSignal)) d += truth_.signal_mm_per_rpm * n_.rpm_lag;
+  if (seated) {
+    if (Has(HiddenEffect::kTrend)) {
+      d += truth_.trend_mm_per_day * static_cast<double>(now_ms_ - start_ms_) / kDay;
+    }
+    if (Has(HiddenEffect::kStep) && now_ms_ >= truth_.step_ts_ms) d += truth_.step_mm;
+  }
+  return d;
 }
 
 double VirtualMachine::TrueDriftX() const {
@@ -57,7 +122,7 @@ double VirtualMachine::TrueDriftX() const {
 }
 
 void VirtualMachine::Step(std::vector<TemperatureInput>& samples,
-                          std::vector<ProbePointInput>& points) {
+                          std::vector<ProbePointInput>& points, SimExtras* extras) {
   now_ms_ += kMinute;
   const int minute_of_day = static_cast<int>((now_ms_ % kDay) / kMinute);
   // Production around the clock, as on an FMS line: a 3 h run starts every
@@ -73,10 +138,15 @@ void VirtualMachine::Step(std::vector<TemperatureInput>& samples,
     spindle_load_ = load(rng_);
     x_load_ = load(rng_);
     y_load_ = load(rng_);
+    // Speed is a program choice independent of the cutting load; drawn from
+    // its own stream so the temperatures do not depend on it.
+    std::mt19937_64 rpm(opt_.seed * 104729 + static_cast<uint64_t>(run_counter_));
+    spindle_rpm_ = std::uniform_real_distribution<double>(3000.0, 12000.0)(rpm);
   } else if (InRun() && now_ms_ - run_start_ms_ > 180 * kMinute) {
     run_k_ = -1;
   }
   const bool cutting = InRun();
+  const double rpm = cutting ? spindle_rpm_ : 0.0;
   n_.air = AirTemperature();
   n_.spindle = Lag(n_.spindle, n_.air + (cutting ? 14.0 * spindle_load_ : 0.0), 25);
   n_.x_drive = Lag(n_.x_drive, n_.air + (cutting ? 10.0 * x_load_ : 0.5), 40);
@@ -86,6 +156,8 @@ void VirtualMachine::Step(std::vector<TemperatureInput>& samples,
   n_.colbase = Lag(n_.colbase, 0.6 * n_.air + 0.4 * n_.y_drive, 120);
   n_.bed = Lag(n_.bed, 0.6 * n_.air + 0.4 * n_.x_drive, 150);
   n_.base = Lag(n_.base, n_.air, 400);
+  n_.coolant_lag = Lag(n_.coolant_lag, n_.coolant, truth_.lag_tau_min);
+  n_.rpm_lag = Lag(n_.rpm_lag, rpm, truth_.signal_tau_min);
 
   auto sense = [&](const char* sensor, double t) {
     samples.push_back(
@@ -98,16 +170,26 @@ void VirtualMachine::Step(std::vector<TemperatureInput>& samples,
   sense("Tbed", n_.bed);
   sense("Tenv", n_.air + 0.1 * unit_(rng_));
   sense("Tbase", n_.base);
+  if (extras) {
+    extras->signals.push_back({"spindle_rpm", now_ms_, rpm});
+    if (!step_logged_ && now_ms_ >= truth_.step_ts_ms) {
+      extras->events.push_back({now_ms_, "maintenance", "spindle unit serviced"});
+    }
+  }
+  if (now_ms_ >= truth_.step_ts_ms) step_logged_ = true;
 
   if (InRun() && (now_ms_ - run_start_ms_) % (15 * kMinute) == 0) {
-    if (run_k_ == 0) datum_drift_y_ = TrueDriftY();
+    const double hole_y = kDatumHoleY + 150.0 * (run_k_ % 4);
+    const double true_y = DeviationY(hole_y, run_k_ > 0);
+    if (run_k_ == 0) datum_drift_y_ = true_y;
+    if (extras) extras->true_drift_y.push_back(true_y - datum_drift_y_);
     ProbePointInput p;
     p.run = run_name_;
     p.k = run_k_++;
     p.ts_ms = now_ms_;
-    // Deviation of the datum hole: true drift plus probe noise (mm).
+    // Deviation of the probed hole: true drift plus probe noise (mm).
     p.axes["X"] = {350.0, TrueDriftX() + opt_.probe_noise_mm * unit_(rng_)};
-    p.axes["Y"] = {120.0, TrueDriftY() + opt_.probe_noise_mm * unit_(rng_)};
+    p.axes["Y"] = {hole_y, true_y + opt_.probe_noise_mm * unit_(rng_)};
     p.axes["Z"] = {-40.0, std::nullopt};
     points.push_back(std::move(p));
   }

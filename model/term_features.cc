@@ -1,0 +1,158 @@
+#include "model/term_features.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace thermocomp {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kMsPerHour = 3.6e6;
+constexpr double kMsPerDay = 86.4e6;
+
+int IndexOf(const std::vector<std::string>& names, const std::string& name) {
+  auto it = std::find(names.begin(), names.end(), name);
+  return it == names.end() ? -1 : static_cast<int>(it - names.begin());
+}
+
+double At(const std::vector<double>& v, int i) {
+  return i >= 0 && i < static_cast<int>(v.size()) ? v[i] : kNaN;
+}
+
+}  // namespace
+
+int TermInputs::SensorIndex(const std::string& name) const {
+  return IndexOf(sensors, name);
+}
+int TermInputs::SignalIndex(const std::string& name) const {
+  return IndexOf(signals, name);
+}
+int TermInputs::AxisIndex(const std::string& name) const {
+  return IndexOf(axes, name);
+}
+
+TimeSeries LagSeries(const TimeSeries& raw, double tau_min) {
+  TimeSeries out;
+  out.ts_ms = raw.ts_ms;
+  out.value.resize(raw.value.size());
+  const double tau_ms = tau_min * 60000.0;
+  double y = 0;
+  int64_t last_dt = -1;
+  double gain = 0;  // recomputed only when the interval changes: samples are mostly regular
+  for (size_t i = 0; i < raw.value.size(); ++i) {
+    if (i == 0) {
+      y = raw.value[0];
+    } else {
+      const int64_t dt = raw.ts_ms[i] - raw.ts_ms[i - 1];
+      if (dt != last_dt) {
+        gain = -std::expm1(-static_cast<double>(dt) / tau_ms);
+        last_dt = dt;
+      }
+      y += gain * (raw.value[i] - y);
+    }
+    out.value[i] = y;
+  }
+  return out;
+}
+
+double ValueAt(const TimeSeries& s, int64_t t, int64_t max_gap_ms) {
+  auto it = std::upper_bound(s.ts_ms.begin(), s.ts_ms.end(), t);
+  if (it == s.ts_ms.begin()) return kNaN;
+  const size_t i = static_cast<size_t>(it - s.ts_ms.begin()) - 1;
+  return t - s.ts_ms[i] <= max_gap_ms ? s.value[i] : kNaN;
+}
+
+const std::pair<Eigen::VectorXd, Eigen::VectorXd>& FeatureBuilder::RawAtPoints(bool signal,
+                                                                               int index) {
+  return LagAtPoints(signal, index, 0.0);
+}
+
+const std::pair<Eigen::VectorXd, Eigen::VectorXd>& FeatureBuilder::LagAtPoints(bool signal,
+                                                                               int index,
+                                                                               double tau_min) {
+  auto key = std::make_tuple(signal, index, tau_min);
+  if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+  const auto& channels = signal ? in_.signal_raw : in_.sensor_raw;
+  const int n = size();
+  std::pair<Eigen::VectorXd, Eigen::VectorXd> out{Eigen::VectorXd::Constant(n, kNaN),
+                                                  Eigen::VectorXd::Constant(n, kNaN)};
+  if (index >= 0 && index < static_cast<int>(channels.size())) {
+    const TimeSeries& raw = channels[index];
+    TimeSeries lagged;
+    if (tau_min > 0) lagged = LagSeries(raw, tau_min);
+    const TimeSeries& s = tau_min > 0 ? lagged : raw;
+    for (int i = 0; i < n; ++i) {
+      out.first(i) = ValueAt(s, points_[i].ts_ms, in_.max_gap_ms);
+      out.second(i) = ValueAt(s, points_[i].datum_ts_ms, in_.max_gap_ms);
+    }
+  }
+  return cache_.emplace(key, std::move(out)).first->second;
+}
+
+Eigen::VectorXd FeatureBuilder::Column(const EffectTerm& term) {
+  const int n = size();
+  Eigen::VectorXd col = Eigen::VectorXd::Constant(n, kNaN);
+  const int sensor = in_.SensorIndex(term.source);
+  const int axis = in_.AxisIndex(term.axis);
+  const double pref = axis >= 0 ? in_.reference_position_mm[axis] : 0.0;
+  // Position about the reference, in metres.
+  auto metres = [&](double mm) { return (mm - pref) / 1000.0; };
+  switch (term.kind) {
+    case EffectKind::kSensor:
+    case EffectKind::kSquare:
+      for (int i = 0; i < n; ++i) {
+        const double d =
+            At(points_[i].temperature, sensor) - At(points_[i].datum_temperature, sensor);
+        col(i) = term.kind == EffectKind::kSquare ? d * d : d;
+      }
+      break;
+    case EffectKind::kLag: {
+      const auto& lag = LagAtPoints(false, sensor, term.tau_min);
+      col = lag.first - lag.second;
+      break;
+    }
+    case EffectKind::kRate: {
+      // (x - lag10(x)) / 10 min, in degC/h, at the point minus at the datum.
+      const auto& raw = RawAtPoints(false, sensor);
+      const auto& lag = LagAtPoints(false, sensor, kRateTauMin);
+      const double per_hour = 60.0 / kRateTauMin;
+      col = ((raw.first - lag.first) - (raw.second - lag.second)) * per_hour;
+      break;
+    }
+    case EffectKind::kPosition:
+      for (int i = 0; i < n; ++i) {
+        col(i) = std::pow(metres(At(points_[i].position_mm, axis)), term.power) -
+                 std::pow(metres(At(points_[i].datum_position_mm, axis)), term.power);
+      }
+      break;
+    case EffectKind::kPositionXTemperature:
+      for (int i = 0; i < n; ++i) {
+        const TermPoint& p = points_[i];
+        col(i) =
+            metres(At(p.position_mm, axis)) * (At(p.temperature, sensor) - kReferenceTemperatureC) -
+            metres(At(p.datum_position_mm, axis)) *
+                (At(p.datum_temperature, sensor) - kReferenceTemperatureC);
+      }
+      break;
+    case EffectKind::kElapsed:
+      for (int i = 0; i < n; ++i)
+        col(i) = static_cast<double>(points_[i].ts_ms - points_[i].datum_ts_ms) / kMsPerHour;
+      break;
+    case EffectKind::kTrend:
+      for (int i = 0; i < n; ++i)
+        col(i) = static_cast<double>(points_[i].datum_ts_ms - term.ref_ms) / kMsPerDay;
+      break;
+    case EffectKind::kStep:
+      for (int i = 0; i < n; ++i) col(i) = points_[i].datum_ts_ms >= term.ref_ms ? 1.0 : 0.0;
+      break;
+    case EffectKind::kSignal: {
+      const auto& s = LagAtPoints(true, in_.SignalIndex(term.source), term.tau_min);
+      col = s.first - s.second;
+      break;
+    }
+  }
+  return col;
+}
+
+}  // namespace thermocomp

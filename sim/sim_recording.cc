@@ -1,0 +1,108 @@
+#include "sim/sim_recording.h"
+
+#include <cmath>
+#include <map>
+
+#include "model/ewma_filter.h"
+
+namespace thermocomp {
+namespace {
+
+constexpr int64_t kMaxGapMs = 5 * 60000;
+constexpr double kGrossErrorMm = 0.1;
+
+}  // namespace
+
+SimRecording Record(const SimOptions& options, int days) {
+  SimRecording rec;
+  rec.machine = VirtualMachine::Definition(options.machine);
+  VirtualMachine vm(options);
+  for (int m = 0; m < days * 1440; ++m) vm.Step(rec.samples, rec.points, &rec.extras);
+  rec.truth = vm.hidden();
+  return rec;
+}
+
+EffectSearchInput ToSearchInput(const SimRecording& rec, const std::string& axis_name,
+                                int holdout_runs, std::vector<double>* true_drift) {
+  EffectSearchInput in;
+  in.axis = axis_name;
+  in.inputs.max_gap_ms = kMaxGapMs;
+  std::vector<TimeSeries> filtered;
+  for (const auto& s : rec.machine.sensors) {
+    in.inputs.sensors.push_back(s.name);
+    in.inputs.sensor_raw.emplace_back();
+    filtered.emplace_back();
+  }
+  std::vector<EwmaFilter> filters;
+  for (const auto& s : rec.machine.sensors) filters.emplace_back(s.ewma_alpha);
+  for (const auto& t : rec.samples) {
+    const int j = in.inputs.SensorIndex(t.sensor);
+    in.inputs.sensor_raw[j].Append(t.ts_ms, t.value);
+    filtered[j].Append(t.ts_ms, filters[j].Update(t.value));
+  }
+  for (const auto& s : rec.extras.signals) {
+    int j = in.inputs.SignalIndex(s.signal);
+    if (j < 0) {
+      in.inputs.signals.push_back(s.signal);
+      in.inputs.signal_raw.emplace_back();
+      j = static_cast<int>(in.inputs.signals.size()) - 1;
+    }
+    in.inputs.signal_raw[j].Append(s.ts_ms, s.value);
+  }
+  for (const auto& a : rec.machine.axes) {
+    in.inputs.axes.push_back(a.name);
+    in.inputs.reference_position_mm.push_back(a.reference_position_mm);
+    if (a.name == axis_name) {
+      for (const auto& s : a.inputs) in.declared.push_back(EffectTerm::Sensor(s));
+    }
+  }
+  for (const auto& e : rec.extras.events) in.events.push_back({e.ts_ms, e.kind});
+
+  auto temperatures = [&](int64_t ts) {
+    std::vector<double> t;
+    for (const auto& f : filtered) t.push_back(ValueAt(f, ts, kMaxGapMs));
+    return t;
+  };
+  auto positions = [&](const ProbePointInput& p) {
+    std::vector<double> v;
+    for (const auto& a : in.inputs.axes) {
+      auto it = p.axes.find(a);
+      v.push_back(it != p.axes.end() && it->second.position_mm ? *it->second.position_mm : NAN);
+    }
+    return v;
+  };
+  std::map<std::string, int> run_index;
+  const ProbePointInput* datum = nullptr;
+  TermPoint datum_point;
+  for (size_t i = 0; i < rec.points.size(); ++i) {
+    const ProbePointInput& p = rec.points[i];
+    auto dev = p.axes.find(axis_name);
+    if (dev == p.axes.end() || !dev->second.deviation_mm) continue;
+    if (p.k == 0) {
+      datum = &p;
+      datum_point.temperature = temperatures(p.ts_ms);
+      datum_point.position_mm = positions(p);
+      continue;
+    }
+    if (!datum || datum->run != p.run) continue;
+    const double drift = *dev->second.deviation_mm - *datum->axes.at(axis_name).deviation_mm;
+    if (std::fabs(drift) >= kGrossErrorMm) continue;
+    TermPoint tp;
+    tp.ts_ms = p.ts_ms;
+    tp.datum_ts_ms = datum->ts_ms;
+    tp.temperature = temperatures(p.ts_ms);
+    tp.datum_temperature = datum_point.temperature;
+    tp.position_mm = positions(p);
+    tp.datum_position_mm = datum_point.position_mm;
+    in.points.push_back(std::move(tp));
+    in.drift_mm.push_back(drift);
+    auto [it, added] = run_index.emplace(p.run, static_cast<int>(run_index.size()));
+    in.run.push_back(it->second);
+    if (true_drift && axis_name == "Y") true_drift->push_back(rec.extras.true_drift_y[i]);
+  }
+  const int runs = static_cast<int>(run_index.size());
+  for (int r : in.run) in.holdout.push_back(r >= runs - holdout_runs);
+  return in;
+}
+
+}  // namespace thermocomp
