@@ -52,7 +52,8 @@ std::string RenderForController(const MachineCompensation& c, const std::string&
                     a.axis.c_str(), TenthsOfMicron(a.offset_mm), a.axis.c_str(),
                     TenthsOfMicron(a.reference_position_mm), a.axis.c_str(), a.slope_um_per_m);
     } else if (format == "heidenhain") {
-      double mm = std::fmax(-3.0, std::fmin(3.0, a.offset_mm));
+      // No slope on these controls: the offset where the datum was probed.
+      double mm = std::fmax(-3.0, std::fmin(3.0, a.offset_at_probe_mm));
       std::snprintf(line, sizeof line, "%s=%ld\n", a.axis.c_str(), TenthsOfMicron(mm));
     } else if (format == "fanuc") {
       int n = FanucAxisNumber(a.axis);
@@ -60,13 +61,13 @@ std::string RenderForController(const MachineCompensation& c, const std::string&
         std::snprintf(line, sizeof line, "(%s has no external work offset variable)\n",
                       a.axis.c_str());
       } else {
-        std::snprintf(line, sizeof line, "#520%d=%.4f\n", n, a.offset_mm);
+        std::snprintf(line, sizeof line, "#520%d=%.4f\n", n, a.offset_at_probe_mm);
       }
     } else {  // linuxcnc
       std::string ax = Lower(a.axis);
       std::snprintf(line, sizeof line,
                     "setp axis.%s.eoffset-scale 0.0001\nsetp axis.%s.eoffset-counts %ld\n",
-                    ax.c_str(), ax.c_str(), TenthsOfMicron(a.offset_mm));
+                    ax.c_str(), ax.c_str(), TenthsOfMicron(a.offset_at_probe_mm));
     }
     out += line;
   }

@@ -8,6 +8,7 @@
 #include "api/ingest_parsers.h"
 #include "api/json_mapping.h"
 #include "api/problem.h"
+#include "server/analysis_report.h"
 #include "server/log.h"
 #include "server/time_format.h"
 
@@ -260,6 +261,73 @@ void HttpServer::Routes() {
     if (!st.ok()) return WriteProblem(res, st);
     auto one = GetModel(app_, req.matches[1], req.matches[2], version);
     WriteJson(res, one.ok() ? *one : json{{"version", version}});
+  });
+
+  s.Post(m + "/signals", [this](const Req& req, Res& res) {
+    if (!CheckMediaType(req, res, true)) return;
+    std::vector<SignalInput> samples;
+    std::vector<FieldError> errors;
+    bool ok = IsCsv(req) ? ParseSignalsCsv(req.body, samples, errors)
+                         : ParseSignalsJson(req.body, samples, errors);
+    if (!ok) return WriteProblem(res, Status::InvalidArgument("malformed signals"), errors);
+    WriteIngest(res, app_.ingest().AddSignals(req.matches[1], samples, Actor(req)));
+  });
+  s.Post(m + "/events", [this](const Req& req, Res& res) {
+    if (!CheckMediaType(req, res, false)) return;
+    EventInput event;
+    std::vector<FieldError> errors;
+    if (!ParseEventJson(req.body, event, errors)) {
+      return WriteProblem(res, Status::InvalidArgument("malformed event"), errors);
+    }
+    IngestResult r = app_.ingest().AddEvent(req.matches[1], event, Actor(req));
+    if (!r.status.ok()) return WriteProblem(res, r.status, r.errors);
+    WriteJson(res, {{"id", r.id}, {"accepted", r.accepted}, {"duplicates", r.duplicates}},
+              r.accepted ? 201 : 200);
+  });
+
+  s.Post(axis + "/analysis", [this](const Req& req, Res& res) {
+    AnalysisRequest ar;
+    ar.actor = Actor(req);
+    if (!req.body.empty()) {
+      if (!CheckMediaType(req, res, false)) return;
+      json body = json::parse(req.body, nullptr, false);
+      std::vector<FieldError> errors;
+      if (body.is_discarded() || !body.is_object()) {
+        errors.push_back({0, "body", "must be a JSON object"});
+      } else {
+        ar.inputs = StringList(body, "inputs", errors);
+        ar.holdout_runs = StringList(body, "holdout_runs", errors);
+        if (body.contains("policy")) {
+          const json& p = body["policy"];
+          if (!p.is_string() || (p != "off" && p != "propose" && p != "activate")) {
+            errors.push_back({0, "policy", "must be \"off\", \"propose\" or \"activate\""});
+          } else {
+            ar.policy = p.get<std::string>();
+          }
+        }
+      }
+      if (!errors.empty()) {
+        return WriteProblem(res, Status::InvalidArgument("invalid analysis request"), errors);
+      }
+    }
+    auto report = app_.analyses().Analyze(req.matches[1], req.matches[2], ar);
+    if (!report.ok()) return WriteProblem(res, report.status());
+    WriteJson(res, *report, 201);
+  });
+  s.Get(axis + "/analysis", [this](const Req& req, Res& res) {
+    auto list = app_.analyses().List(req.matches[1], req.matches[2]);
+    if (!list.ok()) return WriteProblem(res, list.status());
+    WriteJson(res, AnalysesToJson(*list));
+  });
+  s.Get(axis + "/analysis/([0-9]{1,18})", [this](const Req& req, Res& res) {
+    auto report = app_.analyses().Get(req.matches[1], req.matches[2], std::stoll(req.matches[3]));
+    if (!report.ok()) return WriteProblem(res, report.status());
+    const std::string format = req.get_param_value("format");
+    if (format.empty() || format == "json") return WriteJson(res, *report);
+    if (format == "markdown") return res.set_content(AnalysisMarkdown(*report), "text/markdown");
+    if (format == "html") return res.set_content(AnalysisHtml(*report), "text/html");
+    WriteProblem(res, 400, "format: must be json, markdown or html",
+                 {{0, "format", "unknown format '" + format + "'"}});
   });
 
   s.Get(m + "/compensation", [this](const Req& req, Res& res) {

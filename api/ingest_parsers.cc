@@ -89,8 +89,9 @@ std::optional<int64_t> ParseTs(const std::string& text) {
 // thousands of samples per request. Unknown keys are ignored.
 class TemperatureSax : public nlohmann::json_sax<json> {
  public:
-  TemperatureSax(std::vector<TemperatureInput>& out, std::vector<FieldError>& errors)
-      : out_(out), errors_(errors) {}
+  TemperatureSax(std::vector<TemperatureInput>& out, std::vector<FieldError>& errors,
+                 const char* channel_key)
+      : out_(out), errors_(errors), channel_key_(channel_key) {}
 
   bool start_object(std::size_t) override {
     ++depth_;
@@ -105,7 +106,7 @@ class TemperatureSax : public nlohmann::json_sax<json> {
   bool end_object() override {
     if (depth_ == 2 && in_samples_) {
       const size_t i = out_.size();
-      if (!(seen_ & kSensor)) errors_.push_back({i, "sensor", "required string"});
+      if (!(seen_ & kSensor)) errors_.push_back({i, channel_key_, "required string"});
       if (!(seen_ & kTs)) errors_.push_back({i, "ts", kTsHelp});
       if (!(seen_ & kValue)) errors_.push_back({i, "value", "required number"});
       out_.push_back(std::move(current_));
@@ -132,7 +133,7 @@ class TemperatureSax : public nlohmann::json_sax<json> {
   }
   bool string(string_t& s) override {
     if (!InSample()) return Top("samples");
-    if (key_ == "sensor") {
+    if (key_ == channel_key_) {
       current_.sensor = s;
       seen_ |= kSensor;
     } else if (key_ == "ts") {
@@ -187,30 +188,32 @@ class TemperatureSax : public nlohmann::json_sax<json> {
 
   std::vector<TemperatureInput>& out_;
   std::vector<FieldError>& errors_;
+  const char* channel_key_;  // "sensor", or "signal" for auxiliary signals
   TemperatureInput current_;
   std::string key_;
   int depth_ = 0, seen_ = 0;
   bool in_samples_ = false, saw_samples_ = false;
 };
 
-bool ParseTemperaturesJson(const std::string& body, std::vector<TemperatureInput>& out,
-                           std::vector<FieldError>& errors) {
-  TemperatureSax sax(out, errors);
+// Samples of named channels: temperatures ("sensor") or signals ("signal").
+bool ParseChannelJson(const std::string& body, const char* key, std::vector<TemperatureInput>& out,
+                      std::vector<FieldError>& errors) {
+  TemperatureSax sax(out, errors, key);
   out.reserve(body.size() / 48);
   const bool parsed = json::sax_parse(body, &sax);
   return parsed && sax.Finish();
 }
 
-bool ParseTemperaturesCsv(const std::string& body, std::vector<TemperatureInput>& out,
-                          std::vector<FieldError>& errors) {
+bool ParseChannelCsv(const std::string& body, const std::string& key,
+                     std::vector<TemperatureInput>& out, std::vector<FieldError>& errors) {
   auto rows = SplitCsv(body);
   if (rows.empty() || rows[0].empty() || rows[0][0] != "ts" || rows[0].size() < 2) {
     errors.push_back(
-        {0, "header", "CSV must start with a header ts,sensor,value or ts,<sensor>,..."});
+        {0, "header", "CSV must start with a header ts," + key + ",value or ts,<" + key + ">,..."});
     return false;
   }
   const auto& header = rows[0];
-  const bool long_form = header.size() == 3 && header[1] == "sensor" && header[2] == "value";
+  const bool long_form = header.size() == 3 && header[1] == key && header[2] == "value";
   out.reserve((rows.size() - 1) * (long_form ? 1 : header.size() - 1));
   for (size_t r = 1; r < rows.size(); ++r) {
     const auto& cells = rows[r];
@@ -243,6 +246,69 @@ bool ParseTemperaturesCsv(const std::string& body, std::vector<TemperatureInput>
         out.push_back({std::string(header[c]), *ts, *v});
     }
     if (errors.size() > 100) break;
+  }
+  return errors.empty();
+}
+
+bool ParseTemperaturesJson(const std::string& body, std::vector<TemperatureInput>& out,
+                           std::vector<FieldError>& errors) {
+  return ParseChannelJson(body, "sensor", out, errors);
+}
+
+bool ParseTemperaturesCsv(const std::string& body, std::vector<TemperatureInput>& out,
+                          std::vector<FieldError>& errors) {
+  return ParseChannelCsv(body, "sensor", out, errors);
+}
+
+namespace {
+
+std::vector<SignalInput> AsSignals(const std::vector<TemperatureInput>& samples) {
+  std::vector<SignalInput> out;
+  out.reserve(samples.size());
+  for (const auto& s : samples) out.push_back({s.sensor, s.ts_ms, s.value});
+  return out;
+}
+
+}  // namespace
+
+bool ParseSignalsJson(const std::string& body, std::vector<SignalInput>& out,
+                      std::vector<FieldError>& errors) {
+  std::vector<TemperatureInput> samples;
+  const bool ok = ParseChannelJson(body, "signal", samples, errors);
+  out = AsSignals(samples);
+  return ok;
+}
+
+bool ParseSignalsCsv(const std::string& body, std::vector<SignalInput>& out,
+                     std::vector<FieldError>& errors) {
+  std::vector<TemperatureInput> samples;
+  const bool ok = ParseChannelCsv(body, "signal", samples, errors);
+  out = AsSignals(samples);
+  return ok;
+}
+
+bool ParseEventJson(const std::string& body, EventInput& out, std::vector<FieldError>& errors) {
+  auto j = ParseJson(body, errors);
+  if (!j) return false;
+  if (!j->is_object()) {
+    errors.push_back({0, "body", "must be a JSON object {ts, kind, note}"});
+    return false;
+  }
+  auto ts = TsFromJson(j->value("ts", json()));
+  if (!ts)
+    errors.push_back({0, "ts", kTsHelp});
+  else
+    out.ts_ms = *ts;
+  if (!j->contains("kind") || !(*j)["kind"].is_string()) {
+    errors.push_back({0, "kind", "required string: maintenance, collision, column_check or other"});
+  } else {
+    out.kind = (*j)["kind"].get<std::string>();
+  }
+  if (j->contains("note")) {
+    if (!(*j)["note"].is_string())
+      errors.push_back({0, "note", "must be a string"});
+    else
+      out.note = (*j)["note"].get<std::string>();
   }
   return errors.empty();
 }

@@ -20,6 +20,13 @@ bool ParseTemperaturesJson(const std::string& body, std::vector<TemperatureInput
 // Long form "ts,sensor,value" or wide form "ts,<sensor>,<sensor>,...".
 bool ParseTemperaturesCsv(const std::string& body, std::vector<TemperatureInput>& out,
                           std::vector<FieldError>& errors);
+// Auxiliary signals: the temperature shapes with "signal" for "sensor".
+bool ParseSignalsJson(const std::string& body, std::vector<SignalInput>& out,
+                      std::vector<FieldError>& errors);
+bool ParseSignalsCsv(const std::string& body, std::vector<SignalInput>& out,
+                     std::vector<FieldError>& errors);
+// {"ts": ..., "kind": "...", "note": "..."}.
+bool ParseEventJson(const std::string& body, EventInput& out, std::vector<FieldError>& errors);
 bool ParseProbePointsJson(const std::string& body, std::vector<ProbePointInput>& out,
                           std::vector<FieldError>& errors);
 // "ts,run,k,pos_X...,dev_X...,[sensor...]".

@@ -79,6 +79,18 @@ std::optional<MachineRecord> MachineFromJson(const std::string& name, const std:
   return m;
 }
 
+json AnalysesToJson(const std::vector<AnalysisRecord>& list) {
+  json out = json::array();
+  for (const auto& a : list) {
+    out.push_back({{"id", a.id},
+                   {"created_at", FormatRfc3339(a.created_ms)},
+                   {"trigger", a.trigger},
+                   {"effects", a.effects},
+                   {"model_version", a.model_version ? json(*a.model_version) : nullptr}});
+  }
+  return {{"analyses", out}};
+}
+
 json CompensationToJson(const MachineCompensation& c) {
   json axes = json::array();
   for (const auto& a : c.axes) {
@@ -86,6 +98,8 @@ json CompensationToJson(const MachineCompensation& c) {
               {"offset_mm", a.offset_mm},
               {"slope_um_per_m", a.slope_um_per_m},
               {"reference_position_mm", a.reference_position_mm},
+              {"offset_at_probe_mm", a.offset_at_probe_mm},
+              {"probe_position_mm", a.probe_position_mm ? json(*a.probe_position_mm) : nullptr},
               {"predicted_drift_mm", a.predicted_drift_mm},
               {"clamped", a.clamped},
               {"valid", a.valid},

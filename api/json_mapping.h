@@ -18,6 +18,9 @@ std::string MachineToJsonText(const MachineRecord& m);
 // The body of PUT /machines/{m}; nullopt with errors when malformed.
 std::optional<MachineRecord> MachineFromJson(const std::string& name, const std::string& body,
                                              std::vector<FieldError>& errors);
+// Analysis list entries, newest first: {"analyses": [{id, created_at, trigger, effects,
+// model_version}]}.
+nlohmann::json AnalysesToJson(const std::vector<AnalysisRecord>& list);
 nlohmann::json CompensationToJson(const MachineCompensation& c);
 StatusOr<nlohmann::json> ListModels(App& app, const std::string& machine, const std::string& axis);
 StatusOr<nlohmann::json> GetModel(App& app, const std::string& machine, const std::string& axis,

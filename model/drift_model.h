@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "model/effect_term.h"
 #include "model/linear_fit.h"
 
 namespace thermocomp {
@@ -20,6 +21,13 @@ struct DriftModel {
   std::vector<double> coefficients;  // mm per unit of each term
   std::vector<InputRange> trained;   // training range of each term
   double clamp_mm = 0.03;
+  // What each input is (aligned with `inputs`); empty for a model of plain
+  // sensor terms, as every declared model is.
+  std::vector<EffectTerm> terms;
+
+  EffectTerm TermAt(size_t j) const {
+    return j < terms.size() ? terms[j] : EffectTerm::Sensor(inputs[j]);
+  }
 
   // The model a fit describes, with the training ranges of its terms taken
   // from the columns `x` named `names`.

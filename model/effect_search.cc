@@ -423,7 +423,7 @@ StatusOr<EffectSearchResult> Search::Run() {
     return v;
   }();
   const std::vector<std::string> final_names = design.Names();
-  double sse_before = 0, sse_after = 0;
+  double sse_before = 0, sse_after = 0, sum = 0, sum2 = 0;
   for (int i = 0; i < total; ++i) {
     if (!in_.holdout[i] || !usable[i]) continue;
     Eigen::RowVectorXd xb(in_.declared.size()), xa(design.terms.size());
@@ -434,11 +434,19 @@ StatusOr<EffectSearchResult> Search::Run() {
     const double ra = in_.drift_mm[i] - fit.Predict(xa, final_names);
     sse_before += rb * rb;
     sse_after += ra * ra;
+    sum += in_.drift_mm[i];
+    sum2 += in_.drift_mm[i] * in_.drift_mm[i];
     ++result.holdout_n;
   }
   if (result.holdout_n > 0) {
-    result.holdout_rmse_before_mm = std::sqrt(sse_before / result.holdout_n);
-    result.holdout_rmse_after_mm = std::sqrt(sse_after / result.holdout_n);
+    const double n_h = result.holdout_n;
+    result.holdout_rmse_before_mm = std::sqrt(sse_before / n_h);
+    result.holdout_rmse_after_mm = std::sqrt(sse_after / n_h);
+    const double sst = sum2 - sum * sum / n_h;
+    if (sst > 0) {
+      result.holdout_r2_before = 1.0 - sse_before / sst;
+      result.holdout_r2_after = 1.0 - sse_after / sst;
+    }
   }
   return result;
 }

@@ -91,6 +91,7 @@ struct EffectSearchResult {
   Eigen::MatrixXd after_x;  // training columns of the final terms
   CrossValidation cv_before, cv_after;
   double holdout_rmse_before_mm = 0, holdout_rmse_after_mm = 0;
+  double holdout_r2_before = 0, holdout_r2_after = 0;
   int holdout_n = 0, training_n = 0, training_runs = 0;
   ResidualStructure structure_before, structure_after;
   int candidates = 0;     // generated in the first round

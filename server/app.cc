@@ -19,13 +19,16 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
   app->machines_ = std::make_unique<MachineService>(d, clock, cache);
   app->ingest_ = std::make_unique<IngestService>(d, clock, cache);
   app->fits_ = std::make_unique<FitService>(d, clock, c, cache);
+  app->analyses_ = std::make_unique<AnalysisService>(d, clock, c, cache);
   app->compensation_ = std::make_unique<CompensationService>(d, clock, c);
   app->history_ = std::make_unique<HistoryService>(d, c, cache);
-  app->scheduler_ = std::make_unique<RefitScheduler>(d, *app->fits_, clock, c);
+  app->scheduler_ =
+      std::make_unique<RefitScheduler>(d, *app->fits_, clock, c, app->analyses_.get());
   CompensationService* compensation = app->compensation_.get();
   auto changed = [compensation](const std::string& machine) { compensation->MarkChanged(machine); };
   app->ingest_->SetListener(changed);
   app->fits_->SetListener(changed);
+  app->analyses_->SetListener(changed);
   compensation->Start();
   log::Info("database open",
             "path=" + config.db_path + " schema_version=" + std::to_string(d.schema_version()));

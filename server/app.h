@@ -5,6 +5,7 @@
 
 #include <memory>
 
+#include "server/analysis_service.h"
 #include "server/clock.h"
 #include "server/compensation_service.h"
 #include "server/config.h"
@@ -29,6 +30,7 @@ class App {
   MachineService& machines() { return *machines_; }
   IngestService& ingest() { return *ingest_; }
   FitService& fits() { return *fits_; }
+  AnalysisService& analyses() { return *analyses_; }
   CompensationService& compensation() { return *compensation_; }
   HistoryService& history() { return *history_; }
   RefitScheduler& scheduler() { return *scheduler_; }
@@ -44,6 +46,7 @@ class App {
   std::unique_ptr<MachineService> machines_;
   std::unique_ptr<IngestService> ingest_;
   std::unique_ptr<FitService> fits_;
+  std::unique_ptr<AnalysisService> analyses_;
   std::unique_ptr<CompensationService> compensation_;
   std::unique_ptr<HistoryService> history_;
   std::unique_ptr<RefitScheduler> scheduler_;

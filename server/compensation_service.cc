@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "model/drift_model.h"
+#include "server/live_terms.h"
 #include "server/model_codec.h"
 #include "server/time_format.h"
 #include "storage/log_store.h"
@@ -17,10 +18,13 @@ namespace {
 
 constexpr double kLogStepMm = 1e-4;
 constexpr int64_t kLogEveryMs = 60000;
+constexpr double kSlopeStepMm = 100.0;
 
 void Invalidate(AxisCompensation& a, std::string reason) {
   a.valid = false;
   a.offset_mm = 0;
+  a.offset_at_probe_mm = 0;
+  a.slope_um_per_m = 0;
   a.clamped = false;
   if (a.reason.empty()) a.reason = std::move(reason);
 }
@@ -61,8 +65,24 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
       continue;
     }
     a.datum_ts_ms = datum->ts_ms;
-    std::vector<double> terms;
-    for (const std::string& input : model->inputs) {
+    // Every sensor a term reads must be live and plausible, and known at the datum.
+    LiveContext live;
+    live.machine = &*machine;
+    live.axis = axis.name;
+    live.now_ms = mc.computed_at_ms;
+    live.datum_ts_ms = datum->ts_ms;
+    live.max_gap_ms = int64_t{config_.stale_after_s} * 1000;
+    live.temperature.assign(machine->sensors.size(), NAN);
+    live.datum_temperature.assign(machine->sensors.size(), NAN);
+    for (const auto& ax : machine->axes) {
+      auto it = datum->axes.find(ax.name);
+      live.datum_position_mm.push_back(
+          it != datum->axes.end() && it->second.position_mm ? *it->second.position_mm : NAN);
+    }
+    for (size_t j = 0; j < model->inputs.size() && a.reason.empty(); ++j) {
+      const EffectTerm term = model->TermAt(j);
+      if (term.kind == EffectKind::kSignal || term.source.empty()) continue;
+      const std::string& input = term.source;
       const SensorRecord* sensor = machine->FindSensor(input);
       std::optional<FilterState> fs = sensor ? samples.LoadFilterState(sensor->id) : std::nullopt;
       if (!fs) {
@@ -79,22 +99,57 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
       if (auto it = datum->temperatures.find(input); it != datum->temperatures.end()) {
         ref = it->second;
       } else if (auto row = samples.AtOrBefore(sensor->id, datum->ts_ms);
-                 row && datum->ts_ms - row->ts_ms <= int64_t{config_.stale_after_s} * 1000) {
+                 row && datum->ts_ms - row->ts_ms <= live.max_gap_ms) {
         ref = row->filtered;
       } else {
         Invalidate(a, "no temperature of " + input + " at the datum");
         break;
       }
-      terms.push_back(fs->state - ref);
+      const size_t k = static_cast<size_t>(sensor - machine->sensors.data());
+      live.temperature[k] = fs->state;
+      live.datum_temperature[k] = ref;
     }
     if (a.reason.empty()) {
-      Compensation c = Compensate(*model, terms, config_.range_margin);
-      a.predicted_drift_mm = c.predicted_drift_mm;
-      a.offset_mm = c.offset_mm;
-      a.clamped = c.clamped;
-      a.valid = c.valid;
-      a.extrapolating = c.extrapolating;
-      if (!c.valid) Invalidate(a, "prediction is not finite");
+      // Position-dependent terms: the offset at the reference position and
+      // the slope about it (central difference, exact for squares), and the
+      // offset where the datum was probed for controls without a slope.
+      const bool positional = DependsOnPosition(*model, axis.name);
+      const double pref = axis.reference_position_mm;
+      const size_t axis_index = static_cast<size_t>(&axis - machine->axes.data());
+      const double probe = live.datum_position_mm[axis_index];
+      std::vector<double> positions = {pref};
+      if (positional) positions = {pref, pref - kSlopeStepMm, pref + kSlopeStepMm, probe};
+      auto values = LiveTermValues(db_, *model, live, positions);
+      if (positional && !std::isfinite(probe)) {
+        Invalidate(a, "the datum has no " + axis.name + " position for position-dependent terms");
+      }
+      for (size_t j = 0; j < model->inputs.size() && a.reason.empty(); ++j) {
+        if (!std::isfinite(values[0][j])) {
+          Invalidate(a, "term " + model->inputs[j] + " cannot be evaluated now (missing data)");
+        }
+      }
+      if (a.reason.empty()) {
+        Compensation c = Compensate(*model, values[0], config_.range_margin);
+        a.predicted_drift_mm = c.predicted_drift_mm;
+        a.offset_mm = c.offset_mm;
+        a.offset_at_probe_mm = c.offset_mm;
+        a.clamped = c.clamped;
+        a.valid = c.valid;
+        a.extrapolating = c.extrapolating;
+        if (positional && c.valid) {
+          const double slope = -(model->PredictDrift(values[2]) - model->PredictDrift(values[1])) /
+                               (2 * kSlopeStepMm) * 1e6;
+          Compensation at_probe = Compensate(*model, values[3], config_.range_margin);
+          if (!std::isfinite(slope) || !at_probe.valid) {
+            Invalidate(a, "position-dependent prediction is not finite");
+          } else {
+            a.slope_um_per_m = slope;
+            a.probe_position_mm = probe;
+            a.offset_at_probe_mm = at_probe.offset_mm;
+          }
+        }
+        if (!c.valid) Invalidate(a, "prediction is not finite");
+      }
     }
     mc.axes.push_back(a);
   }

@@ -30,7 +30,12 @@ namespace thermocomp {
 struct AxisCompensation {
   std::string axis;
   double offset_mm = 0;
-  double slope_um_per_m = 0;
+  double slope_um_per_m = 0;  // of the offset about the reference position
+  // The offset where the datum was probed: what controls without a slope
+  // (Heidenhain, FANUC, LinuxCNC) get. Equal to offset_mm for models
+  // without position-dependent terms.
+  double offset_at_probe_mm = 0;
+  std::optional<double> probe_position_mm;  // set for position-dependent models
   double reference_position_mm = 0;
   double predicted_drift_mm = 0;
   bool clamped = false;

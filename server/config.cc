@@ -60,6 +60,31 @@ StatusOr<Config> LoadConfig(const std::string& path) {
       t["fit"]["min_observations_per_term"].value_or(c.acceptance.min_observations_per_term);
   if (auto v = t["fit"]["min_validation_r2"].value<double>()) c.acceptance.min_validation_r2 = *v;
   c.log_level = t["log"]["level"].value_or(c.log_level);
+  c.analysis_policy = t["analysis"]["policy"].value_or(c.analysis_policy);
+  if (c.analysis_policy != "off" && c.analysis_policy != "propose" &&
+      c.analysis_policy != "activate") {
+    return Status::InvalidArgument("analysis.policy must be \"off\", \"propose\" or \"activate\"");
+  }
+  c.analysis.alpha = t["analysis"]["alpha"].value_or(c.analysis.alpha);
+  c.analysis.min_cv_gain = t["analysis"]["min_cv_gain"].value_or(c.analysis.min_cv_gain);
+  c.analysis.vif_max = t["analysis"]["vif_max"].value_or(c.analysis.vif_max);
+  c.analysis.max_effects = t["analysis"]["max_effects"].value_or(c.analysis.max_effects);
+  if (auto grid = t["analysis"]["tau_grid_min"].as_array()) {
+    c.analysis.tau_grid_min.clear();
+    for (const auto& v : *grid) {
+      auto tau = v.value<double>();
+      if (!tau || !(*tau > 0)) {
+        return Status::InvalidArgument("analysis.tau_grid_min: time constants in minutes, > 0");
+      }
+      c.analysis.tau_grid_min.push_back(*tau);
+    }
+  }
+  if (!(c.analysis.alpha > 0 && c.analysis.alpha < 1) || !(c.analysis.min_cv_gain >= 0) ||
+      !(c.analysis.vif_max > 1) || c.analysis.max_effects < 0 || c.analysis.tau_grid_min.empty()) {
+    return Status::InvalidArgument(
+        "analysis: alpha in (0,1), min_cv_gain >= 0, vif_max > 1, max_effects >= 0 and a "
+        "non-empty tau_grid_min");
+  }
   if (auto daily = t["fit"]["daily_at"].value<std::string>()) {
     int h = -1, m = -1;
     if (daily->size() != 5 || std::sscanf(daily->c_str(), "%2d:%2d", &h, &m) != 2 || h < 0 ||

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "model/acceptance.h"
+#include "model/effect_search.h"
 #include "model/selection.h"
 #include "model/status.h"
 
@@ -46,6 +47,10 @@ struct Config {
   std::vector<AccessToken> tokens;
   // [fit] daily_at "HH:MM" UTC; -1: not set
   int refit_daily_at_min = -1;
+  // [analysis] after each scheduled refit: "off", "propose" (store the
+  // extended model as a candidate) or "activate" (serve it when it passes)
+  std::string analysis_policy = "propose";
+  EffectSearchOptions analysis;
   // [log]
   std::string log_level = "info";
   // [dds]

@@ -42,6 +42,16 @@ DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const
                                ProbeTemperatureCache* cache) {
   DriftDataset d;
   for (const auto& s : machine.sensors) d.sensors.push_back(s.name);
+  for (const auto& a : machine.axes) d.axes.push_back(a.name);
+  auto positions = [&](const ProbePointRecord& p) {
+    std::vector<double> v;
+    for (const auto& a : d.axes) {
+      auto it = p.axes.find(a);
+      v.push_back(it != p.axes.end() && it->second.position_mm ? *it->second.position_mm
+                                                               : kUnknown);
+    }
+    return v;
+  };
   SampleStore samples(db);
   for (const RunRecord& run : ProbeStore(db).LoadAxisRuns(machine.id, axis)) {
     const ProbePointRecord* datum = nullptr;
@@ -73,12 +83,34 @@ DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const
       }
       const std::vector<double> t = TemperaturesAt(samples, machine, p, max_gap_ms, cache);
       for (size_t j = 0; j < t.size(); ++j) row.delta_t.push_back(t[j] - t0[j]);
+      row.datum_ts_ms = datum->ts_ms;
+      row.temperature = t;
+      row.datum_temperature = t0;
+      row.position_mm = positions(p);
+      row.datum_position_mm = positions(*datum);
       d.rows.push_back(std::move(row));
       used = true;
     }
     if (used) d.runs.push_back(run.name);
   }
   return d;
+}
+
+StatusOr<std::vector<std::string>> ChooseHoldout(
+    const DriftDataset& data, const std::optional<std::vector<std::string>>& requested, int count) {
+  std::vector<std::string> holdout;
+  if (requested) {
+    for (const auto& r : *requested) {
+      if (std::find(data.runs.begin(), data.runs.end(), r) == data.runs.end()) {
+        return Status::Unprocessable("holdout_runs: run '" + r + "' has no usable points");
+      }
+    }
+    return *requested;
+  }
+  const int runs = static_cast<int>(data.runs.size());
+  const int h = std::max(std::min(count, runs - 2), 0);
+  for (int i = runs - h; i < runs; ++i) holdout.push_back(data.runs[i]);
+  return holdout;
 }
 
 std::vector<int> DriftDataset::RowsOfRuns(const std::vector<std::string>& names,

@@ -4,6 +4,7 @@
 // snapshot if it has one, else the archive's filtered value at its time).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,10 +21,14 @@ struct DriftRow {
   int64_t ts_ms = 0;
   double drift_mm = 0;
   std::vector<double> delta_t;  // per DriftDataset::sensors; NaN where unknown
+  int64_t datum_ts_ms = 0;
+  std::vector<double> temperature, datum_temperature;  // filtered, per sensor
+  std::vector<double> position_mm, datum_position_mm;  // per DriftDataset::axes; NaN unknown
 };
 
 struct DriftDataset {
   std::vector<std::string> sensors;
+  std::vector<std::string> axes;  // the machine's axes, for positions
   std::vector<std::string> runs;  // ordered by the run's first time
   std::vector<DriftRow> rows;
   int skipped_gross = 0;     // |drift| >= gross error limit (chips in the hole)
@@ -36,6 +41,12 @@ struct DriftDataset {
   Observations ToObservations(const std::vector<int>& rows,
                               const std::vector<std::string>& columns) const;
 };
+
+// The runs held out of a fit or analysis: the requested ones (each must
+// have usable points: Unprocessable otherwise) or the newest `count`,
+// leaving at least two runs to train on.
+StatusOr<std::vector<std::string>> ChooseHoldout(
+    const DriftDataset& data, const std::optional<std::vector<std::string>>& requested, int count);
 
 // Caller holds db.mutex(). `max_gap_ms`: an archived sample older than this
 // at a probe time does not count as the temperature at that time. `cache`

@@ -45,18 +45,6 @@ Errors Evaluate(const DriftModel& model, const Observations& obs) {
   return e;
 }
 
-nlohmann::json TermsJson(const LinearFit& fit) {
-  nlohmann::json terms = nlohmann::json::object();
-  for (const auto& t : fit.terms) {
-    terms[t.name] = {{"estimate", t.estimate},
-                     {"std_error", FiniteOrNull(t.std_error)},
-                     {"t", FiniteOrNull(t.t)},
-                     {"p", FiniteOrNull(t.p)},
-                     {"vif", FiniteOrNull(t.vif)}};
-  }
-  return terms;
-}
-
 }  // namespace
 
 StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
@@ -77,21 +65,9 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
 
   DriftDataset data = BuildDriftDataset(db_, *machine, axis_name, config_.gross_error_mm,
                                         int64_t{config_.stale_after_s} * 1000, cache_);
-  std::vector<std::string> holdout;
-  if (req.holdout_runs) {
-    holdout = *req.holdout_runs;
-    for (const auto& r : holdout) {
-      if (std::find(data.runs.begin(), data.runs.end(), r) == data.runs.end()) {
-        return Status::Unprocessable("holdout_runs: run '" + r + "' has no usable points");
-      }
-    }
-  } else {
-    const int h = std::min<int>(config_.holdout_runs, static_cast<int>(data.runs.size()) - 2);
-    for (int i = static_cast<int>(data.runs.size()) - std::max(h, 0); i < int(data.runs.size());
-         ++i) {
-      holdout.push_back(data.runs[i]);
-    }
-  }
+  auto chosen = ChooseHoldout(data, req.holdout_runs, config_.holdout_runs);
+  if (!chosen.ok()) return chosen.status();
+  const std::vector<std::string>& holdout = *chosen;
   Observations train = data.ToObservations(data.RowsOfRuns(holdout, true), inputs);
   Observations test = data.ToObservations(data.RowsOfRuns(holdout, false), data.sensors);
   if (train.rows() <= static_cast<int>(inputs.size()) + 1 ||
@@ -199,7 +175,7 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
       {"f", FiniteOrNull(fit.f)},
       {"f_p", FiniteOrNull(fit.f_p)},
       {"durbin_watson", fit.durbin_watson},
-      {"terms", TermsJson(fit)},
+      {"terms", FitTermsJson(fit)},
       {"residuals", residuals},
       {"removed_terms", removed_terms},
       {"removed_outliers", sel->outlier_rows.size()},

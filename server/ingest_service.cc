@@ -20,16 +20,14 @@ std::string Num(double v) {
   return buf;
 }
 
-// The status a batch with errors gets: malformed values (400) before
-// unusable references (422) before conflicts (409).
+}  // namespace
+
 IngestResult Rejected(std::vector<FieldError> errors, Status status) {
   IngestResult r;
   r.status = std::move(status);
   r.errors = std::move(errors);
   return r;
 }
-
-}  // namespace
 
 bool ValidIdentifier(const std::string& id) {
   if (id.empty() || id.size() > 64) return false;

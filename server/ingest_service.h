@@ -31,6 +31,21 @@ struct ProbePointInput {
   std::map<std::string, double> temperatures;  // optional filtered snapshot
 };
 
+// An auxiliary signal the machine logs (spindle speed, load, ...).
+struct SignalInput {
+  std::string signal;
+  int64_t ts_ms = 0;
+  double value = 0;
+};
+
+// Something that happened to the machine: maintenance, a collision, a
+// column check, or other.
+struct EventInput {
+  int64_t ts_ms = 0;
+  std::string kind;
+  std::string note;
+};
+
 // One rejected item of a batch: where, which field, why.
 struct FieldError {
   size_t index = 0;
@@ -43,7 +58,12 @@ struct IngestResult {
   std::vector<FieldError> errors;
   int accepted = 0;
   int duplicates = 0;
+  int64_t id = 0;  // AddEvent: the stored event
 };
+
+// A refused batch: the status (malformed values 400 before unusable
+// references 422 before conflicts 409) and the items at fault.
+IngestResult Rejected(std::vector<FieldError> errors, Status status);
 
 // Limits shared by every ingest path.
 constexpr double kMinTemperatureC = -40.0;
@@ -51,6 +71,8 @@ constexpr double kMaxTemperatureC = 150.0;
 constexpr int64_t kEarliestTsMs = 946684800000;  // 2000-01-01T00:00:00Z
 constexpr int64_t kMaxFutureMs = 24 * 3600 * 1000;
 constexpr double kMaxAbsDeviationMm = 10.0;
+constexpr double kMaxAbsSignal = 1e9;
+constexpr size_t kMaxNoteLength = 1000;
 
 bool ValidIdentifier(const std::string& id);  // [A-Za-z0-9_.-]{1,64}
 bool ValidAxisName(const std::string& axis);  // X Y Z A B C U V W
@@ -66,6 +88,12 @@ class IngestService {
                                const std::string& actor);
   IngestResult AddProbePoints(const std::string& machine,
                               const std::vector<ProbePointInput>& points, const std::string& actor);
+  // Auxiliary signals; a channel is created on a signal's first sample.
+  IngestResult AddSignals(const std::string& machine, const std::vector<SignalInput>& samples,
+                          const std::string& actor);
+  // One event; the same (ts, kind) again with the same note is a duplicate.
+  IngestResult AddEvent(const std::string& machine, const EventInput& event,
+                        const std::string& actor);
   // Called after a commit that changed the machine's data.
   void SetListener(Listener listener) { listener_ = std::move(listener); }
 

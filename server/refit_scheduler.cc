@@ -52,6 +52,17 @@ int RefitScheduler::Tick() {
     auto report = fits_.Fit(d.machine, d.axis, req);
     if (report.ok()) {
       ++fitted;
+      if (analyses_ && config_.analysis_policy != "off") {
+        AnalysisRequest ar;
+        ar.actor = "scheduler";
+        ar.trigger = "schedule";
+        auto analysis = analyses_->Analyze(d.machine, d.axis, ar);
+        if (!analysis.ok()) {
+          log::Warn("scheduled analysis failed", "machine=" + d.machine + " axis=" + d.axis +
+                                                     " error=\"" + analysis.status().message() +
+                                                     "\"");
+        }
+      }
     } else {
       log::Warn("scheduled fit failed", "machine=" + d.machine + " axis=" + d.axis + " error=\"" +
                                             report.status().message() + "\"");

@@ -2,6 +2,8 @@
 // arrived since its last fit and: the axis has no model yet, or
 // `refit_after_new_runs` runs arrived, or `refit_interval_min` passed, or
 // the daily time `fit.daily_at` (UTC) passed since the last fit.
+// After each scheduled fit the effect analysis runs on the axis (unless
+// analysis.policy is "off"), so an extended model is proposed or served.
 // Tick() does one pass; Start() runs Tick() every `period` on a thread.
 #pragma once
 
@@ -11,6 +13,7 @@
 #include <mutex>
 #include <thread>
 
+#include "server/analysis_service.h"
 #include "server/clock.h"
 #include "server/config.h"
 #include "server/fit_service.h"
@@ -20,8 +23,9 @@ namespace thermocomp {
 
 class RefitScheduler {
  public:
-  RefitScheduler(Database& db, FitService& fits, const Clock& clock, const Config& config)
-      : db_(db), fits_(fits), clock_(clock), config_(config) {}
+  RefitScheduler(Database& db, FitService& fits, const Clock& clock, const Config& config,
+                 AnalysisService* analyses = nullptr)
+      : db_(db), fits_(fits), clock_(clock), config_(config), analyses_(analyses) {}
   ~RefitScheduler() { Stop(); }
 
   // One pass; returns the number of fits run.
@@ -36,6 +40,7 @@ class RefitScheduler {
   FitService& fits_;
   const Clock& clock_;
   const Config& config_;
+  AnalysisService* analyses_;
   std::thread thread_;
   std::mutex mutex_;
   std::condition_variable wake_;

@@ -50,6 +50,14 @@ class Http : public MachineLink {
     if (!samples.empty()) Post(base + "/temperatures", SamplesJson(samples).dump(), machine);
     if (!points.empty()) Post(base + "/probe-points", PointsJson(points).dump(), machine);
   }
+  void SendSignals(const std::string& machine, const std::vector<SignalInput>& signals) override {
+    if (signals.empty()) return;
+    nlohmann::json arr = nlohmann::json::array();
+    for (const auto& x : signals)
+      arr.push_back({{"signal", x.signal}, {"ts", x.ts_ms}, {"value", x.value}});
+    Post("/api/v1/machines/" + machine + "/signals", nlohmann::json{{"samples", arr}}.dump(),
+         machine);
+  }
   std::optional<double> OffsetY(const std::string& machine) override {
     auto r = client_.Get(("/api/v1/machines/" + machine + "/compensation").c_str());
     if (!r || r->status != 200) return std::nullopt;
@@ -115,7 +123,11 @@ int RunLiveSimulation(const LiveOptions& o, MachineLink& link, const std::atomic
   const int64_t start = (now / kDayMs - o.history_days) * kDayMs;
   std::vector<VirtualMachine> vms;
   for (size_t i = 0; i < o.machines.size(); ++i) {
-    vms.emplace_back(SimOptions{o.machines[i], o.seed + i, start});
+    SimOptions so;
+    so.machine = o.machines[i];
+    so.seed = o.seed + i;
+    so.start_ms = start;
+    vms.emplace_back(so);
     std::vector<TemperatureInput> s;
     std::vector<ProbePointInput> p;
     while (vms.back().now_ms() + 11 * kMinuteMs <= now) {
@@ -138,8 +150,10 @@ int RunLiveSimulation(const LiveOptions& o, MachineLink& link, const std::atomic
     for (size_t i = 0; i < vms.size(); ++i) {
       std::vector<TemperatureInput> samples;
       std::vector<ProbePointInput> points;
-      while (vms[i].now_ms() + kMinuteMs <= target) vms[i].Step(samples, points);
+      SimExtras extras;
+      while (vms[i].now_ms() + kMinuteMs <= target) vms[i].Step(samples, points, &extras);
       link.Send(o.machines[i], samples, points);
+      link.SendSignals(o.machines[i], extras.signals);
       if (!vms[i].in_run()) continue;
       // A part machined now is off by the drift since the datum, less the
       // compensation the control applies.

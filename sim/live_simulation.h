@@ -21,6 +21,8 @@ class MachineLink {
   virtual ~MachineLink() = default;
   virtual void Send(const std::string& machine, const std::vector<TemperatureInput>& samples,
                     const std::vector<ProbePointInput>& points) = 0;
+  // Auxiliary signals (spindle speed); links without a signal channel drop them.
+  virtual void SendSignals(const std::string& /*machine*/, const std::vector<SignalInput>& /*s*/) {}
   // The valid Y offset the server serves now (mm), if any.
   virtual std::optional<double> OffsetY(const std::string& machine) = 0;
   // Returns once the server has what was sent (before the process ends).

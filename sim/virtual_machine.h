@@ -61,10 +61,10 @@ struct HiddenTruth {
 struct SimOptions {
   std::string machine = "sim-1";
   uint64_t seed = 1;
-  int64_t start_ms = 0;            // Unix ms of the first sample
-  double sensor_noise_c = 0.02;    // PT100 class A after conversion
-  double probe_noise_mm = 0.0008;  // single-point repeatability of the probe
-  std::set<HiddenEffect> hidden;   // undeclared effects on the Y axis
+  int64_t start_ms = 0;                // Unix ms of the first sample
+  double sensor_noise_c = 0.02;        // PT100 class A after conversion
+  double probe_noise_mm = 0.0008;      // single-point repeatability of the probe
+  std::set<HiddenEffect> hidden = {};  // undeclared effects on the Y axis
 };
 
 // What a minute produced besides temperatures and probe points.

@@ -55,6 +55,15 @@ std::vector<SampleRow> SampleStore::Range(int64_t sensor_id, int64_t from_ms, in
   return out;
 }
 
+void SampleStore::ScanRaw(int64_t sensor_id, int64_t from_ms, int64_t to_ms,
+                          const std::function<void(int64_t, double)>& fn) {
+  Statement q(db_,
+              "SELECT ts_ms, value FROM samples WHERE sensor_id = ? AND ts_ms >= ? AND ts_ms <= ?"
+              " ORDER BY ts_ms");
+  q.Bind(1, sensor_id).Bind(2, from_ms).Bind(3, to_ms);
+  while (q.Step()) fn(q.Int(0), q.Double(1));
+}
+
 Status SampleStore::UpdateFiltered(int64_t sensor_id, int64_t ts_ms, double filtered) {
   Statement q(db_, "UPDATE samples SET filtered = ? WHERE sensor_id = ? AND ts_ms = ?");
   q.Bind(1, filtered).Bind(2, sensor_id).Bind(3, ts_ms);

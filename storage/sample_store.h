@@ -2,6 +2,7 @@
 // live filter state per sensor. Callers wrap writes in a Transaction.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -26,6 +27,10 @@ class SampleStore {
   std::optional<SampleRow> AtOrBefore(int64_t sensor_id, int64_t ts_ms);
   // Samples with from <= ts <= to, ascending.
   std::vector<SampleRow> Range(int64_t sensor_id, int64_t from_ms, int64_t to_ms);
+  // Calls fn(ts, raw value) for from <= ts <= to, ascending, without
+  // materialising the rows (a year of one sensor is half a million).
+  void ScanRaw(int64_t sensor_id, int64_t from_ms, int64_t to_ms,
+               const std::function<void(int64_t, double)>& fn);
   Status UpdateFiltered(int64_t sensor_id, int64_t ts_ms, double filtered);
   int64_t CountForMachine(int64_t machine_id);
 

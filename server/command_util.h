@@ -1,0 +1,56 @@
+// Helpers shared by the command-line subcommands (server/commands.cc,
+// import_command.cc, simulate_command.cc): option parsing, errors, the App.
+#pragma once
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "server/app.h"
+#include "sim/virtual_machine.h"
+
+namespace thermocomp::cli {
+
+constexpr int64_t kMinuteMs = 60000;
+constexpr int64_t kDayMs = 24 * 60 * kMinuteMs;
+
+// --key value / --flag arguments.
+struct Args {
+  std::map<std::string, std::string> opts;
+  std::vector<std::string> positional;
+  std::string Get(const std::string& k, const std::string& def = "") const {
+    auto it = opts.find(k);
+    return it == opts.end() ? def : it->second;
+  }
+  bool Has(const std::string& k) const { return opts.count(k) > 0; }
+};
+
+Args Parse(const std::vector<std::string>& in);
+// Prints "thermocomp: what" to stderr; returns the exit code 1.
+int Fail(const std::string& what);
+// Config from --config, then --db / --listen / --dds-domain overrides.
+StatusOr<Config> LoadWithOverrides(const Args& a);
+// The App of a command: the config with overrides, the database opened.
+StatusOr<std::unique_ptr<App>> OpenApp(const Args& a);
+std::string ReadFile(const std::string& path, bool& ok);
+// "n accepted, d duplicates", or the error with its first items.
+std::string Describe(const IngestResult& r);
+// Set by SIGINT/SIGTERM in long-running commands.
+extern std::atomic<bool> g_stop;
+void OnSignal(int);
+
+int Import(const Args& a);
+int Simulate(const Args& a);
+// The study table as machine `machine` (see import_command.cc).
+StatusOr<std::pair<int, int>> ImportStudy(App& app, const std::string& machine,
+                                          const std::string& text, int64_t start_ms);
+// --machines a,b (default sim-1,sim-2).
+std::vector<std::string> MachineNames(const Args& a);
+// `days` of simulated history ending at end_ms, into the app.
+Status SimulateIntoApp(App& app, const std::vector<std::string>& names, int days, uint64_t seed,
+                       int64_t end_ms, const std::set<HiddenEffect>& hidden = {});
+
+}  // namespace thermocomp::cli

@@ -1,0 +1,35 @@
+// Live evaluation of a model's terms: each term's value now relative to the
+// current run's datum, computed with the same FeatureBuilder as in the fit,
+// from a window of the raw archive long enough for its lags (10 tau).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "model/drift_model.h"
+#include "storage/database.h"
+#include "storage/records.h"
+
+namespace thermocomp {
+
+struct LiveContext {
+  const MachineRecord* machine = nullptr;
+  std::string axis;  // the axis served; positions vary along it
+  int64_t now_ms = 0;
+  int64_t datum_ts_ms = 0;
+  std::vector<double> temperature;        // filtered now, per machine sensor; NaN unknown
+  std::vector<double> datum_temperature;  // filtered at the datum, per machine sensor
+  std::vector<double> datum_position_mm;  // per machine axis; NaN unknown
+  int64_t max_gap_ms = 5 * 60000;
+};
+
+// For each position of `axis`, the model's term values (aligned with
+// model.inputs); NaN where an input is missing. Caller holds db.mutex().
+std::vector<std::vector<double>> LiveTermValues(Database& db, const DriftModel& model,
+                                                const LiveContext& context,
+                                                const std::vector<double>& positions_mm);
+
+// Whether any term depends on the position of `axis`.
+bool DependsOnPosition(const DriftModel& model, const std::string& axis);
+
+}  // namespace thermocomp

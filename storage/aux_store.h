@@ -1,0 +1,48 @@
+// AuxStore: what a machine logs besides temperatures and probe points:
+// auxiliary signals (spindle speed, load) and events (maintenance,
+// collision, column check). Callers wrap writes in a Transaction.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "storage/database.h"
+
+namespace thermocomp {
+
+struct SignalChannel {
+  int64_t id = 0;
+  std::string name;
+};
+
+struct EventRecord {
+  int64_t id = 0;
+  int64_t ts_ms = 0;
+  std::string kind;
+  std::string note;
+};
+
+class AuxStore {
+ public:
+  explicit AuxStore(Database& db) : db_(db) {}
+
+  // The channel's id, created on first use.
+  StatusOr<int64_t> EnsureSignal(int64_t machine_id, const std::string& name);
+  std::vector<SignalChannel> Signals(int64_t machine_id);
+  std::optional<double> SignalValueAt(int64_t signal_id, int64_t ts_ms);  // exact time
+  Status InsertSignal(int64_t signal_id, int64_t ts_ms, double value);
+  // Calls fn(ts, value) for from <= ts <= to, ascending.
+  void ScanSignal(int64_t signal_id, int64_t from_ms, int64_t to_ms,
+                  const std::function<void(int64_t, double)>& fn);
+
+  StatusOr<int64_t> InsertEvent(int64_t machine_id, const EventRecord& event);
+  std::optional<EventRecord> FindEvent(int64_t machine_id, int64_t ts_ms, const std::string& kind);
+  std::vector<EventRecord> Events(int64_t machine_id);  // ascending in time
+
+ private:
+  Database& db_;
+};
+
+}  // namespace thermocomp
