@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <memory>
 #include <random>
+#include <set>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -50,30 +51,45 @@ class AppFixture : public ::testing::Test {
     ASSERT_TRUE(http_->Start("127.0.0.1", 0).ok());
   }
   // Registers a simulated machine and feeds it `days` of history ending at
-  // the clock's time. Returns the virtual machine for the true drift.
-  VirtualMachine Simulate(const std::string& name, int days, uint64_t seed = 3) {
+  // the clock's time (temperatures, signals, events, probe points), with
+  // the given undeclared effects. Returns the virtual machine for the truth.
+  VirtualMachine Simulate(const std::string& name, int days, uint64_t seed = 3,
+                          std::set<HiddenEffect> hidden = {}) {
     std::vector<FieldError> errors;
     EXPECT_TRUE(app_->machines().Register(VirtualMachine::Definition(name), "test", &errors).ok());
-    VirtualMachine vm({name, seed, clock_.NowMs() - int64_t{days} * 86400000});
+    SimOptions o;
+    o.machine = name;
+    o.seed = seed;
+    o.start_ms = clock_.NowMs() - int64_t{days} * 86400000;
+    o.hidden = std::move(hidden);
+    VirtualMachine vm(o);
     std::vector<TemperatureInput> s;
     std::vector<ProbePointInput> p;
+    SimExtras extras;
     while (vm.now_ms() + 60000 <= clock_.NowMs()) {
-      vm.Step(s, p);
-      if (s.size() >= 7 * 600) Flush(name, s, p);
+      vm.Step(s, p, &extras);
+      if (s.size() >= 7 * 600) Flush(name, s, p, extras);
     }
-    Flush(name, s, p);
+    Flush(name, s, p, extras);
     return vm;
   }
   void Flush(const std::string& name, std::vector<TemperatureInput>& s,
-             std::vector<ProbePointInput>& p) {
+             std::vector<ProbePointInput>& p, SimExtras& extras) {
     if (!s.empty()) {
       ASSERT_TRUE(app_->ingest().AddTemperatures(name, s, "test").status.ok());
+    }
+    if (!extras.signals.empty()) {
+      ASSERT_TRUE(app_->ingest().AddSignals(name, extras.signals, "test").status.ok());
+    }
+    for (const auto& e : extras.events) {
+      ASSERT_TRUE(app_->ingest().AddEvent(name, e, "test").status.ok());
     }
     if (!p.empty()) {
       ASSERT_TRUE(app_->ingest().AddProbePoints(name, p, "test").status.ok());
     }
     s.clear();
     p.clear();
+    extras = SimExtras{};
   }
   // Serves `model_json` as version 1 of axis `axis_id` without a fit, so a
   // test knows the law exactly.

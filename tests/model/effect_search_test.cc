@@ -148,6 +148,17 @@ INSTANTIATE_TEST_SUITE_P(EachPair, EffectPair, ::testing::ValuesIn(AllPairs()),
                                   std::to_string(std::get<2>(info.param));
                          });
 
+TEST(EffectSearch, IsDeterministicForTheSameData) {
+  Outcome a = Analyse({HiddenEffect::kLag, HiddenEffect::kSignal}, 31);
+  Outcome b = Analyse({HiddenEffect::kLag, HiddenEffect::kSignal}, 31);
+  ASSERT_EQ(a.result.effects.size(), b.result.effects.size());
+  for (size_t i = 0; i < a.result.effects.size(); ++i) {
+    EXPECT_EQ(a.result.effects[i].term.Name(), b.result.effects[i].term.Name());
+    EXPECT_EQ(a.result.effects[i].coefficient_mm, b.result.effects[i].coefficient_mm);
+  }
+  EXPECT_EQ(a.result.holdout_rmse_after_mm, b.result.holdout_rmse_after_mm);
+}
+
 TEST(EffectSearch, AddsNothingWithoutAHiddenEffectInAtLeast19Of20Seeds) {
   int clean = 0;
   std::string found;

@@ -27,8 +27,9 @@ TEST_F(RefitSchedulerTest, FitsWhenDueAndOnlyThen) {
   // New runs arrive (a day of production holds four): refit.
   std::vector<TemperatureInput> samples;
   std::vector<ProbePointInput> points;
-  while (vm.now_ms() + 60000 <= clock_.NowMs()) vm.Step(samples, points);
-  Flush("m1", samples, points);
+  SimExtras extras;
+  while (vm.now_ms() + 60000 <= clock_.NowMs()) vm.Step(samples, points, &extras);
+  Flush("m1", samples, points, extras);
   EXPECT_EQ(s.Tick(), 2);
   EXPECT_NE(app_->ModelGauges().find("thermocomp_fits_total 4\n"), std::string::npos);
   auto models = app_->fits().Models("m1", "Y");
@@ -59,6 +60,63 @@ TEST_F(RefitSchedulerTest, FailedRefitNeverReplacesTheActiveModel) {
   }
 }
 
+class ScheduledAnalysisTest : public testing::AppFixture {
+ protected:
+  void Configure(Config& c) override { c.analysis_policy = policy_; }
+  std::string policy_ = "propose";
+};
+
+TEST_F(ScheduledAnalysisTest, ScheduledRefitProposesTheExtendedModelAsACandidate) {
+  Simulate("m1", 30, 12, {HiddenEffect::kLag});
+  ASSERT_EQ(app_->scheduler().Tick(), 2);
+  // One analysis per refitted axis; the Y axis gets the lag of Tco.
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM analyses"), 2);
+  auto list = app_->analyses().List("m1", "Y");
+  ASSERT_TRUE(list.ok());
+  ASSERT_EQ(list->size(), 1u);
+  EXPECT_GE((*list)[0].effects, 1);
+  ASSERT_TRUE((*list)[0].model_version);
+  auto models = app_->fits().Models("m1", "Y");
+  ASSERT_TRUE(models.ok());
+  ASSERT_EQ(models->size(), 2u);
+  EXPECT_EQ((*models)[0].status, "active");  // the scheduled fit of the declared inputs
+  EXPECT_EQ((*models)[1].status, "candidate");
+  EXPECT_EQ((*models)[1].version, *(*list)[0].model_version);
+  // Proposing does not change what is served.
+  auto comp = app_->compensation().Get("m1");
+  ASSERT_TRUE(comp.ok());
+  for (const auto& a : (*comp)->axes) {
+    if (a.axis == "Y") {
+      EXPECT_EQ(a.model_version, 1);
+    }
+  }
+}
+
+class ScheduledActivationTest : public ScheduledAnalysisTest {
+ protected:
+  void Configure(Config& c) override { c.analysis_policy = "activate"; }
+};
+
+TEST_F(ScheduledActivationTest, ActivatePolicyServesTheExtendedModel) {
+  VirtualMachine vm = Simulate("m1", 30, 12, {HiddenEffect::kLag});
+  ASSERT_EQ(app_->scheduler().Tick(), 2);
+  auto models = app_->fits().Models("m1", "Y");
+  ASSERT_TRUE(models.ok());
+  ASSERT_EQ(models->size(), 2u);
+  EXPECT_EQ((*models)[1].status, "active") << (*models)[1].reason;
+  EXPECT_EQ((*models)[0].status, "retired");
+  auto comp = app_->compensation().Get("m1");
+  ASSERT_TRUE(comp.ok());
+  for (const auto& a : (*comp)->axes) {
+    if (a.axis != "Y") continue;
+    ASSERT_TRUE(a.valid) << a.reason;
+    EXPECT_EQ(a.model_version, 2);
+    // Served live from the lagged archive: close to the true drift now.
+    ASSERT_TRUE(vm.in_run());
+    EXPECT_NEAR(a.predicted_drift_mm, vm.DriftSinceDatumY(), 0.003);
+  }
+}
+
 }  // namespace
 }  // namespace thermocomp
 
@@ -83,8 +141,9 @@ TEST_F(DailyRefitTest, RefitsOnceAfterTheDailyTime) {
     clock_.Set(t);
     std::vector<TemperatureInput> samples;
     std::vector<ProbePointInput> points;
-    while (vm.now_ms() + 60000 <= t) vm.Step(samples, points);
-    Flush("m1", samples, points);
+    SimExtras extras;
+    while (vm.now_ms() + 60000 <= t) vm.Step(samples, points, &extras);
+    Flush("m1", samples, points, extras);
   };
   const int64_t midnight = clock_.NowMs();
   feed_until(midnight + 150 * 60000);  // 02:30: a new run, but before the daily time

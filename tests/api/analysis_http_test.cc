@@ -1,0 +1,224 @@
+// Closing the loop over real HTTP on a real SQLite file: signals and events
+// in, an analysis that finds the simulator's hidden effect, its report in
+// JSON, Markdown and HTML, and the extended model served live.
+#include "tests/app_fixture.h"  // first: Eigen before httplib.h (see api/http_server.h)
+
+#include <cmath>
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+namespace thermocomp {
+namespace {
+
+using nlohmann::json;
+
+class AnalysisHttpTest : public testing::AppFixture {
+ protected:
+  void SetUp() override {
+    AppFixture::SetUp();
+    StartHttp();
+    client_ = std::make_unique<httplib::Client>("127.0.0.1", http_->port());
+  }
+  httplib::Result Post(const std::string& path, const std::string& body,
+                       const std::string& type = "application/json") {
+    return client_->Post(path.c_str(), body, type.c_str());
+  }
+  json GetJson(const std::string& path, int expect = 200) {
+    auto r = client_->Get(path.c_str());
+    EXPECT_TRUE(r);
+    if (!r) return {};
+    EXPECT_EQ(r->status, expect) << path << " " << r->body;
+    return json::parse(r->body, nullptr, false);
+  }
+  json Analyze(const std::string& machine, const json& body) {
+    auto r = Post("/api/v1/machines/" + machine + "/axes/Y/analysis", body.dump());
+    EXPECT_TRUE(r);
+    if (!r) return {};
+    EXPECT_EQ(r->status, 201) << r->body;
+    return json::parse(r->body, nullptr, false);
+  }
+  const json* Axis(const json& compensation, const std::string& axis) {
+    for (const auto& a : compensation["axes"]) {
+      if (a["axis"] == axis) return &a;
+    }
+    return nullptr;
+  }
+  std::unique_ptr<httplib::Client> client_;
+};
+
+TEST_F(AnalysisHttpTest, FindsTheHiddenLagReportsItAndServesTheExtendedModel) {
+  VirtualMachine vm = Simulate("m1", 30, 12, {HiddenEffect::kLag});
+  json report = Analyze("m1", {{"policy", "activate"}});
+  ASSERT_FALSE(report["effects"].empty()) << report.dump(2);
+  const json& effect = report["effects"][0];
+  EXPECT_EQ(effect["kind"], "lag");
+  EXPECT_EQ(effect["sensor"], "Tco");
+  const double tau = effect["tau_min"].get<double>();
+  const double truth = vm.hidden().lag_tau_min;
+  EXPECT_LT(std::max(tau / truth, truth / tau), 1.5) << tau << " vs " << truth;
+  EXPECT_FALSE(effect["interpretation"].get<std::string>().empty());
+  EXPECT_LT(report["rmse_after_mm"].get<double>(), report["rmse_before_mm"].get<double>());
+  EXPECT_LT(report["cv_rmse_after_mm"].get<double>(), report["cv_rmse_before_mm"].get<double>());
+  EXPECT_EQ(report["declared_inputs"], json({"Tco", "Tcb", "Tbed"}));
+  ASSERT_TRUE(report["model"].is_object());
+  EXPECT_EQ(report["model"]["status"], "active") << report["model"]["reason"];
+
+  // Listed, and served again as stored, in three renderings.
+  const std::string base = "/api/v1/machines/m1/axes/Y/analysis";
+  json list = GetJson(base);
+  ASSERT_EQ(list["analyses"].size(), 1u);
+  EXPECT_EQ(list["analyses"][0]["id"], report["id"]);
+  const std::string one = base + "/" + report["id"].dump();
+  EXPECT_EQ(GetJson(one), report);
+  auto md = client_->Get((one + "?format=markdown").c_str());
+  ASSERT_TRUE(md);
+  EXPECT_NE(md->body.find("lag(Tco,"), std::string::npos);
+  EXPECT_NE(md->body.find("held-out RMSE"), std::string::npos);
+  auto html = client_->Get((one + "?format=html").c_str());
+  ASSERT_TRUE(html);
+  EXPECT_NE(html->body.find("<svg"), std::string::npos);
+  GetJson(one + "?format=pdf", 400);
+  GetJson(base + "/999", 404);
+
+  // The model report of the new version names its terms and analysis.
+  json model = GetJson("/api/v1/machines/m1/axes/Y/models/" + report["model"]["version"].dump());
+  EXPECT_EQ(model["analysis_id"], report["id"]);
+  EXPECT_TRUE(model["coefficients"].contains(effect["name"].get<std::string>()));
+
+  // Served live: finite, within the clamp, and near the true drift now.
+  json comp = GetJson("/api/v1/machines/m1/compensation");
+  const json* y = Axis(comp, "Y");
+  ASSERT_TRUE(y);
+  ASSERT_TRUE((*y)["valid"].get<bool>()) << (*y)["reason"];
+  EXPECT_EQ((*y)["model_version"], report["model"]["version"]);
+  EXPECT_LE(std::fabs((*y)["offset_mm"].get<double>()), 0.03);
+  ASSERT_TRUE(vm.in_run());
+  EXPECT_NEAR((*y)["predicted_drift_mm"].get<double>(), vm.DriftSinceDatumY(), 0.003);
+}
+
+TEST_F(AnalysisHttpTest, PositionDependentExpansionIsServedAsSlopeAndAtTheProbe) {
+  VirtualMachine vm = Simulate("m1", 30, 13, {HiddenEffect::kPosition});
+  json report = Analyze("m1", {{"policy", "activate"}});
+  ASSERT_FALSE(report["effects"].empty()) << report.dump(2);
+  EXPECT_EQ(report["effects"][0]["kind"], "position_x_temperature");
+  EXPECT_EQ(report["effects"][0]["axis"], "Y");
+  EXPECT_EQ(report["effects"][0]["sensor"], "Tcb");
+  ASSERT_EQ(report["model"]["status"], "active") << report["model"]["reason"];
+
+  json comp = GetJson("/api/v1/machines/m1/compensation");
+  const json* y = Axis(comp, "Y");
+  ASSERT_TRUE(y && (*y)["valid"].get<bool>()) << comp.dump();
+  // Slope about the reference (0 mm): -alpha * (Tcb - 20 degC) in um/m,
+  // with the simulator's true alpha and the filtered column-base temperature.
+  const double slope = (*y)["slope_um_per_m"].get<double>();
+  double tcb = 0;
+  {
+    std::lock_guard<std::mutex> lock(app_->db().mutex());
+    Statement q(app_->db(),
+                "SELECT f.state FROM filter_state f JOIN sensors s ON s.id = f.sensor_id"
+                " WHERE s.name = 'Tcb'");
+    ASSERT_TRUE(q.Step());
+    tcb = q.Double(0);
+  }
+  // The fitted expansion coefficient is the simulator's, and the served
+  // slope is exactly -coefficient * (Tcb - 20) in um/m.
+  const double coefficient = report["effects"][0]["coefficient"].get<double>();
+  EXPECT_NEAR(coefficient, vm.hidden().position_mm_per_m_c,
+              0.15 * std::fabs(vm.hidden().position_mm_per_m_c));
+  EXPECT_NEAR(slope, -coefficient * (tcb - 20.0) * 1000.0, 1e-6);
+  // The offset at the datum hole follows from offset and slope (linear in P).
+  ASSERT_TRUE((*y)["probe_position_mm"].is_number());
+  const double probe = (*y)["probe_position_mm"].get<double>();
+  EXPECT_EQ(probe, VirtualMachine::kDatumHoleY);
+  EXPECT_NEAR((*y)["offset_at_probe_mm"].get<double>(),
+              (*y)["offset_mm"].get<double>() + slope * probe * 1e-6, 1e-9);
+  // SINUMERIK takes the slope; LinuxCNC the offset at the probe.
+  auto sinumerik = client_->Get("/api/v1/machines/m1/compensation?format=sinumerik");
+  ASSERT_TRUE(sinumerik);
+  char expected[64];
+  std::snprintf(expected, sizeof expected, "$SA_TEMP_COMP_SLOPE[Y]=%.3f", slope);
+  EXPECT_NE(sinumerik->body.find(expected), std::string::npos) << sinumerik->body;
+  auto linuxcnc = client_->Get("/api/v1/machines/m1/compensation?format=linuxcnc");
+  ASSERT_TRUE(linuxcnc);
+  std::snprintf(expected, sizeof expected, "eoffset-counts %ld",
+                std::lround((*y)["offset_at_probe_mm"].get<double>() * 1e4));
+  EXPECT_NE(linuxcnc->body.find(expected), std::string::npos) << linuxcnc->body;
+}
+
+TEST_F(AnalysisHttpTest, SignalsAndEventsAreStoredOnceAndBadOnesChangeNothing) {
+  Simulate("m1", 1);
+  const std::string base = "/api/v1/machines/m1";
+  const int64_t signals_before = Count("SELECT COUNT(*) FROM signal_samples");
+  json body = {{"samples",
+                {{{"signal", "spindle_load"}, {"ts", "2026-03-15T23:00:00Z"}, {"value", 41.5}},
+                 {{"signal", "spindle_load"}, {"ts", "2026-03-15T23:01:00Z"}, {"value", 44.0}}}}};
+  auto r = Post(base + "/signals", body.dump());
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(json::parse(r->body)["accepted"], 2);
+  r = Post(base + "/signals", body.dump());
+  EXPECT_EQ(json::parse(r->body)["duplicates"], 2);
+  r = Post(base + "/signals", "ts,signal,value\n2026-03-15T23:02:00Z,spindle_load,40\n",
+           "text/csv");
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM signal_samples"), signals_before + 3);
+
+  // A different value for a stored time is a conflict; a bad value names
+  // its field; neither stores anything.
+  body["samples"][1]["value"] = 50.0;
+  body["samples"][0]["ts"] = "2026-03-15T23:05:00Z";
+  r = Post(base + "/signals", body.dump());
+  EXPECT_EQ(r->status, 409) << r->body;
+  json bad = {{"samples", {{{"signal", "spindle_load"}, {"ts", "2026-03-15T23:06:00Z"}}}}};
+  r = Post(base + "/signals", bad.dump());
+  EXPECT_EQ(r->status, 400);
+  EXPECT_EQ(r->get_header_value("Content-Type"), "application/problem+json");
+  EXPECT_EQ(json::parse(r->body)["errors"][0]["field"], "value");
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM signal_samples"), signals_before + 3);
+  EXPECT_EQ(Post("/api/v1/machines/nope/signals", body.dump())->status, 404);
+
+  json event = {{"ts", "2026-03-15T12:00:00Z"}, {"kind", "maintenance"}, {"note", "ways oiled"}};
+  r = Post(base + "/events", event.dump());
+  ASSERT_EQ(r->status, 201) << r->body;
+  r = Post(base + "/events", event.dump());
+  EXPECT_EQ(r->status, 200);
+  EXPECT_EQ(json::parse(r->body)["duplicates"], 1);
+  event["note"] = "something else";
+  EXPECT_EQ(Post(base + "/events", event.dump())->status, 409);
+  event["kind"] = "party";
+  r = Post(base + "/events", event.dump());
+  EXPECT_EQ(r->status, 400);
+  EXPECT_EQ(json::parse(r->body)["errors"][0]["field"], "kind");
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM events WHERE note = 'ways oiled'"), 1);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM events WHERE kind = 'party' OR note = 'something else'"),
+            0);
+}
+
+TEST_F(AnalysisHttpTest, BadAnalysisRequestsAreRefusedAndStoreNothing) {
+  Simulate("m1", 3);
+  const std::string base = "/api/v1/machines/m1/axes/";
+  auto expect = [&](const std::string& path, const std::string& body, int status,
+                    const std::string& field) {
+    auto r = Post(path, body);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, status) << path << " " << body << " " << r->body;
+    EXPECT_EQ(r->get_header_value("Content-Type"), "application/problem+json");
+    if (!field.empty()) {
+      EXPECT_EQ(json::parse(r->body)["errors"][0]["field"], field);
+    }
+  };
+  expect(base + "Y/analysis", R"({"policy": "always"})", 400, "policy");
+  expect(base + "Y/analysis", R"({"inputs": "Tco"})", 400, "inputs");
+  expect(base + "Y/analysis", R"([1,2])", 400, "body");
+  expect(base + "Y/analysis", R"({"holdout_runs": ["NOPE"]})", 422, "");
+  expect(base + "Y/analysis", R"({"inputs": ["Tnone"]})", 422, "");
+  expect(base + "Q/analysis", "", 404, "");
+  expect("/api/v1/machines/nope/axes/Y/analysis", "", 404, "");
+  auto r = Post(base + "Y/analysis", "x", "text/plain");
+  EXPECT_EQ(r->status, 415);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM analyses"), 0);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM models"), 0);
+}
+
+}  // namespace
+}  // namespace thermocomp
