@@ -112,6 +112,23 @@ class Search {
   // parsimony rule applied).
   std::vector<Scored> Shortlist(const Design& d, const LinearFit& fit,
                                 const std::vector<EffectTerm>& candidates, int* tried);
+  // The strongest candidates of the round that added nothing, scored, so a
+  // report can say how far they were from passing.
+  std::vector<ScoredCandidate> Closest(const Design& d, const LinearFit& fit,
+                                       const std::vector<EffectTerm>& candidates) {
+    int tried = 0;
+    std::vector<Scored> all = Score(d, fit, candidates, &tried);
+    std::stable_sort(all.begin(), all.end(),
+                     [](const Scored& a, const Scored& b) { return a.gain > b.gain; });
+    std::vector<ScoredCandidate> out;
+    for (size_t i = 0; i < all.size() && i < 5; ++i) {
+      Design with = d;
+      with.terms.push_back(all[i].term);
+      with.columns.push_back(Rows(Column(all[i].term), train_));
+      out.push_back({all[i].term, CvRmse(with), all[i].p_adjusted});
+    }
+    return out;
+  }
   // Index into the shortlist of the candidate to add.
   size_t Lookahead(const Design& d, const std::vector<Scored>& shortlist,
                    const std::vector<EffectTerm>& candidates, double cv);
@@ -339,7 +356,10 @@ StatusOr<EffectSearchResult> Search::Run() {
   for (int round = 0; round < opt_.max_effects; ++round) {
     int tried = 0;
     std::vector<Scored> shortlist = Shortlist(design, fit, candidates, &tried);
-    if (shortlist.empty() || !(shortlist[0].cv_rmse < cv * (1.0 - opt_.min_cv_gain))) break;
+    if (shortlist.empty() || !(shortlist[0].cv_rmse < cv * (1.0 - opt_.min_cv_gain))) {
+      result.closest = Closest(design, fit, candidates);
+      break;
+    }
     const Scored& best = shortlist[Lookahead(design, shortlist, candidates, cv)];
     AddedEffect added;
     added.term = best.term;

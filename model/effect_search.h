@@ -94,8 +94,9 @@ struct EffectSearchResult {
   double holdout_r2_before = 0, holdout_r2_after = 0;
   int holdout_n = 0, training_n = 0, training_runs = 0;
   ResidualStructure structure_before, structure_after;
-  int candidates = 0;     // generated in the first round
-  int not_evaluable = 0;  // of them, unknown on some training point
+  std::vector<ScoredCandidate> closest;  // best by F of the last round, which added nothing
+  int candidates = 0;                    // generated in the first round
+  int not_evaluable = 0;                 // of them, unknown on some training point
 };
 
 // The candidate effects for the input's axis (first round's list).

@@ -23,6 +23,7 @@ std::string Um(const nlohmann::json& mm) {
 
 std::string Num(const nlohmann::json& v, const char* format = "%.3g") {
   if (!v.is_number()) return "-";
+  if (v.get<double>() == 0.0 && format[2] == '2') return "< 1e-300";  // p underflowed
   char buf[32];
   std::snprintf(buf, sizeof buf, format, v.get<double>());
   return buf;
@@ -81,6 +82,12 @@ nlohmann::json AnalysisReportJson(const EffectSearchResult& r, const AnalysisCon
     j["runners_up"] = runners;
     effects.push_back(j);
   }
+  nlohmann::json closest = nlohmann::json::array();
+  for (const auto& s : r.closest) {
+    closest.push_back({{"name", s.term.Name()},
+                       {"cv_rmse_mm", FiniteOrNull(s.cv_rmse)},
+                       {"p_adjusted", FiniteOrNull(s.p_adjusted)}});
+  }
   nlohmann::json superseded = nlohmann::json::array();
   for (const auto& t : r.superseded) superseded.push_back(t.Name());
   nlohmann::json terms = nlohmann::json::array();
@@ -101,6 +108,7 @@ nlohmann::json AnalysisReportJson(const EffectSearchResult& r, const AnalysisCon
       {"not_evaluable", r.not_evaluable},
       {"effects", effects},
       {"superseded", superseded},
+      {"closest_candidates", closest},
       {"terms", terms},
       {"coefficients", coefficients},
       {"rmse_before_mm", r.holdout_n ? FiniteOrNull(r.holdout_rmse_before_mm) : nullptr},
@@ -155,6 +163,15 @@ std::string AnalysisMarkdown(const nlohmann::json& j) {
             ".\n\n";
     }
   }
+  if (j.contains("closest_candidates") && !j["closest_candidates"].empty()) {
+    md += "Closest candidates that did not pass (CV RMSE with it, um; adjusted p): ";
+    std::string list;
+    for (const auto& c : j["closest_candidates"]) {
+      list += (list.empty() ? "" : ", ") + ("`" + c.value("name", "") + "` " + Um(c["cv_rmse_mm"]) +
+                                            ", " + Num(c["p_adjusted"], "%.2g"));
+    }
+    md += list + ".\n\n";
+  }
   md += "## Error before and after (um)\n\n| | declared model | extended model |\n|---|---|---|\n";
   md += "| training RMSE | " + Um(j["train_rmse_before_mm"]) + " | " +
         Um(j["train_rmse_after_mm"]) + " |\n";
@@ -167,9 +184,9 @@ std::string AnalysisMarkdown(const nlohmann::json& j) {
     md += std::string("| ") + k + " | " + Num(rs["before"][k], "%.3f") + " | " +
           Num(rs["after"][k], "%.3f") + " |\n";
   }
-  if (j.contains("model")) {
+  if (j.contains("model") && j["model"].is_object()) {
     md += "\n## Model\n\nVersion " + std::to_string(j["model"].value("version", 0)) + ": " +
-          j["model"].value("status", "") + ". " + j["model"].value("reason", "") + "\n";
+          j["model"].value("status", "") + ". " + j["model"].value("reason", "") + ".\n";
   }
   return md;
 }

@@ -86,12 +86,14 @@ int Analyze(const Args& a) {
   AnalysisRequest req;
   req.actor = "cli";
   if (a.Has("policy")) req.policy = a.Get("policy");
-  if (a.Has("holdout")) {
-    std::vector<std::string> runs;
-    std::stringstream ss(a.Get("holdout"));
-    for (std::string r; std::getline(ss, r, ',');) runs.push_back(r);
-    req.holdout_runs = runs;
-  }
+  auto list = [](const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream ss(text);
+    for (std::string r; std::getline(ss, r, ',');) out.push_back(r);
+    return out;
+  };
+  if (a.Has("holdout")) req.holdout_runs = list(a.Get("holdout"));
+  if (a.Has("inputs")) req.inputs = list(a.Get("inputs"));
   auto report = (*app)->analyses().Analyze(a.Get("machine"), a.Get("axis", "Y"), req);
   if (!report.ok()) return Fail(report.status().message());
   const std::string format = a.Get("format", "markdown");
@@ -168,7 +170,8 @@ std::string Usage() {
   import    --machine M [--temperatures F] [--signals F] [--probe-points F]  (CSV or JSON)
             --study fms_datum_drift.csv [--machine fms-study] [--start RFC3339]
   fit       --machine M --axis Y                                fit a model version now
-  analyze   --machine M --axis Y [--holdout R1,R2] [--policy off|propose|activate]
+  analyze   --machine M --axis Y [--inputs T1,T2] [--holdout R1,R2]
+            [--policy off|propose|activate]
             [--format markdown|json|html]     find effects the model lacks (methods.md §8)
   simulate  [--machines a,b] [--days 14] [--seed 1] [--hidden sensor,lag,position,trend,step,signal]
             (--out DIR | --db PATH | --live [--post URL | --dds [--dds-domain N]]
