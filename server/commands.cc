@@ -142,6 +142,13 @@ int Demo(const Args& a) {
                   (*report)["status"].get<std::string>().c_str(), (*report)["r2"].get<double>(),
                   (*report)["validation"]["rmse_mm"].dump().c_str(),
                   (*report)["reason"].get<std::string>().c_str());
+      // Close the loop once, so the API has an analysis to show.
+      AnalysisRequest ar;
+      ar.actor = "demo";
+      if (auto analysis = app_ref.analyses().Analyze(m.name, axis.name, ar); analysis.ok()) {
+        std::printf("demo: effect analysis %s/%s: %zu effect(s) added\n", m.name.c_str(),
+                    axis.name.c_str(), (*analysis)["effects"].size());
+      }
     }
   }
   return 0;
