@@ -8,6 +8,7 @@
 #include "server/analysis_report.h"
 #include "server/drift_dataset.h"
 #include "server/log.h"
+#include "server/machine_lookup.h"
 #include "server/model_codec.h"
 #include "server/time_format.h"
 #include "storage/aux_store.h"
@@ -150,10 +151,10 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
                                                   const AnalysisRequest& req) {
   const std::string policy = req.policy.value_or(config_.analysis_policy);
   std::unique_lock<std::mutex> lock(db_.mutex());
-  auto machine = MachineStore(db_).Find(machine_name);
-  if (!machine) return Status::NotFound("unknown machine '" + machine_name + "'");
-  const AxisRecord* axis = machine->FindAxis(axis_name);
-  if (!axis) return Status::NotFound("unknown axis '" + axis_name + "' on " + machine_name);
+  auto found = FindMachineAxis(db_, machine_name, axis_name);
+  if (!found.ok()) return found.status();
+  const MachineRecord* machine = &found->machine;
+  const AxisRecord* axis = &found->axis();
   std::vector<std::string> inputs = req.inputs ? *req.inputs : axis->inputs;
   if (inputs.empty()) return Status::Unprocessable("inputs: the axis declares no model inputs");
   for (const auto& in : inputs) {
@@ -269,11 +270,9 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
 
 StatusOr<int64_t> AnalysisService::AxisId(const std::string& machine_name,
                                           const std::string& axis_name) {
-  auto machine = MachineStore(db_).Find(machine_name);
-  if (!machine) return Status::NotFound("unknown machine '" + machine_name + "'");
-  const AxisRecord* axis = machine->FindAxis(axis_name);
-  if (!axis) return Status::NotFound("unknown axis '" + axis_name + "' on " + machine_name);
-  return axis->id;
+  auto found = FindMachineAxis(db_, machine_name, axis_name);
+  if (!found.ok()) return found.status();
+  return found->axis().id;
 }
 
 StatusOr<std::vector<AnalysisRecord>> AnalysisService::List(const std::string& machine,

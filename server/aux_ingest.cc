@@ -61,18 +61,8 @@ IngestResult IngestService::AddSignals(const std::string& machine_name,
     if (Status st = store.InsertSignal(*id, s.ts_ms, s.value); !st.ok()) return Rejected({}, st);
     ++result.accepted;
   }
-  if (!conflicts.empty()) {
-    return Rejected(conflicts, Status::Conflict("signal samples conflict with stored values"));
-  }
-  if (Status st =
-          LogStore(db_).Audit(clock_.NowMs(), actor, "signals", machine_name, result.accepted);
-      !st.ok()) {
-    return Rejected({}, st);
-  }
-  if (Status st = tx.Commit(); !st.ok()) return Rejected({}, st);
-  lock.unlock();
-  if (listener_ && result.accepted > 0) listener_(machine_name);
-  return result;
+  return Commit(tx, lock, result, std::move(conflicts),
+                "signal samples conflict with stored values", "signals", machine_name, actor);
 }
 
 IngestResult IngestService::AddEvent(const std::string& machine_name, const EventInput& e,

@@ -11,6 +11,7 @@
 #include "model/selection.h"
 #include "server/drift_dataset.h"
 #include "server/log.h"
+#include "server/machine_lookup.h"
 #include "server/model_codec.h"
 #include "server/time_format.h"
 #include "storage/log_store.h"
@@ -50,10 +51,10 @@ Errors Evaluate(const DriftModel& model, const Observations& obs) {
 StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
                                          const std::string& axis_name, const FitRequest& req) {
   std::unique_lock<std::mutex> lock(db_.mutex());
-  auto machine = MachineStore(db_).Find(machine_name);
-  if (!machine) return Status::NotFound("unknown machine '" + machine_name + "'");
-  const AxisRecord* axis = machine->FindAxis(axis_name);
-  if (!axis) return Status::NotFound("unknown axis '" + axis_name + "' on " + machine_name);
+  auto found = FindMachineAxis(db_, machine_name, axis_name);
+  if (!found.ok()) return found.status();
+  const MachineRecord* machine = &found->machine;
+  const AxisRecord* axis = &found->axis();
   std::vector<std::string> inputs = req.inputs ? *req.inputs : axis->inputs;
   if (inputs.empty()) {
     for (const auto& s : machine->sensors) inputs.push_back(s.name);
@@ -231,10 +232,9 @@ Status FitService::Activate(const std::string& machine_name, const std::string& 
                             int version, const std::string& actor) {
   {
     std::lock_guard<std::mutex> lock(db_.mutex());
-    auto machine = MachineStore(db_).Find(machine_name);
-    if (!machine) return Status::NotFound("unknown machine '" + machine_name + "'");
-    const AxisRecord* axis = machine->FindAxis(axis_name);
-    if (!axis) return Status::NotFound("unknown axis '" + axis_name + "' on " + machine_name);
+    auto found = FindMachineAxis(db_, machine_name, axis_name);
+    if (!found.ok()) return found.status();
+    const AxisRecord* axis = &found->axis();
     Transaction tx(db_);
     if (!tx.status().ok()) return tx.status();
     if (Status s = ModelStore(db_).Activate(axis->id, version); !s.ok()) return s;
@@ -252,11 +252,9 @@ Status FitService::Activate(const std::string& machine_name, const std::string& 
 StatusOr<std::vector<ModelRecord>> FitService::Models(const std::string& machine_name,
                                                       const std::string& axis_name) {
   std::lock_guard<std::mutex> lock(db_.mutex());
-  auto machine = MachineStore(db_).Find(machine_name);
-  if (!machine) return Status::NotFound("unknown machine '" + machine_name + "'");
-  const AxisRecord* axis = machine->FindAxis(axis_name);
-  if (!axis) return Status::NotFound("unknown axis '" + axis_name + "' on " + machine_name);
-  return ModelStore(db_).List(axis->id);
+  auto found = FindMachineAxis(db_, machine_name, axis_name);
+  if (!found.ok()) return found.status();
+  return ModelStore(db_).List(found->axis().id);
 }
 
 StatusOr<ModelRecord> FitService::Model(const std::string& machine_name,

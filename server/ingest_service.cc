@@ -139,23 +139,13 @@ IngestResult IngestService::AddTemperatures(const std::string& machine_name,
       if (Status st = store.SaveFilterState(sensor->id, *state); !st.ok()) return Rejected({}, st);
     }
   }
-  if (!conflicts.empty()) {
-    return Rejected(conflicts, Status::Conflict("samples conflict with stored values"));
-  }
-  if (Status st =
-          LogStore(db_).Audit(clock_.NowMs(), actor, "temperatures", machine_name, result.accepted);
-      !st.ok()) {
-    return Rejected({}, st);
-  }
-  if (Status st = tx.Commit(); !st.ok()) return Rejected({}, st);
-  if (cache_ && result.accepted > 0) {
-    int64_t earliest = INT64_MAX;
-    for (const auto& s : samples) earliest = std::min(earliest, s.ts_ms);
-    cache_->InvalidateFrom(machine->id, earliest);
-  }
-  lock.unlock();
-  if (listener_ && result.accepted > 0) listener_(machine_name);
-  return result;
+  return Commit(tx, lock, result, std::move(conflicts), "samples conflict with stored values",
+                "temperatures", machine_name, actor, [&] {
+                  if (!cache_ || result.accepted == 0) return;
+                  int64_t earliest = INT64_MAX;
+                  for (const auto& s : samples) earliest = std::min(earliest, s.ts_ms);
+                  cache_->InvalidateFrom(machine->id, earliest);
+                });
 }
 
 IngestResult IngestService::AddProbePoints(const std::string& machine_name,
@@ -227,17 +217,24 @@ IngestResult IngestService::AddProbePoints(const std::string& machine_name,
     if (Status st = store.InsertPoint(*run_id, rec, sensor_ids); !st.ok()) return Rejected({}, st);
     ++result.accepted;
   }
-  if (!conflicts.empty()) {
-    return Rejected(conflicts, Status::Conflict("probe points conflict with stored points"));
-  }
-  if (Status st =
-          LogStore(db_).Audit(clock_.NowMs(), actor, "probe-points", machine_name, result.accepted);
+  return Commit(tx, lock, result, std::move(conflicts), "probe points conflict with stored points",
+                "probe-points", machine_name, actor);
+}
+
+IngestResult IngestService::Commit(Transaction& tx, std::unique_lock<std::mutex>& lock,
+                                   IngestResult result, std::vector<FieldError> conflicts,
+                                   const std::string& conflict_message, const std::string& action,
+                                   const std::string& machine, const std::string& actor,
+                                   const std::function<void()>& after_commit) {
+  if (!conflicts.empty()) return Rejected(conflicts, Status::Conflict(conflict_message));
+  if (Status st = LogStore(db_).Audit(clock_.NowMs(), actor, action, machine, result.accepted);
       !st.ok()) {
     return Rejected({}, st);
   }
   if (Status st = tx.Commit(); !st.ok()) return Rejected({}, st);
+  if (after_commit) after_commit();
   lock.unlock();
-  if (listener_ && result.accepted > 0) listener_(machine_name);
+  if (listener_ && result.accepted > 0) listener_(machine);
   return result;
 }
 

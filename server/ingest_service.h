@@ -99,6 +99,13 @@ class IngestService {
 
  private:
   Status CheckTs(int64_t ts_ms) const;
+  // The end of every batch: refused with the conflicts if there are any;
+  // else the audit row, the commit, `after_commit` (still under the lock),
+  // and the listener once the lock is released.
+  IngestResult Commit(Transaction& tx, std::unique_lock<std::mutex>& lock, IngestResult result,
+                      std::vector<FieldError> conflicts, const std::string& conflict_message,
+                      const std::string& action, const std::string& machine,
+                      const std::string& actor, const std::function<void()>& after_commit = {});
   Database& db_;
   const Clock& clock_;
   ProbeTemperatureCache* cache_;
