@@ -1,0 +1,128 @@
+#include "model/column_check.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+namespace thermocomp {
+namespace {
+
+double Coord(const Vec3& v, char axis) {
+  return axis == 'X' ? v.x : axis == 'Y' ? v.y : v.z;
+}
+
+Vec3 Minus(const Vec3& a, const Vec3& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+
+}  // namespace
+
+Vec3 PointExpansion::At(double t) const {
+  return {beta_x * t + b_x, beta_y * t + b_y, beta_z * t + b_z};
+}
+
+StatusOr<Circle> FitCircle(const std::vector<std::pair<double, double>>& p) {
+  const int n = static_cast<int>(p.size());
+  if (n < 3) return Status::InvalidArgument("spheres: at least 3 B positions for a circle");
+  // Centre on the mean for conditioning.
+  double mx = 0, mz = 0;
+  for (const auto& [x, z] : p) mx += x / n, mz += z / n;
+  // Kasa: x^2 + z^2 + D x + E z + F = 0, linear least squares.
+  Eigen::MatrixXd a(n, 3);
+  Eigen::VectorXd rhs(n);
+  for (int i = 0; i < n; ++i) {
+    const double x = p[i].first - mx, z = p[i].second - mz;
+    a.row(i) << x, z, 1.0;
+    rhs(i) = -(x * x + z * z);
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  if (svd.singularValues()(2) < 1e-9 * svd.singularValues()(0)) {
+    return Status::InvalidArgument("spheres: the B positions are collinear, no circle");
+  }
+  Eigen::Vector3d d = svd.solve(rhs);
+  double cx = -d(0) / 2, cz = -d(1) / 2;
+  double r = std::sqrt(std::max(cx * cx + cz * cz - d(2), 0.0));
+  // Gauss-Newton on the geometric residuals d_i = |p_i - c| - r.
+  for (int iter = 0; iter < 20 && n > 3; ++iter) {
+    Eigen::MatrixXd j(n, 3);
+    Eigen::VectorXd res(n);
+    for (int i = 0; i < n; ++i) {
+      const double dx = p[i].first - mx - cx, dz = p[i].second - mz - cz;
+      const double dist = std::hypot(dx, dz);
+      res(i) = dist - r;
+      j.row(i) << -dx / dist, -dz / dist, -1.0;
+    }
+    Eigen::Vector3d step = j.colPivHouseholderQr().solve(-res);
+    cx += step(0);
+    cz += step(1);
+    r += step(2);
+    if (step.norm() < 1e-12) break;
+  }
+  Circle c{cx + mx, cz + mz, r, 0.0};
+  double ss = 0;
+  for (const auto& [x, z] : p) {
+    const double e = std::hypot(x - c.cx, z - c.cz) - c.r;
+    ss += e * e;
+  }
+  c.rms = std::sqrt(ss / n);
+  return c;
+}
+
+StatusOr<ColumnCheckResult> EvaluateColumnCheck(const Artifact& art, double t,
+                                                const std::vector<SphereProbe>& spheres,
+                                                const std::vector<SurfaceProbe>& points) {
+  ColumnCheckResult out;
+  // Sphere centres corrected for the artifact's expansion at its temperature.
+  std::vector<std::pair<double, double>> xz;
+  double y_offset = 0;
+  for (const auto& s : spheres) {
+    auto it = art.points.find(s.sphere);
+    if (it == art.points.end()) {
+      return Status::InvalidArgument("spheres: '" + s.sphere + "' is not a point of the artifact");
+    }
+    const Vec3 c = Minus(s.position, it->second.expansion.At(t));
+    xz.emplace_back(c.x, c.z);
+    y_offset += c.y - it->second.nominal.y;
+  }
+  auto circle = FitCircle(xz);
+  if (!circle.ok()) return circle.status();
+  out.machine_zero_mm = {circle->cx - art.table_centre.x, y_offset / spheres.size(),
+                         circle->cz - art.table_centre.z};
+  out.circle_radius_mm = circle->r;
+  out.circle_residual_um = circle->rms * 1000.0;
+
+  for (const auto& scheme : art.schemes) {
+    SchemeResult sr;
+    sr.scheme = scheme.id;
+    std::map<std::string, double> deviation;  // corrected measured minus nominal, mm
+    for (const auto& p : points) {
+      if (p.scheme != scheme.id) continue;
+      auto it = art.points.find(p.point);
+      if (it == art.points.end()) {
+        return Status::InvalidArgument("points: '" + p.point + "' is not a point of the artifact");
+      }
+      const Vec3 corrected = Minus(p.position, it->second.expansion.At(t));
+      deviation[p.point] = Coord(corrected, scheme.deviation_axis) -
+                           Coord(it->second.nominal, scheme.deviation_axis);
+    }
+    if (deviation.empty()) continue;
+    auto ref = deviation.find(scheme.reference_point);
+    if (ref == deviation.end()) {
+      return Status::InvalidArgument("points: scheme " + scheme.id + " lacks its reference point " +
+                                     scheme.reference_point);
+    }
+    double lo = INFINITY, hi = -INFINITY;
+    for (const auto& [id, d] : deviation) {
+      const double rel = (d - ref->second) * 1000.0;
+      sr.relative_um[id] = rel;
+      lo = std::min(lo, rel);
+      hi = std::max(hi, rel);
+    }
+    sr.straightness_um = hi - lo;
+    out.straightness.push_back(sr);
+  }
+  return out;
+}
+
+}  // namespace thermocomp
