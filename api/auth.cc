@@ -26,15 +26,18 @@ bool Permitted(const AccessToken& t, const std::string& method, const std::strin
   const bool read = method == "GET" || method == "HEAD";
   if (t.role == "reader") return read;
   if (t.role == "maintenance") {
-    // Maintenance logs what it did to a machine.
-    return read || (method == "POST" && MachineOf(path).second == "events");
+    // Maintenance logs what it did to a machine, requests and enters checks.
+    const std::string rest = MachineOf(path).second;
+    return read ||
+           (method == "POST" && (rest == "events" || rest == "column-checks" ||
+                                 rest == "column-checks/requests" || rest == "positioning-checks"));
   }
   if (t.role == "machine") {
     auto [machine, rest] = MachineOf(path);
     if (machine.empty() || machine != t.machine) return false;
-    if (read) return rest.empty() || rest == "compensation";
+    if (read) return rest.empty() || rest == "compensation" || rest == "column-checks/requests";
     return method == "POST" && (rest == "temperatures" || rest == "probe-points" ||
-                                rest == "signals" || rest == "events");
+                                rest == "signals" || rest == "events" || rest == "column-checks");
   }
   return false;
 }

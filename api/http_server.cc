@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/controller_formats.h"
+#include "api/http_util.h"
 #include "api/ingest_parsers.h"
 #include "api/json_mapping.h"
 #include "api/problem.h"
@@ -21,25 +22,6 @@ using Res = httplib::Response;
 
 constexpr const char* kBase = "/api/v1";
 thread_local std::chrono::steady_clock::time_point t_request_start;
-
-void WriteJson(Res& res, const json& body, int status = 200) {
-  res.status = status;
-  res.set_content(body.dump(), "application/json");
-}
-
-bool IsCsv(const Req& req) {
-  return req.get_header_value("Content-Type").rfind("text/csv", 0) == 0;
-}
-
-// 415 unless the body is JSON (or CSV where `csv_ok`).
-bool CheckMediaType(const Req& req, Res& res, bool csv_ok) {
-  const std::string type = req.get_header_value("Content-Type");
-  if (type.rfind("application/json", 0) == 0 || (csv_ok && IsCsv(req))) return true;
-  WriteProblem(res, 415,
-               "Content-Type must be application/json" + std::string(csv_ok ? " or text/csv" : "") +
-                   ", got '" + type + "'");
-  return false;
-}
 
 void WriteIngest(Res& res, const IngestResult& r) {
   if (!r.status.ok()) return WriteProblem(res, r.status, r.errors);
@@ -111,6 +93,7 @@ std::string HttpServer::CompensationBody(const std::string& machine,
 }
 
 void HttpServer::Routes() {
+  CheckRoutes();
   auto& s = server_;
   s.set_pre_routing_handler([this](const Req& req, Res& res) {
     t_request_start = std::chrono::steady_clock::now();

@@ -33,6 +33,7 @@ class HttpServer {
   std::string CompensationBody(const std::string& machine,
                                const std::shared_ptr<const MachineCompensation>& c);
   void Routes();
+  void CheckRoutes();  // column and positioning checks (check_routes.cc)
   std::string Actor(const httplib::Request& req) const;
   App& app_;
   Authorizer auth_;

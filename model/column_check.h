@@ -56,7 +56,7 @@ struct SurfaceProbe {
 
 struct SchemeResult {
   std::string scheme;
-  double straightness_um = 0;              // peak to valley of the relative deviations
+  double straightness_um = 0;                 // peak to valley of the relative deviations
   std::map<std::string, double> relative_um;  // per point: deviation minus the reference's
 };
 

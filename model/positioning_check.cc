@@ -17,7 +17,8 @@ MeanSd Column(const std::vector<const PositioningRun*>& runs, size_t i) {
   for (const auto* run : runs) r.mean += run->deviations_um[i];
   r.mean /= n;
   double ss = 0;
-  for (const auto* run : runs) ss += (run->deviations_um[i] - r.mean) * (run->deviations_um[i] - r.mean);
+  for (const auto* run : runs)
+    ss += (run->deviations_um[i] - r.mean) * (run->deviations_um[i] - r.mean);
   r.sd = std::sqrt(ss / (n - 1.0));
   return r;
 }

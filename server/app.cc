@@ -20,10 +20,11 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
   app->ingest_ = std::make_unique<IngestService>(d, clock, cache);
   app->fits_ = std::make_unique<FitService>(d, clock, c, cache);
   app->analyses_ = std::make_unique<AnalysisService>(d, clock, c, cache);
+  app->checks_ = std::make_unique<CheckService>(d, clock, c);
   app->compensation_ = std::make_unique<CompensationService>(d, clock, c);
   app->history_ = std::make_unique<HistoryService>(d, c, cache);
-  app->scheduler_ =
-      std::make_unique<RefitScheduler>(d, *app->fits_, clock, c, app->analyses_.get());
+  app->scheduler_ = std::make_unique<RefitScheduler>(d, *app->fits_, clock, c, app->analyses_.get(),
+                                                     app->checks_.get());
   CompensationService* compensation = app->compensation_.get();
   auto changed = [compensation](const std::string& machine) { compensation->MarkChanged(machine); };
   app->ingest_->SetListener(changed);
@@ -47,7 +48,12 @@ std::string App::ModelGauges() {
   std::lock_guard<std::mutex> lock(db_->mutex());
   ModelStore models(*db_);
   const int64_t now = clock_.NowMs();
+  std::string overdue =
+      "# HELP thermocomp_column_checks_overdue Column-check requests past their due time.\n"
+      "# TYPE thermocomp_column_checks_overdue gauge\n";
   for (const auto& m : MachineStore(*db_).List()) {
+    overdue += "thermocomp_column_checks_overdue{machine=\"" + m.name + "\"} " +
+               std::to_string(CountChecks(*db_, m.id, now).overdue) + "\n";
     for (const auto& a : m.axes) {
       if (auto rec = models.Active(a.id)) {
         out += "thermocomp_model_age_seconds{machine=\"" + m.name + "\",axis=\"" + a.name + "\"} " +
@@ -55,7 +61,7 @@ std::string App::ModelGauges() {
       }
     }
   }
-  return out;
+  return out + overdue;
 }
 
 }  // namespace thermocomp

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "server/analysis_service.h"
+#include "server/check_service.h"
 #include "server/clock.h"
 #include "server/compensation_service.h"
 #include "server/config.h"
@@ -31,6 +32,7 @@ class App {
   IngestService& ingest() { return *ingest_; }
   FitService& fits() { return *fits_; }
   AnalysisService& analyses() { return *analyses_; }
+  CheckService& checks() { return *checks_; }
   CompensationService& compensation() { return *compensation_; }
   HistoryService& history() { return *history_; }
   RefitScheduler& scheduler() { return *scheduler_; }
@@ -47,6 +49,7 @@ class App {
   std::unique_ptr<IngestService> ingest_;
   std::unique_ptr<FitService> fits_;
   std::unique_ptr<AnalysisService> analyses_;
+  std::unique_ptr<CheckService> checks_;
   std::unique_ptr<CompensationService> compensation_;
   std::unique_ptr<HistoryService> history_;
   std::unique_ptr<RefitScheduler> scheduler_;

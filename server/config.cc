@@ -60,6 +60,13 @@ StatusOr<Config> LoadConfig(const std::string& path) {
       t["fit"]["min_observations_per_term"].value_or(c.acceptance.min_observations_per_term);
   if (auto v = t["fit"]["min_validation_r2"].value<double>()) c.acceptance.min_validation_r2 = *v;
   c.log_level = t["log"]["level"].value_or(c.log_level);
+  c.check_every_days = t["checks"]["every_days"].value_or(c.check_every_days);
+  c.check_due_after_h = t["checks"]["due_after_h"].value_or(c.check_due_after_h);
+  c.zero_tolerance_um = t["checks"]["zero_tolerance_um"].value_or(c.zero_tolerance_um);
+  if (c.check_every_days < 0 || c.check_due_after_h < 1 || !(c.zero_tolerance_um > 0)) {
+    return Status::InvalidArgument(
+        "checks: every_days >= 0, due_after_h >= 1 and zero_tolerance_um > 0");
+  }
   c.analysis_policy = t["analysis"]["policy"].value_or(c.analysis_policy);
   if (c.analysis_policy != "off" && c.analysis_policy != "propose" &&
       c.analysis_policy != "activate") {

@@ -51,6 +51,12 @@ struct Config {
   // extended model as a candidate) or "activate" (serve it when it passes)
   std::string analysis_policy = "propose";
   EffectSearchOptions analysis;
+  // [checks] column checks: a request per machine every `weekly_days`
+  // (0: off), due `due_after_h` later; a machine-zero change beyond the
+  // tolerance between checks is logged as an event.
+  int check_every_days = 7;
+  int check_due_after_h = 24;
+  double zero_tolerance_um = 10.0;
   // [log]
   std::string log_level = "info";
   // [dds]

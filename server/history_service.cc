@@ -1,5 +1,7 @@
 #include "server/history_service.h"
 
+#include "storage/check_store.h"
+
 #include "model/drift_model.h"
 #include "model/thinning.h"
 #include "server/drift_dataset.h"
@@ -101,6 +103,17 @@ StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
                         {"served_offset_source", served_source},
                         {"served_offset_total", served.size()},
                         {"served_offset", Series(served_ts, served, q.max_points)}};
+  // The machine-zero trend from column checks (methods.md §3): the check
+  // sees the drift when it runs, the model covers the time between.
+  nlohmann::json zero = nlohmann::json::array();
+  for (const auto& c : CheckStore(db_).ColumnChecks(machine->id)) {
+    if (c.ts_ms < q.from_ms || c.ts_ms > q.to_ms) continue;
+    zero.push_back({{"ts", FormatRfc3339(c.ts_ms)},
+                    {"X_mm", c.zero_x_mm},
+                    {"Y_mm", c.zero_y_mm},
+                    {"Z_mm", c.zero_z_mm}});
+  }
+  out["machine_zero"] = zero;
   return out;
 }
 

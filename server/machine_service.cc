@@ -1,5 +1,7 @@
 #include "server/machine_service.h"
 
+#include "server/check_service.h"
+
 #include <cmath>
 #include <set>
 
@@ -98,11 +100,12 @@ nlohmann::json MachineService::Summary(const MachineRecord& m) {
     auto rec = models.Active(a.id);
     active[a.name] = rec ? nlohmann::json(rec->version) : nullptr;
   }
+  const CheckCounts checks = CountChecks(db_, m.id, clock_.NowMs());
   return {{"samples", samples.CountForMachine(m.id)},
           {"probe_points", ProbeStore(db_).CountPoints(m.id)},
           {"last_sample_ts", last ? nlohmann::json(FormatRfc3339(*last)) : nullptr},
           {"active_models", active},
-          {"checks", {{"pending", 0}, {"overdue", 0}}}};
+          {"checks", {{"pending", checks.pending}, {"overdue", checks.overdue}}}};
 }
 
 }  // namespace thermocomp

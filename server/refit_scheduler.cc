@@ -14,6 +14,11 @@ int64_t RefitScheduler::LastDailySlot(int64_t now_ms) const {
 }
 
 int RefitScheduler::Tick() {
+  if (checks_) {
+    if (int made = checks_->EnsurePeriodicRequests(); made > 0) {
+      log::Info("column checks requested", "machines=" + std::to_string(made));
+    }
+  }
   struct Due {
     std::string machine, axis, why;
   };

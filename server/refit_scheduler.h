@@ -2,6 +2,7 @@
 // arrived since its last fit and: the axis has no model yet, or
 // `refit_after_new_runs` runs arrived, or `refit_interval_min` passed, or
 // the daily time `fit.daily_at` (UTC) passed since the last fit.
+// Each pass also makes the weekly column-check requests (checks.every_days).
 // After each scheduled fit the effect analysis runs on the axis (unless
 // analysis.policy is "off"), so an extended model is proposed or served.
 // Tick() does one pass; Start() runs Tick() every `period` on a thread.
@@ -14,6 +15,7 @@
 #include <thread>
 
 #include "server/analysis_service.h"
+#include "server/check_service.h"
 #include "server/clock.h"
 #include "server/config.h"
 #include "server/fit_service.h"
@@ -24,8 +26,13 @@ namespace thermocomp {
 class RefitScheduler {
  public:
   RefitScheduler(Database& db, FitService& fits, const Clock& clock, const Config& config,
-                 AnalysisService* analyses = nullptr)
-      : db_(db), fits_(fits), clock_(clock), config_(config), analyses_(analyses) {}
+                 AnalysisService* analyses = nullptr, CheckService* checks = nullptr)
+      : db_(db),
+        fits_(fits),
+        clock_(clock),
+        config_(config),
+        analyses_(analyses),
+        checks_(checks) {}
   ~RefitScheduler() { Stop(); }
 
   // One pass; returns the number of fits run.
@@ -41,6 +48,7 @@ class RefitScheduler {
   const Clock& clock_;
   const Config& config_;
   AnalysisService* analyses_;
+  CheckService* checks_;
   std::thread thread_;
   std::mutex mutex_;
   std::condition_variable wake_;

@@ -49,9 +49,9 @@ TEST(Iso230_2, HandComputedVector) {
   EXPECT_DOUBLE_EQ(r.E_down_um, 2.0);
   EXPECT_DOUBLE_EQ(r.E_um, 4.0);
   EXPECT_DOUBLE_EQ(r.M_um, 0.5);
-  EXPECT_NEAR(r.A_up_um, 3 + 2 * kR2, 1e-12);      // (2 + 2s) - (-1)
-  EXPECT_NEAR(r.A_down_um, 2 + 4 * kR2, 1e-12);    // (3 + 2s) - (1 - 2s)
-  EXPECT_NEAR(r.A_um, 2 + 4 * kR2, 1e-12);         // the same extremes over both
+  EXPECT_NEAR(r.A_up_um, 3 + 2 * kR2, 1e-12);    // (2 + 2s) - (-1)
+  EXPECT_NEAR(r.A_down_um, 2 + 4 * kR2, 1e-12);  // (3 + 2s) - (1 - 2s)
+  EXPECT_NEAR(r.A_um, 2 + 4 * kR2, 1e-12);       // the same extremes over both
   // VDI 3441: Pa = M, U = down - up: -1 and 4, Ps = 6 (s_up + s_down) / 2.
   EXPECT_DOUBLE_EQ(e->vdi.Pa_um, 0.5);
   EXPECT_DOUBLE_EQ(e->vdi.U_max_um, 4.0);
@@ -157,12 +157,22 @@ TEST(Iso230_2, AgreesWithAnIndependentImplementationOnRandomAxes) {
     ASSERT_TRUE(e.ok());
     Reference ref = ReferenceIso(d);
     const Iso230Result& r = e->iso;
-    for (auto [got, want] : {std::pair{r.A_um, ref.A}, {r.A_up_um, ref.Aup}, {r.A_down_um, ref.Adn},
-                             {r.E_um, ref.E}, {r.E_up_um, ref.Eup}, {r.E_down_um, ref.Edn},
-                             {r.M_um, ref.M}, {r.R_um, ref.R}, {r.R_up_um, ref.Rup},
-                             {r.R_down_um, ref.Rdn}, {r.B_um, ref.B}, {r.B_mean_um, ref.Bmean},
-                             {e->vdi.P_um, ref.P}, {e->vdi.Ps_max_um, ref.Ps},
-                             {e->vdi.U_max_um, ref.Umax}, {e->vdi.U_mean_um, ref.Umean}}) {
+    for (auto [got, want] : {std::pair{r.A_um, ref.A},
+                             {r.A_up_um, ref.Aup},
+                             {r.A_down_um, ref.Adn},
+                             {r.E_um, ref.E},
+                             {r.E_up_um, ref.Eup},
+                             {r.E_down_um, ref.Edn},
+                             {r.M_um, ref.M},
+                             {r.R_um, ref.R},
+                             {r.R_up_um, ref.Rup},
+                             {r.R_down_um, ref.Rdn},
+                             {r.B_um, ref.B},
+                             {r.B_mean_um, ref.Bmean},
+                             {e->vdi.P_um, ref.P},
+                             {e->vdi.Ps_max_um, ref.Ps},
+                             {e->vdi.U_max_um, ref.Umax},
+                             {e->vdi.U_mean_um, ref.Umean}}) {
       EXPECT_NEAR(got, want, 1e-9) << "trial " << trial;
     }
   }

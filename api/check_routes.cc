@@ -1,0 +1,153 @@
+// Routes of column checks (artifacts, requests, results) and positioning
+// checks (evaluation, reports, pitch tables): parse, call CheckService, map.
+#include "api/http_server.h"  // first: Eigen before httplib.h
+
+#include "api/check_reports.h"
+#include "api/http_util.h"
+#include "api/ingest_parsers.h"
+#include "server/time_format.h"
+
+namespace thermocomp::api {
+namespace {
+
+using nlohmann::json;
+using Req = httplib::Request;
+using Res = httplib::Response;
+
+// The body as a JSON object, or a 400 written and nullopt.
+std::optional<json> JsonBody(const Req& req, Res& res) {
+  if (!CheckMediaType(req, res, false)) return std::nullopt;
+  json body = json::parse(req.body, nullptr, false);
+  if (body.is_discarded() || !body.is_object()) {
+    WriteProblem(res, 400, "malformed JSON", {{0, "body", "must be a JSON object"}});
+    return std::nullopt;
+  }
+  return body;
+}
+
+}  // namespace
+
+void HttpServer::CheckRoutes() {
+  httplib::Server& s = server_;
+  const std::string m = "/api/v1/machines/([A-Za-z0-9_.-]{1,64})";
+
+  s.Put("/api/v1/artifacts/([A-Za-z0-9_.-]{1,64})", [this](const Req& req, Res& res) {
+    auto body = JsonBody(req, res);
+    if (!body) return;
+    std::vector<FieldError> errors;
+    auto created = app_.checks().PutArtifact(req.matches[1], *body, Actor(req), &errors);
+    if (!created.ok()) return WriteProblem(res, created.status(), errors);
+    WriteJson(res, {{"artifact", req.matches[1].str()}, {"points", (*body)["points"].size()}},
+              *created ? 201 : 200);
+  });
+
+  s.Post(m + "/column-checks/requests", [this](const Req& req, Res& res) {
+    auto body = JsonBody(req, res);
+    if (!body) return;
+    std::vector<FieldError> errors;
+    const std::string reason = body->value("reason", "");
+    if (reason.empty() || reason.size() > 1000) {
+      errors.push_back({0, "reason", "required string of up to 1000 characters"});
+    }
+    std::optional<int64_t> due;
+    if (body->contains("due")) {
+      const json& d = (*body)["due"];
+      due = d.is_number_integer() ? std::optional(d.get<int64_t>())
+            : d.is_string()       ? ParseTs(d.get<std::string>())
+                                  : std::nullopt;
+      if (!due) errors.push_back({0, "due", "must be RFC 3339 UTC or integer Unix milliseconds"});
+    }
+    if (!errors.empty()) return WriteProblem(res, 400, "invalid check request", errors);
+    const int64_t due_ms =
+        due.value_or(app_.clock().NowMs() + int64_t{app_.config().check_due_after_h} * 3600000);
+    auto id = app_.checks().RequestCheck(req.matches[1], reason, due_ms, Actor(req));
+    if (!id.ok()) return WriteProblem(res, id.status());
+    WriteJson(res, {{"id", *id}, {"state", "pending"}, {"due", FormatRfc3339(due_ms)}}, 201);
+  });
+  s.Get(m + "/column-checks/requests", [this](const Req& req, Res& res) {
+    const std::string state = req.get_param_value("state");
+    if (!state.empty() && state != "pending" && state != "overdue" && state != "done") {
+      return WriteProblem(res, 400, "state: must be pending, overdue or done",
+                          {{0, "state", "unknown state '" + state + "'"}});
+    }
+    auto list = app_.checks().Requests(req.matches[1], state);
+    if (!list.ok()) return WriteProblem(res, list.status());
+    json out = json::array();
+    for (const auto& r : *list) out.push_back(RequestToJson(r));
+    WriteJson(res, {{"requests", out}});
+  });
+
+  s.Post(m + "/column-checks", [this](const Req& req, Res& res) {
+    auto body = JsonBody(req, res);
+    if (!body) return;
+    std::vector<FieldError> errors;
+    auto input = ColumnCheckFromJson(*body, errors);
+    if (!input) return WriteProblem(res, 400, "invalid column check", errors);
+    bool created = false;
+    auto result = app_.checks().AddColumnCheck(req.matches[1], *input, Actor(req), &created);
+    if (!result.ok()) return WriteProblem(res, result.status());
+    WriteJson(res, *result, created ? 201 : 200);
+  });
+  s.Get(m + "/column-checks", [this](const Req& req, Res& res) {
+    auto history = app_.checks().ColumnChecks(req.matches[1]);
+    if (!history.ok()) return WriteProblem(res, history.status());
+    WriteJson(res, *history);
+  });
+
+  s.Post(m + "/positioning-checks", [this](const Req& req, Res& res) {
+    if (!CheckMediaType(req, res, true)) return;
+    std::vector<FieldError> errors;
+    std::optional<PositioningInput> input;
+    if (IsCsv(req)) {
+      // Laser-software export; what the CSV does not carry comes as parameters.
+      input.emplace();
+      input->axis = req.get_param_value("axis");
+      if (input->axis.empty()) errors.push_back({0, "axis", "query parameter axis required"});
+      auto ts = ParseTs(req.get_param_value("ts"));
+      if (!ts) errors.push_back({0, "ts", "query parameter ts required (RFC 3339 or Unix ms)"});
+      input->ts_ms = ts.value_or(0);
+      input->compensation_active = req.get_param_value("compensation_active") == "true";
+      PositioningFromCsv(req.body, input->data, errors);
+    } else {
+      json body = json::parse(req.body, nullptr, false);
+      if (body.is_discarded())
+        errors.push_back({0, "body", "malformed JSON"});
+      else
+        input = PositioningFromJson(body, errors);
+    }
+    if (!errors.empty() || !input)
+      return WriteProblem(res, 400, "invalid positioning check", errors);
+    if (Status v = ValidatePositioning(input->data); !v.ok()) {
+      const std::string msg = v.message();
+      return WriteProblem(res, 422, msg, {{0, msg.substr(0, msg.find(':')), msg}});
+    }
+    bool created = false;
+    auto result = app_.checks().AddPositioningCheck(req.matches[1], *input, Actor(req), &created);
+    if (!result.ok()) return WriteProblem(res, result.status());
+    WriteJson(res, *result, created ? 201 : 200);
+  });
+  s.Get(m + "/positioning-checks/([0-9]{1,18})", [this](const Req& req, Res& res) {
+    auto report = app_.checks().PositioningCheck(req.matches[1], std::stoll(req.matches[2]));
+    if (!report.ok()) return WriteProblem(res, report.status());
+    const std::string format = req.get_param_value("format");
+    if (format.empty() || format == "json") return WriteJson(res, *report);
+    if (format == "markdown") return res.set_content(PositioningMarkdown(*report), "text/markdown");
+    if (format == "html") return res.set_content(PositioningHtml(*report), "text/html");
+    WriteProblem(res, 400, "format: must be json, markdown or html",
+                 {{0, "format", "unknown format '" + format + "'"}});
+  });
+  s.Get(m + "/positioning-checks/([0-9]{1,18})/pitch-table", [this](const Req& req, Res& res) {
+    std::string axis;
+    auto table = app_.checks().PitchTableOf(req.matches[1], std::stoll(req.matches[2]), &axis);
+    if (!table.ok()) return WriteProblem(res, table.status());
+    const std::string format = req.has_param("format") ? req.get_param_value("format") : "csv";
+    auto text =
+        RenderPitchTable(*table, axis, format, req.get_param_value("per_direction") == "true");
+    if (!text.ok()) {
+      return WriteProblem(res, text.status(), {{0, "format", text.status().message()}});
+    }
+    res.set_content(*text, format == "csv" ? "text/csv" : "text/plain");
+  });
+}
+
+}  // namespace thermocomp::api

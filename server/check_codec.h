@@ -1,0 +1,53 @@
+// JSON (and the laser-software CSV) of column and positioning checks into
+// the model's inputs, and their evaluations back to JSON. Syntax and types
+// only; content rules are CheckService's.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "model/column_check.h"
+#include "model/positioning_check.h"
+#include "server/ingest_service.h"
+
+namespace thermocomp {
+
+struct ColumnCheckInput {
+  std::optional<int64_t> request_id;
+  int64_t ts_ms = 0;
+  std::string artifact;
+  double temperature_c = 20.0;
+  std::vector<SphereProbe> spheres;
+  std::vector<SurfaceProbe> points;
+};
+
+struct PositioningInput {
+  std::string axis;
+  int64_t ts_ms = 0;
+  PositioningData data;
+  bool compensation_active = false;
+  UncertaintyInputs uncertainty;
+  std::optional<double> machine_temperature_c, air_temperature_c;
+  std::string note;
+};
+
+// PUT /artifacts/{a} body: {"points": [{"id", "nominal": {x,y,z},
+// "expansion": {"x": {"beta_mm_per_c", "b_mm"}, ...}}], "schemes": [{"id",
+// "travel_axis", "deviation_axis", "reference_point"}], "table_centre": {x,y,z}}.
+std::optional<Artifact> ArtifactFromJson(const nlohmann::json& j, std::vector<FieldError>& errors);
+std::optional<ColumnCheckInput> ColumnCheckFromJson(const nlohmann::json& j,
+                                                    std::vector<FieldError>& errors);
+std::optional<PositioningInput> PositioningFromJson(const nlohmann::json& j,
+                                                    std::vector<FieldError>& errors);
+// "target_mm,run,direction,deviation_um", direction + or -; runs in the order
+// they first appear, targets sorted. Axis, time and the rest come separately.
+bool PositioningFromCsv(const std::string& body, PositioningData& out,
+                        std::vector<FieldError>& errors);
+nlohmann::json PositioningInputToJson(const PositioningInput& in);
+nlohmann::json EvaluationToJson(const PositioningEvaluation& e);
+nlohmann::json ColumnResultToJson(const ColumnCheckResult& r);
+
+}  // namespace thermocomp

@@ -1,0 +1,64 @@
+// CheckStore: reference artifacts, column-check requests and results, and
+// positioning checks. Callers wrap writes in a Transaction.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "storage/database.h"
+
+namespace thermocomp {
+
+struct CheckRequestRecord {
+  int64_t id = 0;
+  std::string reason;
+  int64_t created_ms = 0, due_ms = 0;
+  bool automatic = false;
+  std::optional<int64_t> done_ms = {}, check_id = {};
+};
+
+struct ColumnCheckRecord {
+  int64_t id = 0;
+  std::optional<int64_t> request_id;
+  int64_t ts_ms = 0;
+  std::string artifact;
+  double temperature_c = 0;
+  double zero_x_mm = 0, zero_y_mm = 0, zero_z_mm = 0;
+  std::string result_json;
+};
+
+struct PositioningCheckRecord {
+  int64_t id = 0;
+  std::string axis;
+  int64_t ts_ms = 0;
+  std::string input_json, result_json;
+};
+
+class CheckStore {
+ public:
+  explicit CheckStore(Database& db) : db_(db) {}
+
+  Status PutArtifact(const std::string& name, const std::string& json, int64_t now_ms);
+  std::optional<std::string> Artifact(const std::string& name);
+
+  StatusOr<int64_t> InsertRequest(int64_t machine_id, const CheckRequestRecord& r);
+  std::vector<CheckRequestRecord> Requests(int64_t machine_id);  // newest first
+  std::optional<CheckRequestRecord> Request(int64_t machine_id, int64_t id);
+  Status CloseRequest(int64_t id, int64_t done_ms, int64_t check_id);
+  // Newest request or check time of the machine, for the weekly request.
+  std::optional<int64_t> LatestRequestOrCheck(int64_t machine_id);
+
+  StatusOr<int64_t> InsertColumnCheck(int64_t machine_id, const ColumnCheckRecord& r);
+  std::vector<ColumnCheckRecord> ColumnChecks(int64_t machine_id);  // oldest first
+  std::optional<ColumnCheckRecord> LatestColumnCheck(int64_t machine_id);
+  std::optional<ColumnCheckRecord> ColumnCheckAt(int64_t machine_id, int64_t ts_ms);
+
+  StatusOr<int64_t> InsertPositioningCheck(int64_t machine_id, const PositioningCheckRecord& r);
+  std::optional<PositioningCheckRecord> PositioningCheck(int64_t machine_id, int64_t id);
+
+ private:
+  Database& db_;
+};
+
+}  // namespace thermocomp

@@ -1,0 +1,267 @@
+// Column and positioning checks over real HTTP on a real SQLite file:
+// request -> result -> request closed, overdue with an injected clock,
+// weekly requests, machine-zero change as an event, ISO 230-2 results,
+// reports and pitch tables, and malformed checks refused with nothing stored.
+#include "tests/app_fixture.h"  // first: Eigen before httplib.h (see api/http_server.h)
+
+#include <cmath>
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+namespace thermocomp {
+namespace {
+
+using nlohmann::json;
+
+class CheckHttpTest : public testing::AppFixture {
+ protected:
+  void SetUp() override {
+    AppFixture::SetUp();
+    StartHttp();
+    client_ = std::make_unique<httplib::Client>("127.0.0.1", http_->port());
+    std::vector<FieldError> errors;
+    ASSERT_TRUE(app_->machines().Register(VirtualMachine::Definition("m1"), "test", &errors).ok());
+  }
+  httplib::Result Post(const std::string& path, const json& body) {
+    return client_->Post(path.c_str(), body.dump(), "application/json");
+  }
+  json Get(const std::string& path, int expect = 200) {
+    auto r = client_->Get(path.c_str());
+    EXPECT_TRUE(r);
+    if (!r) return {};
+    EXPECT_EQ(r->status, expect) << path << " " << r->body;
+    return json::parse(r->body, nullptr, false);
+  }
+  void PutArtifact() {
+    json art = {{"points",
+                 {{{"id", "KD"},
+                   {"nominal", {{"x", 0.0}, {"y", 500.0}, {"z", 0.0}}},
+                   {"expansion", {{"y", {{"beta_mm_per_c", 0.0069}, {"b_mm", -0.1371}}}}}},
+                  {{"id", "P1"}, {"nominal", {{"x", 100.0}, {"y", 400.0}, {"z", 0.0}}}},
+                  {{"id", "P2"}, {"nominal", {{"x", 100.0}, {"y", 600.0}, {"z", 0.0}}}}}},
+                {"schemes",
+                 {{{"id", "a"},
+                   {"travel_axis", "Y"},
+                   {"deviation_axis", "X"},
+                   {"reference_point", "P1"}}}}};
+    auto r = client_->Put("/api/v1/artifacts/col-1", art.dump(), "application/json");
+    ASSERT_EQ(r->status, 201) << r->body;
+  }
+  // A column check whose spheres sit on a circle about (dx, dz) with the
+  // artifact at 21.3 degC (KD's Y expansion 0.00987 mm) and Y shifted by dy.
+  json ColumnCheck(const std::string& ts, double dx, double dy, double dz) {
+    const double y = 500.0 + 0.00987 + dy;
+    return {{"ts", ts},
+            {"artifact", "col-1"},
+            {"artifact_temperature_c", 21.3},
+            {"spheres",
+             {{{"sphere", "KD"}, {"b_deg", 0}, {"x", 250.0 + dx}, {"y", y}, {"z", dz}},
+              {{"sphere", "KD"}, {"b_deg", 90}, {"x", dx}, {"y", y}, {"z", 250.0 + dz}},
+              {{"sphere", "KD"}, {"b_deg", 180}, {"x", -250.0 + dx}, {"y", y}, {"z", dz}}}},
+            {"points",
+             {{{"id", "P1"}, {"scheme", "a"}, {"x", 100.002}, {"y", 400.0}, {"z", 0.0}},
+              {{"id", "P2"}, {"scheme", "a"}, {"x", 100.007}, {"y", 600.0}, {"z", 0.0}}}}};
+  }
+  json Positioning() {
+    return {{"axis", "Y"},
+            {"ts", "2026-03-10T08:00:00Z"},
+            {"targets_mm", {0, 1000}},
+            {"runs",
+             {{{"direction", "+"}, {"deviations_um", {1.0, -1.0}}},
+              {{"direction", "-"}, {"deviations_um", {0.0, 2.0}}},
+              {{"direction", "+"}, {"deviations_um", {3.0, -1.0}}},
+              {{"direction", "-"}, {"deviations_um", {2.0, 4.0}}}}},
+            {"compensation_active", false},
+            {"uncertainty",
+             {{"device_um_per_m", 0.5},
+              {"misalignment_mm", 2},
+              {"alpha_um_per_m_c", 11.7},
+              {"temperature_range_c", 0.35},
+              {"delta_t_c", 3},
+              {"alpha_range_um_per_m_c", 1},
+              {"e_ve_um", 2}}}};
+  }
+  std::unique_ptr<httplib::Client> client_;
+};
+
+TEST_F(CheckHttpTest, RequestThenResultClosesTheRequest) {
+  PutArtifact();
+  auto r = Post("/api/v1/machines/m1/column-checks/requests",
+                {{"reason", "after collision"}, {"due", "2026-03-17T00:00:00Z"}});
+  ASSERT_EQ(r->status, 201) << r->body;
+  const int64_t id = json::parse(r->body)["id"];
+  json pending = Get("/api/v1/machines/m1/column-checks/requests?state=pending");
+  ASSERT_EQ(pending["requests"].size(), 1u);
+  EXPECT_EQ(pending["requests"][0]["reason"], "after collision");
+  EXPECT_EQ(Get("/api/v1/machines/m1")["checks"]["pending"], 1);
+
+  r = Post("/api/v1/machines/m1/column-checks",
+           ColumnCheck("2026-03-16T06:00:00Z", 0.003, 0.004, -0.002));
+  ASSERT_EQ(r->status, 201) << r->body;
+  json result = json::parse(r->body);
+  EXPECT_EQ(result["request_id"], id);
+  EXPECT_NEAR(result["machine_zero_mm"]["X"].get<double>(), 0.003, 1e-9);
+  EXPECT_NEAR(result["machine_zero_mm"]["Y"].get<double>(), 0.004, 1e-9);
+  EXPECT_NEAR(result["machine_zero_mm"]["Z"].get<double>(), -0.002, 1e-9);
+  EXPECT_NEAR(result["straightness_um"]["a"].get<double>(), 5.0, 1e-6);
+  json done = Get("/api/v1/machines/m1/column-checks/requests?state=done");
+  ASSERT_EQ(done["requests"].size(), 1u);
+  EXPECT_EQ(done["requests"][0]["check_id"], result["id"]);
+  EXPECT_EQ(Get("/api/v1/machines/m1")["checks"]["pending"], 0);
+  // The same check again is not stored twice.
+  r = Post("/api/v1/machines/m1/column-checks",
+           ColumnCheck("2026-03-16T06:00:00Z", 0.003, 0.004, -0.002));
+  EXPECT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM column_checks"), 1);
+}
+
+TEST_F(CheckHttpTest, UnansweredRequestBecomesOverdueOnTheClock) {
+  const int64_t now = clock_.NowMs();
+  auto r = Post("/api/v1/machines/m1/column-checks/requests",
+                {{"reason", "weekly"}, {"due", now + 3600000}});
+  ASSERT_EQ(r->status, 201);
+  EXPECT_TRUE(Get("/api/v1/machines/m1/column-checks/requests?state=overdue")["requests"].empty());
+  clock_.Advance(2 * 3600000);
+  EXPECT_EQ(Get("/api/v1/machines/m1/column-checks/requests?state=overdue")["requests"].size(), 1u);
+  EXPECT_EQ(Get("/api/v1/machines/m1")["checks"]["overdue"], 1);
+  auto metrics = client_->Get("/metrics");
+  EXPECT_NE(metrics->body.find("thermocomp_column_checks_overdue{machine=\"m1\"} 1"),
+            std::string::npos);
+  Get("/api/v1/machines/m1/column-checks/requests?state=late", 400);
+}
+
+TEST_F(CheckHttpTest, EveryMachineGetsAWeeklyRequest) {
+  EXPECT_EQ(app_->checks().EnsurePeriodicRequests(), 1);
+  EXPECT_EQ(app_->checks().EnsurePeriodicRequests(), 0);
+  clock_.Advance(6 * 86400000LL);
+  EXPECT_EQ(app_->checks().EnsurePeriodicRequests(), 0);
+  clock_.Advance(86400000LL + 1);
+  EXPECT_EQ(app_->checks().EnsurePeriodicRequests(), 1);
+  json all = Get("/api/v1/machines/m1/column-checks/requests");
+  ASSERT_EQ(all["requests"].size(), 2u);
+  EXPECT_TRUE(all["requests"][0]["automatic"].get<bool>());
+}
+
+TEST_F(CheckHttpTest, MachineZeroMovingBeyondToleranceIsAnEventAndInTheHistory) {
+  PutArtifact();
+  ASSERT_EQ(Post("/api/v1/machines/m1/column-checks", ColumnCheck("2026-03-09T06:00:00Z", 0, 0, 0))
+                ->status,
+            201);
+  ASSERT_EQ(
+      Post("/api/v1/machines/m1/column-checks", ColumnCheck("2026-03-16T06:00:00Z", 0, 0.004, 0))
+          ->status,
+      201);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM events WHERE kind = 'column_check'"), 0);  // 4 um < 10 um
+  auto r =
+      Post("/api/v1/machines/m1/column-checks", ColumnCheck("2026-03-23T06:00:00Z", 0, 0.030, 0));
+  ASSERT_EQ(r->status, 201);
+  json third = json::parse(r->body);
+  EXPECT_TRUE(third["beyond_tolerance"].get<bool>());
+  EXPECT_NEAR(third["zero_change_um"]["Y"].get<double>(), 26.0, 1e-6);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM events WHERE kind = 'column_check'"), 1);
+  json history = Get("/api/v1/machines/m1/column-checks");
+  ASSERT_EQ(history["checks"].size(), 3u);
+  EXPECT_NEAR(history["machine_zero_trend"]["range_um"]["Y"].get<double>(), 30.0, 1e-6);
+  EXPECT_NEAR(history["machine_zero_trend"]["Y_um_per_week"].get<double>(), 15.0, 1e-6);
+  json drift =
+      Get("/api/v1/machines/m1/drift?axis=Y&from=2026-03-01T00:00:00Z&to=2026-04-01T00:00:00Z");
+  EXPECT_EQ(drift["machine_zero"].size(), 3u);
+}
+
+TEST_F(CheckHttpTest, PositioningCheckIsEvaluatedReportedAndTurnedIntoPitchTables) {
+  auto r = Post("/api/v1/machines/m1/positioning-checks", Positioning());
+  ASSERT_EQ(r->status, 201) << r->body;
+  json e = json::parse(r->body);
+  const double s2 = std::sqrt(2.0);
+  EXPECT_NEAR(e["iso230_2"]["A_um"].get<double>(), 2 + 4 * s2, 1e-9);
+  EXPECT_NEAR(e["iso230_2"]["R_um"].get<double>(), 2 * s2 + 4, 1e-9);
+  EXPECT_EQ(e["iso230_2"]["B_um"], 4.0);
+  EXPECT_NEAR(e["vdi3441"]["P_um"].get<double>(), 1 + 6 * s2, 1e-9);
+  EXPECT_NEAR(e["uncertainty_um"]["R_up_down"].get<double>(), 2.4, 1e-9);
+  const std::string base = "/api/v1/machines/m1/positioning-checks/" + e["id"].dump();
+  EXPECT_EQ(Get(base), e);
+  auto html = client_->Get((base + "?format=html").c_str());
+  EXPECT_NE(html->body.find("<polyline"), std::string::npos);
+  auto md = client_->Get((base + "?format=markdown").c_str());
+  EXPECT_NE(md->body.find("VDI/DGQ 3441"), std::string::npos);
+
+  auto lcnc = client_->Get((base + "/pitch-table?format=linuxcnc&per_direction=true").c_str());
+  ASSERT_EQ(lcnc->status, 200);
+  // Target 0: actual forward = 0 + 2 um, backward = 0 + 1 um.
+  EXPECT_NE(lcnc->body.find("0.000000 0.002000 0.001000"), std::string::npos) << lcnc->body;
+  auto sin = client_->Get((base + "/pitch-table?format=sinumerik").c_str());
+  EXPECT_NE(sin->body.find("$AA_ENC_COMP[0,0,Y1]=-0.001500"), std::string::npos) << sin->body;
+  EXPECT_NE(sin->body.find("$MA_BACKLASH[0,Y1]=-0.001500"), std::string::npos);
+  auto beck = client_->Get((base + "/pitch-table?format=beckhoff&per_direction=true").c_str());
+  EXPECT_NE(beck->body.find("kw.ssfk.table[1].pos 10"), std::string::npos) << beck->body;
+  EXPECT_EQ(client_->Get((base + "/pitch-table?format=fanuc").c_str())->status, 400);
+
+  // The laser software's CSV gives the same evaluation.
+  std::string csv = "target_mm,run,direction,deviation_um\n";
+  const char* rows[] = {"0,1,+,1", "1000,1,+,-1", "1000,2,-,2", "0,2,-,0",
+                        "0,3,+,3", "1000,3,+,-1", "1000,4,-,4", "0,4,-,2"};
+  for (const char* row : rows) csv += std::string(row) + "\n";
+  auto c = client_->Post("/api/v1/machines/m1/positioning-checks?axis=Y&ts=2026-03-11T08:00:00Z",
+                         csv, "text/csv");
+  ASSERT_EQ(c->status, 201) << c->body;
+  json ce = json::parse(c->body);
+  EXPECT_EQ(ce["iso230_2"]["A_um"], e["iso230_2"]["A_um"]);
+  EXPECT_EQ(ce["vdi3441"], e["vdi3441"]);
+}
+
+TEST_F(CheckHttpTest, MalformedChecksAreRefusedAndStoreNothing) {
+  PutArtifact();
+  auto expect = [&](const json& body, int status, const std::string& field) {
+    auto r = Post("/api/v1/machines/m1/positioning-checks", body);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, status) << body.dump() << " " << r->body;
+    EXPECT_EQ(r->get_header_value("Content-Type"), "application/problem+json");
+    json p = json::parse(r->body);
+    ASSERT_FALSE(p["errors"].empty()) << r->body;
+    EXPECT_EQ(p["errors"][0]["field"].get<std::string>().rfind(field, 0), 0u) << r->body;
+  };
+  json b = Positioning();
+  b.erase("runs");
+  expect(b, 400, "runs");
+  b = Positioning();
+  b["runs"][1]["deviations_um"] = {0.0};
+  expect(b, 422, "runs[1].deviations_um");
+  b = Positioning();
+  b["targets_mm"] = {1000, 0};
+  expect(b, 422, "targets_mm");
+  b = Positioning();
+  b["runs"].erase(3);
+  expect(b, 422, "runs");
+  b = Positioning();
+  b["runs"][0]["direction"] = "up";
+  expect(b, 400, "runs.direction");
+  b = Positioning();
+  b["axis"] = "Q";
+  auto r = Post("/api/v1/machines/m1/positioning-checks", b);
+  EXPECT_EQ(r->status, 404);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM positioning_checks"), 0);
+
+  json cc = ColumnCheck("2026-03-16T06:00:00Z", 0, 0, 0);
+  cc["artifact"] = "nope";
+  EXPECT_EQ(Post("/api/v1/machines/m1/column-checks", cc)->status, 422);
+  cc = ColumnCheck("2026-03-16T06:00:00Z", 0, 0, 0);
+  cc["request_id"] = 99;
+  EXPECT_EQ(Post("/api/v1/machines/m1/column-checks", cc)->status, 422);
+  cc = ColumnCheck("2026-03-16T06:00:00Z", 0, 0, 0);
+  cc["spheres"].erase(2);
+  EXPECT_EQ(Post("/api/v1/machines/m1/column-checks", cc)->status, 422);
+  cc.erase("spheres");
+  EXPECT_EQ(Post("/api/v1/machines/m1/column-checks", cc)->status, 400);
+  EXPECT_EQ(
+      Post("/api/v1/machines/nope/column-checks", ColumnCheck("2026-03-16T06:00:00Z", 0, 0, 0))
+          ->status,
+      404);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM column_checks"), 0);
+  auto bad_art = client_->Put("/api/v1/artifacts/col-2", R"({"points": []})", "application/json");
+  EXPECT_EQ(bad_art->status, 400);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM artifacts"), 1);
+}
+
+}  // namespace
+}  // namespace thermocomp
