@@ -6,9 +6,12 @@
 
 #include <benchmark/benchmark.h>
 
+#include "api/check_reports.h"
 #include "model/cross_validation.h"
+#include "model/positioning_check.h"
 #include "model/selection.h"
 #include "model/thinning.h"
+#include "server/check_codec.h"
 
 namespace thermocomp {
 namespace {
@@ -62,6 +65,54 @@ void BM_ThinYearOf8Sensors(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * 8 * n);
 }
 BENCHMARK(BM_ThinYearOf8Sensors)->Unit(benchmark::kMillisecond);
+
+// ISO 230-2 + VDI 3441 + uncertainty of an axis of 100 targets x 5 runs x
+// 2 directions, with the report data (JSON); the baseline is one pass
+// summing the same 1 000 deviations.
+PositioningData Axis100() {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> z(0, 0.8);
+  PositioningData d;
+  for (int i = 0; i < 100; ++i) d.targets_mm.push_back(10.0 * i);
+  for (int r = 0; r < 10; ++r) {
+    PositioningRun run{r % 2 == 0 ? 1 : -1, {}};
+    for (int i = 0; i < 100; ++i) run.deviations_um.push_back(3 * std::sin(i / 9.0) + z(rng));
+    d.runs.push_back(run);
+  }
+  return d;
+}
+
+void BM_PositioningCheck100x5x2(benchmark::State& state) {
+  const PositioningData d = Axis100();
+  for (auto _ : state) {
+    auto e = EvaluatePositioning(d, UncertaintyInputs{0.5, 2, 11.7, 0.35, 3, 1, 2});
+    nlohmann::json report = EvaluationToJson(*e);
+    benchmark::DoNotOptimize(report);
+  }
+}
+BENCHMARK(BM_PositioningCheck100x5x2)->Unit(benchmark::kMicrosecond);
+
+void BM_PositioningReportHtml(benchmark::State& state) {
+  const PositioningData d = Axis100();
+  PositioningInput in;
+  in.axis = "Y";
+  in.data = d;
+  nlohmann::json report = EvaluationToJson(*EvaluatePositioning(d, {}));
+  report["input"] = PositioningInputToJson(in);
+  for (auto _ : state) benchmark::DoNotOptimize(api::PositioningHtml(report));
+}
+BENCHMARK(BM_PositioningReportHtml)->Unit(benchmark::kMicrosecond);
+
+void BM_PositioningBaselineSum(benchmark::State& state) {
+  const PositioningData d = Axis100();
+  for (auto _ : state) {
+    double sum = 0;
+    for (const auto& run : d.runs)
+      for (double v : run.deviations_um) sum += v;
+    benchmark::DoNotOptimize(sum);
+  }
+}
+BENCHMARK(BM_PositioningBaselineSum)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace thermocomp

@@ -61,6 +61,7 @@ struct DdsBridge::Entities {
   dds_entity_t participant = 0;
   dds_entity_t temperature_reader = 0, probe_reader = 0;
   dds_entity_t compensation_writer = 0, rejection_writer = 0, receipt_writer = 0;
+  dds_entity_t check_request_writer = 0;
   dds_entity_t waitset = 0;
   // Pending batch: samples per machine, and when the oldest arrived.
   std::map<std::string, std::vector<TemperatureInput>> temperatures;
@@ -97,17 +98,19 @@ Status DdsBridge::Start() {
   dds_entity_t t_rej =
       topic(&thermocomp_IngestRejection_desc, "thermocomp/IngestRejection", events);
   dds_entity_t t_rec = topic(&thermocomp_IngestReceipt_desc, "thermocomp/IngestReceipt", events);
+  dds_entity_t t_req = topic(&thermocomp_CheckRequest_desc, "thermocomp/CheckRequest", state);
   e.temperature_reader = dds_create_reader(e.participant, t_temp, ingest, nullptr);
   e.probe_reader = dds_create_reader(e.participant, t_probe, ingest, nullptr);
   e.compensation_writer = dds_create_writer(e.participant, t_comp, state, nullptr);
   e.rejection_writer = dds_create_writer(e.participant, t_rej, events, nullptr);
   e.receipt_writer = dds_create_writer(e.participant, t_rec, events, nullptr);
+  e.check_request_writer = dds_create_writer(e.participant, t_req, state, nullptr);
   dds_delete_qos(ingest);
   dds_delete_qos(state);
   dds_delete_qos(events);
   for (dds_entity_t x :
-       {t_temp, t_probe, t_comp, t_rej, t_rec, e.temperature_reader, e.probe_reader,
-        e.compensation_writer, e.rejection_writer, e.receipt_writer}) {
+       {t_temp, t_probe, t_comp, t_rej, t_rec, t_req, e.temperature_reader, e.probe_reader,
+        e.compensation_writer, e.rejection_writer, e.receipt_writer, e.check_request_writer}) {
     if (x < 0) return Status::Unavailable(std::string("DDS entity: ") + dds_strretcode(x));
   }
   e.waitset = dds_create_waitset(e.participant);
@@ -121,6 +124,7 @@ Status DdsBridge::Start() {
   for (const auto& m : app_.machines().List()) {
     if (auto c = app_.compensation().Get(m.name); c.ok()) PublishCompensation(**c, true);
   }
+  PublishCheckRequests();
   thread_ = std::thread([this] { Run(); });
   log::Info("dds bridge started", "uri=" + std::string(std::getenv("CYCLONEDDS_URI")));
   return Status::Ok();
@@ -185,6 +189,7 @@ void DdsBridge::Run() {
       for (const auto& m : app_.machines().List()) {
         if (auto c = app_.compensation().Get(m.name); c.ok()) PublishCompensation(**c, false);
       }
+      PublishCheckRequests();
     }
   }
   Flush();
@@ -333,6 +338,36 @@ void DdsBridge::PublishCompensation(const MachineCompensation& c, bool force) {
     msg.reason = Str(a.reason);
     if (dds_write(e_->compensation_writer, &msg) == DDS_RETCODE_OK) {
       last = {a.offset_mm, a.valid, a.stale, now};
+    }
+  }
+}
+
+void DdsBridge::PublishCheckRequests() {
+  std::lock_guard<std::mutex> lock(publish_mutex_);
+  if (!e_ || e_->check_request_writer <= 0) return;
+  for (const auto& m : app_.machines().List()) {
+    auto requests = app_.checks().Requests(m.name, "");
+    if (!requests.ok()) continue;
+    for (const RequestView& r : *requests) {
+      const std::string key = m.name + "/" + std::to_string(r.record.id);
+      auto it = requests_published_.find(key);
+      thermocomp_CheckRequest msg{};
+      msg.machine = Str(m.name);
+      msg.request_id = r.record.id;
+      msg.kind = Str(r.state == "overdue" ? "column_check overdue" : "column_check");
+      msg.reason = Str(r.record.reason);
+      msg.due_ms = r.record.due_ms;
+      if (r.state == "done") {
+        // Answered: the instance goes away for late joiners too.
+        if (it != requests_published_.end()) {
+          dds_dispose(e_->check_request_writer, &msg);
+          requests_published_.erase(it);
+        }
+      } else if (it == requests_published_.end() || it->second != r.state) {
+        if (dds_write(e_->check_request_writer, &msg) == DDS_RETCODE_OK) {
+          requests_published_[key] = r.state;
+        }
+      }
     }
   }
 }

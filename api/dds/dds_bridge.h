@@ -45,6 +45,8 @@ class DdsBridge {
   void Run();
   void Flush();
   void PublishCompensation(const MachineCompensation& c, bool force);
+  // Pending and overdue column-check requests; answered ones are disposed.
+  void PublishCheckRequests();
   void PublishRejection(const std::string& machine, const char* topic, const std::string& item,
                         const IngestResult& r, size_t error_index);
   void StoreTemperatures(const std::string& machine, std::vector<TemperatureInput> samples);
@@ -65,6 +67,9 @@ class DdsBridge {
     int64_t at_ms = 0;
   };
   std::map<std::string, Published> published_;  // by "machine/axis"
+  // Open column-check requests on the CheckRequest topic, by "machine/id":
+  // the state written (pending or overdue).
+  std::map<std::string, std::string> requests_published_;
   std::atomic<uint64_t> samples_stored_{0};
 };
 

@@ -50,6 +50,8 @@ class DdsClient {
                                           "thermocomp/IngestRejection", events, nullptr);
     t_comp_ = dds_create_topic(participant_, &thermocomp_CompensationParameters_desc,
                                "thermocomp/CompensationParameters", state, nullptr);
+    t_request_ = dds_create_topic(participant_, &thermocomp_CheckRequest_desc,
+                                  "thermocomp/CheckRequest", state, nullptr);
     temperature_writer_ = dds_create_writer(participant_, t_temp, reliable, nullptr);
     dds_entity_t t_probe = dds_create_topic(participant_, &thermocomp_ProbePoint_desc,
                                             "thermocomp/ProbePoint", reliable, nullptr);
@@ -208,7 +210,37 @@ class DdsClient {
     return seen;
   }
 
+  struct CheckRequestSeen {
+    std::string machine, kind, reason;
+    int64_t request_id = 0, due_ms = 0;
+  };
+  // The open column-check requests of `machine` as a late-joining reader
+  // sees them (transient-local); waits until `expect` of them arrived.
+  std::vector<CheckRequestSeen> ReadCheckRequests(const std::string& machine, size_t expect,
+                                                  int timeout_ms = 10000) {
+    dds_entity_t reader = dds_create_reader(participant_, t_request_, state_qos_, nullptr);
+    std::map<int64_t, CheckRequestSeen> seen;
+    for (int waited = 0; waited < timeout_ms && seen.size() < expect; waited += 20) {
+      void* buf[16] = {nullptr};
+      dds_sample_info_t info[16];
+      int n = dds_take(reader, buf, info, 16, 16);
+      for (int i = 0; i < n; ++i) {
+        auto* r = static_cast<thermocomp_CheckRequest*>(buf[i]);
+        if (info[i].valid_data && machine == r->machine) {
+          seen[r->request_id] = {r->machine, r->kind, r->reason, r->request_id, r->due_ms};
+        }
+      }
+      if (n > 0) dds_return_loan(reader, buf, n);
+      if (seen.size() < expect) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    dds_delete(reader);
+    std::vector<CheckRequestSeen> out;
+    for (auto& [id, r] : seen) out.push_back(r);
+    return out;
+  }
+
  private:
+  dds_entity_t t_request_ = 0;
   dds_entity_t participant_ = 0, temperature_writer_ = 0, rejection_reader_ = 0, t_comp_ = 0;
   dds_entity_t receipt_reader_ = 0, compensation_reader_ = 0, probe_writer_ = 0;
   dds_qos_t* state_qos_ = nullptr;

@@ -11,6 +11,8 @@
 namespace thermocomp {
 namespace {
 
+using nlohmann::json;
+
 class DdsBridgeTest : public testing::AppFixture {
  protected:
   void SetUp() override {
@@ -117,6 +119,35 @@ TEST_F(DdsBridgeTest, LateJoinerGetsTheCurrentCompensation) {
   EXPECT_NEAR(seen->offset_mm, -(0.001 - 0.01 * 2.0), 1e-12);
   auto served = app_->compensation().Get(machine_);
   EXPECT_DOUBLE_EQ(seen->offset_mm, (*served)->axes[0].offset_mm);
+}
+
+TEST_F(DdsBridgeTest, OpenCheckRequestsArePublishedAndWithdrawnWhenAnswered) {
+  auto id =
+      app_->checks().RequestCheck(machine_, "after collision", clock_.NowMs() + 86400000, "t");
+  ASSERT_TRUE(id.ok());
+  StartBridge();
+  dds::DdsClient line(testing::TestDomain());
+  auto open = line.ReadCheckRequests(machine_, 1);
+  ASSERT_EQ(open.size(), 1u);
+  EXPECT_EQ(open[0].request_id, *id);
+  EXPECT_EQ(open[0].reason, "after collision");
+  EXPECT_EQ(open[0].kind, "column_check");
+
+  // The line runs the check: the request is answered and leaves the topic.
+  std::vector<FieldError> errors;
+  json artifact =
+      json::parse(R"({"points": [{"id": "KD", "nominal": {"x": 0, "y": 500, "z": 0}}]})");
+  ASSERT_TRUE(app_->checks().PutArtifact("col-1", artifact, "t", &errors).ok());
+  json check = json::parse(R"({"ts": "2026-03-16T06:00:00Z", "artifact": "col-1",
+      "artifact_temperature_c": 20.0, "spheres": [
+        {"sphere": "KD", "b_deg": 0, "x": 250, "y": 500, "z": 0},
+        {"sphere": "KD", "b_deg": 90, "x": 0, "y": 500, "z": 250},
+        {"sphere": "KD", "b_deg": 180, "x": -250, "y": 500, "z": 0}]})");
+  auto input = ColumnCheckFromJson(check, errors);
+  ASSERT_TRUE(input) << (errors.empty() ? "" : errors[0].message);
+  bool created = false;
+  ASSERT_TRUE(app_->checks().AddColumnCheck(machine_, *input, "t", &created).ok());
+  EXPECT_TRUE(WaitFor([&] { return line.ReadCheckRequests(machine_, 1, 200).empty(); }));
 }
 
 }  // namespace
