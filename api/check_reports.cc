@@ -66,6 +66,51 @@ std::string ErrorPlotSvg(const json& per) {
 
 }  // namespace
 
+std::string Escape(const std::string& md) {
+  std::string out;
+  for (char c : md) out += c == '<' ? "&lt;" : c == '&' ? "&amp;" : std::string(1, c);
+  return out;
+}
+
+std::string ColumnCheckMarkdown(const json& r) {
+  const json& z = r["machine_zero_mm"];
+  std::string md = "# Column check " + std::to_string(r.value("id", 0)) + ": " +
+                   r.value("machine", "") + "\n\nMeasured " + r.value("ts", "") + " on artifact " +
+                   r.value("artifact", "") + " at " +
+                   F(r.value("artifact_temperature_c", 0.0), "%.2f") +
+                   " degC (points corrected for its expansion).\n\n## Machine zero\n\n"
+                   "| | X | Y | Z |\n|---|---|---|---|\n| offset um | " +
+                   F(z["X"].get<double>() * 1000) + " | " + F(z["Y"].get<double>() * 1000) + " | " +
+                   F(z["Z"].get<double>() * 1000) + " |\n";
+  if (r.contains("zero_change_um")) {
+    const json& c = r["zero_change_um"];
+    md += "| change since " + c.value("since", "") + " um | " + F(c["X"].get<double>()) + " | " +
+          F(c["Y"].get<double>()) + " | " + F(c["Z"].get<double>()) + " |\n";
+  }
+  md += std::string("\n") +
+        (r.value("beyond_tolerance", false) ? "**Beyond tolerance**: logged as an event.\n\n"
+                                            : "Within tolerance.\n\n") +
+        "Circle through the sphere positions: radius " +
+        F(r["circle"]["radius_mm"].get<double>(), "%.4f") + " mm, residual " +
+        F(r["circle"]["residual_um"].get<double>()) +
+        " um.\n\n## Straightness (um)\n\n"
+        "| scheme | straightness | points (relative to the reference) |\n|---|---|---|\n";
+  for (const auto& [scheme, value] : r["straightness_um"].items()) {
+    std::string points;
+    for (const auto& [id, v] : r["straightness_points_um"][scheme].items()) {
+      points += (points.empty() ? "" : ", ") + id + " " + F(v.get<double>());
+    }
+    md += "| " + scheme + " | " + F(value.get<double>()) + " | " + points + " |\n";
+  }
+  return md;
+}
+
+std::string ColumnCheckHtml(const json& r) {
+  return "<!doctype html><html><head><meta charset='utf-8'><title>Column check</title></head>"
+         "<body><pre>" +
+         Escape(ColumnCheckMarkdown(r)) + "</pre></body></html>\n";
+}
+
 std::string PositioningMarkdown(const json& r) {
   const json& iso = r["iso230_2"];
   const json& vdi = r["vdi3441"];
@@ -117,9 +162,7 @@ std::string PositioningMarkdown(const json& r) {
 }
 
 std::string PositioningHtml(const json& r) {
-  std::string md = PositioningMarkdown(r);
-  std::string escaped;
-  for (char c : md) escaped += c == '<' ? "&lt;" : c == '&' ? "&amp;" : std::string(1, c);
+  const std::string escaped = Escape(PositioningMarkdown(r));
   return "<!doctype html><html><head><meta charset='utf-8'><title>Positioning check</title>"
          "</head><body><p>Mean deviation approaching up (blue) and down (red) with +-2s "
          "bands:</p>" +

@@ -12,6 +12,8 @@
 
 namespace thermocomp::api {
 
+std::string ColumnCheckMarkdown(const nlohmann::json& report);
+std::string ColumnCheckHtml(const nlohmann::json& report);
 std::string PositioningMarkdown(const nlohmann::json& report);
 std::string PositioningHtml(const nlohmann::json& report);
 

@@ -94,6 +94,17 @@ void HttpServer::CheckRoutes() {
     WriteJson(res, *history);
   });
 
+  s.Get(m + "/column-checks/([0-9]{1,18})", [this](const Req& req, Res& res) {
+    auto report = app_.checks().ColumnCheck(req.matches[1], std::stoll(req.matches[2]));
+    if (!report.ok()) return WriteProblem(res, report.status());
+    const std::string format = req.get_param_value("format");
+    if (format.empty() || format == "json") return WriteJson(res, *report);
+    if (format == "markdown") return res.set_content(ColumnCheckMarkdown(*report), "text/markdown");
+    if (format == "html") return res.set_content(ColumnCheckHtml(*report), "text/html");
+    WriteProblem(res, 400, "format: must be json, markdown or html",
+                 {{0, "format", "unknown format '" + format + "'"}});
+  });
+
   s.Post(m + "/positioning-checks", [this](const Req& req, Res& res) {
     if (!CheckMediaType(req, res, true)) return;
     std::vector<FieldError> errors;

@@ -253,6 +253,28 @@ StatusOr<nlohmann::json> CheckService::ColumnChecks(const std::string& machine_n
       {"machine", machine_name}, {"checks", history}, {"machine_zero_trend", trend}};
 }
 
+StatusOr<nlohmann::json> CheckService::ColumnCheck(const std::string& machine_name, int64_t id) {
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  auto machine = FindMachine(db_, machine_name);
+  if (!machine.ok()) return machine.status();
+  auto rec = CheckStore(db_).ColumnCheck(machine->id, id);
+  if (!rec)
+    return Status::NotFound("no column check " + std::to_string(id) + " for " + machine_name);
+  nlohmann::json out = nlohmann::json::parse(rec->result_json);
+  out["machine"] = machine_name;
+  return out;
+}
+
+nlohmann::json LatestColumnCheckSummary(Database& db, int64_t machine_id) {
+  auto latest = CheckStore(db).LatestColumnCheck(machine_id);
+  if (!latest) return nullptr;
+  nlohmann::json r = nlohmann::json::parse(latest->result_json);
+  return {{"id", latest->id},
+          {"ts", FormatRfc3339(latest->ts_ms)},
+          {"machine_zero_mm", ZeroJson(*latest)},
+          {"beyond_tolerance", r.value("beyond_tolerance", false)}};
+}
+
 StatusOr<nlohmann::json> CheckService::AddPositioningCheck(const std::string& machine_name,
                                                            const PositioningInput& in,
                                                            const std::string& actor,

@@ -53,6 +53,7 @@ class CheckService {
                                           const std::string& actor, bool* created);
   // History oldest first and the machine-zero trend (um per week, least squares).
   StatusOr<nlohmann::json> ColumnChecks(const std::string& machine);
+  StatusOr<nlohmann::json> ColumnCheck(const std::string& machine, int64_t id);
 
   StatusOr<nlohmann::json> AddPositioningCheck(const std::string& machine,
                                                const PositioningInput& in, const std::string& actor,
@@ -69,5 +70,8 @@ class CheckService {
 nlohmann::json RequestToJson(const RequestView& r);
 // Pending and overdue requests of a machine now. Caller holds db.mutex().
 CheckCounts CountChecks(Database& db, int64_t machine_id, int64_t now_ms);
+// The newest column check's machine zero and whether it moved beyond the
+// tolerance, for the machine status; null without checks. Caller holds db.mutex().
+nlohmann::json LatestColumnCheckSummary(Database& db, int64_t machine_id);
 
 }  // namespace thermocomp

@@ -105,7 +105,8 @@ nlohmann::json MachineService::Summary(const MachineRecord& m) {
           {"probe_points", ProbeStore(db_).CountPoints(m.id)},
           {"last_sample_ts", last ? nlohmann::json(FormatRfc3339(*last)) : nullptr},
           {"active_models", active},
-          {"checks", {{"pending", checks.pending}, {"overdue", checks.overdue}}}};
+          {"checks", {{"pending", checks.pending}, {"overdue", checks.overdue}}},
+          {"last_column_check", LatestColumnCheckSummary(db_, m.id)}};
 }
 
 }  // namespace thermocomp

@@ -133,6 +133,13 @@ std::optional<ColumnCheckRecord> CheckStore::ColumnCheckAt(int64_t machine_id, i
   return ReadColumnCheck(q);
 }
 
+std::optional<ColumnCheckRecord> CheckStore::ColumnCheck(int64_t machine_id, int64_t id) {
+  Statement q(db_, std::string(kCheckColumns) + " WHERE machine_id = ? AND id = ?");
+  q.Bind(1, machine_id).Bind(2, id);
+  if (!q.Step()) return std::nullopt;
+  return ReadColumnCheck(q);
+}
+
 StatusOr<int64_t> CheckStore::InsertPositioningCheck(int64_t machine_id,
                                                      const PositioningCheckRecord& r) {
   Statement q(db_,

@@ -53,6 +53,7 @@ class CheckStore {
   std::vector<ColumnCheckRecord> ColumnChecks(int64_t machine_id);  // oldest first
   std::optional<ColumnCheckRecord> LatestColumnCheck(int64_t machine_id);
   std::optional<ColumnCheckRecord> ColumnCheckAt(int64_t machine_id, int64_t ts_ms);
+  std::optional<ColumnCheckRecord> ColumnCheck(int64_t machine_id, int64_t id);
 
   StatusOr<int64_t> InsertPositioningCheck(int64_t machine_id, const PositioningCheckRecord& r);
   std::optional<PositioningCheckRecord> PositioningCheck(int64_t machine_id, int64_t id);

@@ -109,6 +109,11 @@ TEST_F(CheckHttpTest, RequestThenResultClosesTheRequest) {
   ASSERT_EQ(done["requests"].size(), 1u);
   EXPECT_EQ(done["requests"][0]["check_id"], result["id"]);
   EXPECT_EQ(Get("/api/v1/machines/m1")["checks"]["pending"], 0);
+  EXPECT_EQ(Get("/api/v1/machines/m1")["last_column_check"]["id"], result["id"]);
+  const std::string one = "/api/v1/machines/m1/column-checks/" + result["id"].dump();
+  EXPECT_EQ(Get(one)["machine_zero_mm"], result["machine_zero_mm"]);
+  auto md = client_->Get((one + "?format=markdown").c_str());
+  EXPECT_NE(md->body.find("| offset um | 3.00 | 4.00 | -2.00 |"), std::string::npos) << md->body;
   // The same check again is not stored twice.
   r = Post("/api/v1/machines/m1/column-checks",
            ColumnCheck("2026-03-16T06:00:00Z", 0.003, 0.004, -0.002));
