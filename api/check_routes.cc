@@ -97,12 +97,7 @@ void HttpServer::CheckRoutes() {
   s.Get(m + "/column-checks/([0-9]{1,18})", [this](const Req& req, Res& res) {
     auto report = app_.checks().ColumnCheck(req.matches[1], std::stoll(req.matches[2]));
     if (!report.ok()) return WriteProblem(res, report.status());
-    const std::string format = req.get_param_value("format");
-    if (format.empty() || format == "json") return WriteJson(res, *report);
-    if (format == "markdown") return res.set_content(ColumnCheckMarkdown(*report), "text/markdown");
-    if (format == "html") return res.set_content(ColumnCheckHtml(*report), "text/html");
-    WriteProblem(res, 400, "format: must be json, markdown or html",
-                 {{0, "format", "unknown format '" + format + "'"}});
+    WriteReport(req, res, *report, ColumnCheckMarkdown, ColumnCheckHtml);
   });
 
   s.Post(m + "/positioning-checks", [this](const Req& req, Res& res) {
@@ -140,12 +135,7 @@ void HttpServer::CheckRoutes() {
   s.Get(m + "/positioning-checks/([0-9]{1,18})", [this](const Req& req, Res& res) {
     auto report = app_.checks().PositioningCheck(req.matches[1], std::stoll(req.matches[2]));
     if (!report.ok()) return WriteProblem(res, report.status());
-    const std::string format = req.get_param_value("format");
-    if (format.empty() || format == "json") return WriteJson(res, *report);
-    if (format == "markdown") return res.set_content(PositioningMarkdown(*report), "text/markdown");
-    if (format == "html") return res.set_content(PositioningHtml(*report), "text/html");
-    WriteProblem(res, 400, "format: must be json, markdown or html",
-                 {{0, "format", "unknown format '" + format + "'"}});
+    WriteReport(req, res, *report, PositioningMarkdown, PositioningHtml);
   });
   s.Get(m + "/positioning-checks/([0-9]{1,18})/pitch-table", [this](const Req& req, Res& res) {
     std::string axis;

@@ -305,12 +305,7 @@ void HttpServer::Routes() {
   s.Get(axis + "/analysis/([0-9]{1,18})", [this](const Req& req, Res& res) {
     auto report = app_.analyses().Get(req.matches[1], req.matches[2], std::stoll(req.matches[3]));
     if (!report.ok()) return WriteProblem(res, report.status());
-    const std::string format = req.get_param_value("format");
-    if (format.empty() || format == "json") return WriteJson(res, *report);
-    if (format == "markdown") return res.set_content(AnalysisMarkdown(*report), "text/markdown");
-    if (format == "html") return res.set_content(AnalysisHtml(*report), "text/html");
-    WriteProblem(res, 400, "format: must be json, markdown or html",
-                 {{0, "format", "unknown format '" + format + "'"}});
+    WriteReport(req, res, *report, AnalysisMarkdown, AnalysisHtml);
   });
 
   s.Get(m + "/compensation", [this](const Req& req, Res& res) {

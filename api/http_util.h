@@ -29,4 +29,16 @@ inline bool CheckMediaType(const httplib::Request& req, httplib::Response& res, 
   return false;
 }
 
+// A stored report as ?format= asks: json (default), markdown or html.
+template <typename Markdown, typename Html>
+void WriteReport(const httplib::Request& req, httplib::Response& res, const nlohmann::json& report,
+                 Markdown markdown, Html html) {
+  const std::string format = req.get_param_value("format");
+  if (format.empty() || format == "json") return WriteJson(res, report);
+  if (format == "markdown") return res.set_content(markdown(report), "text/markdown");
+  if (format == "html") return res.set_content(html(report), "text/html");
+  WriteProblem(res, 400, "format: must be json, markdown or html",
+               {{0, "format", "unknown format '" + format + "'"}});
+}
+
 }  // namespace thermocomp::api
