@@ -90,6 +90,12 @@ std::string ColumnCheckMarkdown(const json& r) {
   md += std::string("\n") +
         (r.value("beyond_tolerance", false) ? "**Beyond tolerance**: logged as an event.\n\n"
                                             : "Within tolerance.\n\n") +
+        (r.contains("spindle_z_parallelism_um_per_100mm")
+             ? "Spindle-to-Z parallelism: X " +
+                   F(r["spindle_z_parallelism_um_per_100mm"]["X"].get<double>()) + ", Y " +
+                   F(r["spindle_z_parallelism_um_per_100mm"]["Y"].get<double>()) +
+                   " um per 100 mm.\n\n"
+             : std::string()) +
         "Circle through the sphere positions: radius " +
         F(r["circle"]["radius_mm"].get<double>(), "%.4f") + " mm, residual " +
         F(r["circle"]["residual_um"].get<double>()) +
@@ -134,9 +140,8 @@ std::string PositioningMarkdown(const json& r) {
           (ukey ? F(u[ukey].get<double>()) : std::string("-")) + " |\n";
   };
   row("A (accuracy)", "A_um", "A");
-  row("A up / down", "A_up_um", nullptr);
-  md += "| | " + F(iso["A_up_um"].get<double>()) + " / " + F(iso["A_down_um"].get<double>()) +
-        " | |\n";
+  md += "| A up / down | " + F(iso["A_up_um"].get<double>()) + " / " +
+        F(iso["A_down_um"].get<double>()) + " | |\n";
   row("E (systematic)", "E_um", "E");
   row("M (mean bidirectional)", "M_um", "M");
   row("R (repeatability)", "R_um", "R");

@@ -71,8 +71,15 @@ StatusOr<Circle> FitCircle(const std::vector<std::pair<double, double>>& p) {
 
 StatusOr<ColumnCheckResult> EvaluateColumnCheck(const Artifact& art, double t,
                                                 const std::vector<SphereProbe>& spheres,
-                                                const std::vector<SurfaceProbe>& points) {
+                                                const std::vector<SurfaceProbe>& points,
+                                                const std::optional<ParallelismProbe>& par) {
   ColumnCheckResult out;
+  if (par) {
+    if (!(par->height_mm > 0)) return Status::InvalidArgument("parallelism.height_mm: must be > 0");
+    const double per_100 = 100.0 / par->height_mm * 1000.0;  // mm over the height -> um/100 mm
+    out.parallelism_um_per_100mm = {(par->shank.x - par->ball.x) * per_100,
+                                    (par->shank.y - par->ball.y) * per_100};
+  }
   // Sphere centres corrected for the artifact's expansion at its temperature.
   std::vector<std::pair<double, double>> xz;
   double y_offset = 0;

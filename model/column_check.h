@@ -3,10 +3,11 @@
 // direction; machine zero is the centre of the circle through the sphere
 // positions probed at several B angles (XZ plane; exact for three, least
 // squares for more) and the corrected mean sphere Y; straightness per scheme
-// relative to its reference point.
+// relative to its reference point; spindle-to-Z parallelism.
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,14 @@ struct SurfaceProbe {
   Vec3 position;
 };
 
+// Spindle-to-Z parallelism: the sphere probed with the stylus ball and with
+// the stylus shank `height_mm` higher; a tilted spindle sees the two apart
+// in X and Y.
+struct ParallelismProbe {
+  Vec3 ball, shank;
+  double height_mm = 100.0;
+};
+
 struct SchemeResult {
   std::string scheme;
   double straightness_um = 0;                 // peak to valley of the relative deviations
@@ -65,6 +74,7 @@ struct ColumnCheckResult {
   double circle_radius_mm = 0;
   double circle_residual_um = 0;  // RMS distance of the sphere centres from the circle
   std::vector<SchemeResult> straightness;
+  std::optional<std::pair<double, double>> parallelism_um_per_100mm;  // X, Y
 };
 
 struct Circle {
@@ -77,8 +87,9 @@ struct Circle {
 // collinear.
 StatusOr<Circle> FitCircle(const std::vector<std::pair<double, double>>& xz);
 
-StatusOr<ColumnCheckResult> EvaluateColumnCheck(const Artifact& artifact, double temperature_c,
-                                                const std::vector<SphereProbe>& spheres,
-                                                const std::vector<SurfaceProbe>& points);
+StatusOr<ColumnCheckResult> EvaluateColumnCheck(
+    const Artifact& artifact, double temperature_c, const std::vector<SphereProbe>& spheres,
+    const std::vector<SurfaceProbe>& points,
+    const std::optional<ParallelismProbe>& parallelism = std::nullopt);
 
 }  // namespace thermocomp

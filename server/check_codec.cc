@@ -157,6 +157,18 @@ std::optional<ColumnCheckInput> ColumnCheckFromJson(const json& j,
       in.points.push_back(sp);
     }
   }
+  if (j.contains("parallelism")) {
+    const json& p = j["parallelism"];
+    ParallelismProbe pp;
+    auto ball = Xyz(p.value("ball", json()), "parallelism.ball", errors, 0);
+    auto shank = Xyz(p.value("shank", json()), "parallelism.shank", errors, 0);
+    if (auto h = Number(p, "height_mm", "parallelism.", errors, 0, false)) pp.height_mm = *h;
+    if (ball && shank) {
+      pp.ball = *ball;
+      pp.shank = *shank;
+      in.parallelism = pp;
+    }
+  }
   if (!errors.empty()) return std::nullopt;
   return in;
 }
@@ -385,11 +397,17 @@ json ColumnResultToJson(const ColumnCheckResult& r) {
     straightness[s.scheme] = s.straightness_um;
     details[s.scheme] = s.relative_um;
   }
-  return {{"machine_zero_mm",
-           {{"X", r.machine_zero_mm.x}, {"Y", r.machine_zero_mm.y}, {"Z", r.machine_zero_mm.z}}},
-          {"circle", {{"radius_mm", r.circle_radius_mm}, {"residual_um", r.circle_residual_um}}},
-          {"straightness_um", straightness},
-          {"straightness_points_um", details}};
+  json out = {
+      {"machine_zero_mm",
+       {{"X", r.machine_zero_mm.x}, {"Y", r.machine_zero_mm.y}, {"Z", r.machine_zero_mm.z}}},
+      {"circle", {{"radius_mm", r.circle_radius_mm}, {"residual_um", r.circle_residual_um}}},
+      {"straightness_um", straightness},
+      {"straightness_points_um", details}};
+  if (r.parallelism_um_per_100mm) {
+    out["spindle_z_parallelism_um_per_100mm"] = {{"X", r.parallelism_um_per_100mm->first},
+                                                 {"Y", r.parallelism_um_per_100mm->second}};
+  }
+  return out;
 }
 
 }  // namespace thermocomp

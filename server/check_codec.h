@@ -22,6 +22,7 @@ struct ColumnCheckInput {
   double temperature_c = 20.0;
   std::vector<SphereProbe> spheres;
   std::vector<SurfaceProbe> points;
+  std::optional<ParallelismProbe> parallelism;
 };
 
 struct PositioningInput {

@@ -144,7 +144,8 @@ StatusOr<nlohmann::json> CheckService::AddColumnCheck(const std::string& machine
   std::vector<FieldError> errors;
   auto artifact = ArtifactFromJson(nlohmann::json::parse(*definition), errors);
   if (!artifact) return Status::Internal("stored artifact is unreadable");
-  auto result = EvaluateColumnCheck(*artifact, in.temperature_c, in.spheres, in.points);
+  auto result =
+      EvaluateColumnCheck(*artifact, in.temperature_c, in.spheres, in.points, in.parallelism);
   if (!result.ok()) return Status::Unprocessable(result.status().message());
   std::optional<CheckRequestRecord> request;
   if (in.request_id) {

@@ -1,10 +1,12 @@
 #include "server/commands.h"
 
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <random>
 #include <sstream>
 #include <thread>
 
@@ -27,6 +29,7 @@ using cli::Args;
 using cli::Fail;
 using cli::g_stop;
 using cli::ImportStudy;
+using cli::kDayMs;
 using cli::LoadWithOverrides;
 using cli::MachineNames;
 using cli::OnSignal;
@@ -108,6 +111,65 @@ int Analyze(const Args& a) {
 }
 
 // ---------------------------------------------------------------- demo
+// Synthetic check data for the demo, so the check endpoints have something
+// to show: the reference column "col-1", four weekly column checks of a
+// machine whose zero creeps in Y, and a laser positioning check of its Y
+// axis with a pitch error, 3 um of backlash and 0.5 um of noise.
+Status DemoChecks(App& app, const std::string& machine) {
+  using nlohmann::json;
+  std::vector<FieldError> errors;
+  json artifact = json::parse(R"({"points": [
+      {"id": "KD", "nominal": {"x": 0, "y": 500, "z": 0},
+       "expansion": {"y": {"beta_mm_per_c": 0.0069, "b_mm": -0.1371}}},
+      {"id": "P1", "nominal": {"x": 100, "y": 400, "z": 0}},
+      {"id": "P2", "nominal": {"x": 100, "y": 600, "z": 0}},
+      {"id": "P3", "nominal": {"x": 100, "y": 800, "z": 0}}],
+    "schemes": [{"id": "a", "travel_axis": "Y", "deviation_axis": "X", "reference_point": "P1"}]})");
+  if (auto s = app.checks().PutArtifact("col-1", artifact, "demo", &errors); !s.ok()) {
+    return s.status();
+  }
+  const int64_t now = app.clock().NowMs();
+  for (int week = 4; week >= 1; --week) {
+    const double t = 21.0 + 0.2 * week;
+    const double y = 500.0 + (0.0069 * t - 0.1371) + 0.002 * (4 - week);
+    ColumnCheckInput in;
+    in.ts_ms = (now / kDayMs - 7 * week) * kDayMs + 6 * 3600000;
+    in.artifact = "col-1";
+    in.temperature_c = t;
+    for (int b = 0; b < 3; ++b) {
+      const double angle = b * 1.5707963267948966;
+      in.spheres.push_back({"KD", 90.0 * b, {250.0 * std::cos(angle), y, 250.0 * std::sin(angle)}});
+    }
+    in.points = {{"P1", "a", {100.0, 400.0, 0.0}},
+                 {"P2", "a", {100.003, 600.0, 0.0}},
+                 {"P3", "a", {100.004, 800.0, 0.0}}};
+    bool created = false;
+    if (auto r = app.checks().AddColumnCheck(machine, in, "demo", &created); !r.ok()) {
+      return r.status();
+    }
+  }
+  PositioningInput p;
+  p.axis = "Y";
+  p.ts_ms = now - kDayMs;
+  p.machine_temperature_c = 20.6;
+  p.air_temperature_c = 20.4;
+  p.uncertainty = {0.5, 2, 11.7, 0.35, 0.6, 1, 1.5};
+  for (int i = 0; i <= 20; ++i) p.data.targets_mm.push_back(30.0 * i);
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.5);
+  for (int run = 0; run < 10; ++run) {
+    PositioningRun r{run % 2 == 0 ? 1 : -1, {}};
+    for (double target : p.data.targets_mm) {
+      r.deviations_um.push_back(4.0 * std::sin(target / 95.0) + 0.008 * target +
+                                (r.direction > 0 ? 1.5 : -1.5) + noise(rng));
+    }
+    p.data.runs.push_back(r);
+  }
+  bool created = false;
+  auto r = app.checks().AddPositioningCheck(machine, p, "demo", &created);
+  return r.ok() ? Status::Ok() : r.status();
+}
+
 int Demo(const Args& a) {
   auto app = OpenApp(a);
   if (!app.ok()) return Fail(app.status().message());
@@ -151,6 +213,9 @@ int Demo(const Args& a) {
       }
     }
   }
+  if (Status s = DemoChecks(app_ref, names.front()); !s.ok()) return Fail(s.message());
+  std::printf("demo: synthetic column checks (4 weekly) and a positioning check of %s/Y\n",
+              names.front().c_str());
   return 0;
 }
 

@@ -61,7 +61,11 @@ class CheckHttpTest : public testing::AppFixture {
               {{"sphere", "KD"}, {"b_deg", 180}, {"x", -250.0 + dx}, {"y", y}, {"z", dz}}}},
             {"points",
              {{{"id", "P1"}, {"scheme", "a"}, {"x", 100.002}, {"y", 400.0}, {"z", 0.0}},
-              {{"id", "P2"}, {"scheme", "a"}, {"x", 100.007}, {"y", 600.0}, {"z", 0.0}}}}};
+              {{"id", "P2"}, {"scheme", "a"}, {"x", 100.007}, {"y", 600.0}, {"z", 0.0}}}},
+            {"parallelism",
+             {{"ball", {{"x", 0.0}, {"y", 500.0}, {"z", 0.0}}},
+              {"shank", {{"x", 0.002}, {"y", 500.0}, {"z", 0.0}}},
+              {"height_mm", 100.0}}}};
   }
   json Positioning() {
     return {{"axis", "Y"},
@@ -105,6 +109,7 @@ TEST_F(CheckHttpTest, RequestThenResultClosesTheRequest) {
   EXPECT_NEAR(result["machine_zero_mm"]["Y"].get<double>(), 0.004, 1e-9);
   EXPECT_NEAR(result["machine_zero_mm"]["Z"].get<double>(), -0.002, 1e-9);
   EXPECT_NEAR(result["straightness_um"]["a"].get<double>(), 5.0, 1e-6);
+  EXPECT_NEAR(result["spindle_z_parallelism_um_per_100mm"]["X"].get<double>(), 2.0, 1e-6);
   json done = Get("/api/v1/machines/m1/column-checks/requests?state=done");
   ASSERT_EQ(done["requests"].size(), 1u);
   EXPECT_EQ(done["requests"][0]["check_id"], result["id"]);

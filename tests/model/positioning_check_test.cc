@@ -240,13 +240,18 @@ TEST(ColumnCheck, ArtifactExpansionIsCorrectedBeforeUse) {
       {"KD", 0, {250.0, y, 0.0}}, {"KD", 90, {0.0, y, 250.0}}, {"KD", 180, {-250.0, y, 0.0}}};
   std::vector<SurfaceProbe> points = {{"P1", "a", {100.002, 400.0, 0.0}},
                                       {"P2", "a", {100.007, 600.0, 0.0}}};
-  auto r = EvaluateColumnCheck(art, 21.3, spheres, points);
+  // The shank sees the sphere 3 um further in X and 1 um less in Y at 100 mm.
+  ParallelismProbe par{{0.0, 500.0, 0.0}, {0.003, 499.999, 0.0}, 100.0};
+  auto r = EvaluateColumnCheck(art, 21.3, spheres, points, par);
   ASSERT_TRUE(r.ok()) << r.status().message();
   EXPECT_NEAR(r->machine_zero_mm.y, 0.004, 1e-9);
   EXPECT_NEAR(r->machine_zero_mm.x, 0.0, 1e-9);
   ASSERT_EQ(r->straightness.size(), 1u);
   EXPECT_NEAR(r->straightness[0].relative_um["P2"], 5.0, 1e-6);
   EXPECT_NEAR(r->straightness[0].straightness_um, 5.0, 1e-6);
+  ASSERT_TRUE(r->parallelism_um_per_100mm);
+  EXPECT_NEAR(r->parallelism_um_per_100mm->first, 3.0, 1e-6);
+  EXPECT_NEAR(r->parallelism_um_per_100mm->second, -1.0, 1e-6);
 }
 
 }  // namespace
