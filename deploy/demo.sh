@@ -27,6 +27,8 @@ Try:
   curl -s http://127.0.0.1:$port/api/v1/machines/sim-1/compensation
   curl -s "http://127.0.0.1:$port/api/v1/machines/sim-1/compensation?format=sinumerik"
   curl -s "http://127.0.0.1:$port/api/v1/machines/sim-1/drift?axis=Y&max_points=20"
+  curl -s "http://127.0.0.1:$port/api/v1/machines/sim-1/axes/Y/analysis"
+  curl -s "http://127.0.0.1:$port/api/v1/machines/sim-1/positioning-checks/1?format=markdown"
 
 MSG
 ./build/thermocomp serve --db "$db" --config deploy/thermocomp.toml --listen "127.0.0.1:$port" --dds
