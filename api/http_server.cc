@@ -8,6 +8,7 @@
 #include "api/http_util.h"
 #include "api/ingest_parsers.h"
 #include "api/json_mapping.h"
+#include "api/openapi.h"
 #include "api/problem.h"
 #include "server/analysis_report.h"
 #include "server/log.h"
@@ -137,6 +138,8 @@ void HttpServer::Routes() {
   });
 
   s.Get("/healthz", [](const Req&, Res& res) { WriteJson(res, {{"status", "ok"}}); });
+  s.Get(std::string(kBase) + "/openapi.json",
+        [](const Req&, Res& res) { res.set_content(OpenApiJson(), "application/json"); });
   s.Get("/readyz", [this](const Req&, Res& res) {
     WriteJson(res, {{"status", "ready"}, {"schema_version", app_.db().schema_version()}});
   });

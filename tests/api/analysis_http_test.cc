@@ -194,6 +194,20 @@ TEST_F(AnalysisHttpTest, SignalsAndEventsAreStoredOnceAndBadOnesChangeNothing) {
             0);
 }
 
+TEST_F(AnalysisHttpTest, TheServedOpenApiDescribesEveryRouteFamily) {
+  json spec = GetJson("/api/v1/openapi.json");
+  ASSERT_TRUE(spec.is_object());
+  EXPECT_EQ(spec["openapi"], "3.0.3");
+  for (const char* path :
+       {"/api/v1/machines/{machine}/temperatures", "/api/v1/machines/{machine}/signals",
+        "/api/v1/machines/{machine}/events", "/api/v1/machines/{machine}/axes/{axis}/analysis/{id}",
+        "/api/v1/machines/{machine}/column-checks/requests",
+        "/api/v1/machines/{machine}/positioning-checks/{id}/pitch-table",
+        "/api/v1/artifacts/{artifact}", "/api/v1/machines/{machine}/compensation", "/metrics"}) {
+    EXPECT_TRUE(spec["paths"].contains(path)) << path;
+  }
+}
+
 TEST_F(AnalysisHttpTest, BadAnalysisRequestsAreRefusedAndStoreNothing) {
   Simulate("m1", 3);
   const std::string base = "/api/v1/machines/m1/axes/";
