@@ -240,6 +240,7 @@ std::string Usage() {
 
   serve     [--config FILE] [--db PATH] [--listen HOST:PORT] [--dds [--dds-domain N]]
   import    --machine M [--temperatures F] [--signals F] [--probe-points F]  (CSV or JSON)
+            --machine M --positioning laser.csv --axis Y --ts RFC3339 [--compensation-active]
             --study fms_datum_drift.csv [--machine fms-study] [--start RFC3339]
   fit       --machine M --axis Y                                fit a model version now
   analyze   --machine M --axis Y [--inputs T1,T2] [--holdout R1,R2]

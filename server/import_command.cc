@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "api/ingest_parsers.h"
+#include "server/check_codec.h"
 #include "server/command_util.h"
 #include "server/time_format.h"
 
@@ -126,6 +127,30 @@ int Import(const Args& a) {
     return 0;
   }
   if (machine.empty()) return Fail("import needs --machine (or --study FILE)");
+  if (a.Has("positioning")) {
+    // A laser-software CSV export: target_mm,run,direction,deviation_um.
+    std::string text = ReadFile(a.Get("positioning"), ok);
+    if (!ok) return Fail("cannot read " + a.Get("positioning"));
+    PositioningInput in;
+    in.axis = a.Get("axis");
+    auto ts = ParseRfc3339(a.Get("ts"));
+    if (in.axis.empty() || !ts) return Fail("--positioning needs --axis A and --ts RFC3339");
+    in.ts_ms = *ts;
+    in.compensation_active = a.Has("compensation-active");
+    std::vector<FieldError> errors;
+    if (!PositioningFromCsv(text, in.data, errors)) {
+      return Fail("positioning: row " + std::to_string(errors[0].index) + " " + errors[0].field +
+                  ": " + errors[0].message);
+    }
+    bool created = false;
+    auto r = (*app)->checks().AddPositioningCheck(machine, in, "import", &created);
+    if (!r.ok()) return Fail("positioning: " + r.status().message());
+    std::printf("positioning check %lld of %s/%s: A %.2f um, E %.2f um, R %.2f um, B %.2f um%s\n",
+                static_cast<long long>((*r)["id"].get<int64_t>()), machine.c_str(), in.axis.c_str(),
+                (*r)["iso230_2"]["A_um"].get<double>(), (*r)["iso230_2"]["E_um"].get<double>(),
+                (*r)["iso230_2"]["R_um"].get<double>(), (*r)["iso230_2"]["B_um"].get<double>(),
+                created ? "" : " (already stored)");
+  }
   for (const std::string kind : {"temperatures", "signals", "probe-points"}) {
     if (!a.Has(kind)) continue;
     std::string text = ReadFile(a.Get(kind), ok);

@@ -1,8 +1,12 @@
 // The thermocomp command line refuses bad options with a message and exit 1.
 #include <sys/wait.h>
 
+#include <unistd.h>
+
 #include <cstdio>
+#include <cstdlib>
 #include <string>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -35,6 +39,36 @@ TEST(CliTest, UnknownCommandIsAUsageError) {
   auto [code, out] = RunThermocomp("frobnicate");
   EXPECT_EQ(code, 2);
   EXPECT_NE(out.find("unknown command 'frobnicate'"), std::string::npos) << out;
+}
+
+TEST(CliTest, AnalyzeAndPositioningImportWorkOnADatabase) {
+  const std::string dir = "/tmp/thermocomp-cli-" + std::to_string(getpid());
+  const std::string db = dir + "/t.db";
+  ASSERT_EQ(
+      RunThermocomp("simulate --db " + db + " --machines m1 --days 6 --hidden position").first, 0);
+  auto [code, out] =
+      RunThermocomp("analyze --db " + db + " --machine m1 --axis Y --format markdown");
+  EXPECT_EQ(code, 0) << out;
+  EXPECT_NE(out.find("# Effect analysis"), std::string::npos) << out;
+  EXPECT_NE(out.find("pos(Y)*Tcb"), std::string::npos) << out;
+  {
+    FILE* f = fopen((dir + "/laser.csv").c_str(), "w");
+    ASSERT_TRUE(f);
+    fputs(
+        "target_mm,run,direction,deviation_um\n0,1,+,1\n1000,1,+,-1\n1000,2,-,2\n0,2,-,0\n"
+        "0,3,+,3\n1000,3,+,-1\n1000,4,-,4\n0,4,-,2\n",
+        f);
+    fclose(f);
+  }
+  std::tie(code, out) = RunThermocomp("import --db " + db + " --machine m1 --positioning " + dir +
+                                      "/laser.csv --axis Y --ts 2026-03-10T08:00:00Z");
+  EXPECT_EQ(code, 0) << out;
+  EXPECT_NE(out.find("A 7.66 um, E 4.00 um, R 6.83 um, B 4.00 um"), std::string::npos) << out;
+  std::tie(code, out) = RunThermocomp("import --db " + db + " --machine m1 --positioning " + dir +
+                                      "/laser.csv --axis Y");
+  EXPECT_EQ(code, 1);
+  EXPECT_NE(out.find("--ts"), std::string::npos) << out;
+  std::system(("rm -rf " + dir).c_str());
 }
 
 }  // namespace
