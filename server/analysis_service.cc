@@ -10,6 +10,7 @@
 #include "server/log.h"
 #include "server/machine_lookup.h"
 #include "server/model_codec.h"
+#include "server/term_input.h"
 #include "server/time_format.h"
 #include "storage/aux_store.h"
 #include "storage/log_store.h"
@@ -20,78 +21,15 @@
 namespace thermocomp {
 namespace {
 
-// The search's input from the archive. Caller holds db.mutex().
-EffectSearchInput LoadSearchInput(Database& db, const MachineRecord& machine,
-                                  const std::string& axis, const DriftDataset& data,
-                                  const std::vector<std::string>& holdout,
-                                  const std::vector<std::string>& inputs, int64_t max_gap_ms,
-                                  const EffectSearchOptions& options) {
-  EffectSearchInput in;
-  in.axis = axis;
-  in.inputs.max_gap_ms = max_gap_ms;
-  in.inputs.sensors = data.sensors;
-  in.inputs.axes = data.axes;
-  for (const auto& a : machine.axes)
-    in.inputs.reference_position_mm.push_back(a.reference_position_mm);
-  for (const auto& s : inputs) in.declared.push_back(EffectTerm::Sensor(s));
-  if (data.rows.empty()) return in;
-
-  // Raw history from the longest lag's memory before the first datum on.
-  int64_t first = INT64_MAX, last = INT64_MIN;
-  for (const auto& r : data.rows) {
-    first = std::min(first, r.datum_ts_ms);
-    last = std::max(last, r.ts_ms);
-  }
-  const double tau_max =
-      *std::max_element(options.tau_grid_min.begin(), options.tau_grid_min.end());
-  // The refinement may go to twice the largest grid value.
-  const int64_t from = first - static_cast<int64_t>(kLagHistoryTaus * 2 * tau_max * 60000.0);
-  SampleStore samples(db);
-  for (const auto& s : machine.sensors) {
-    TimeSeries series;
-    samples.ScanRaw(s.id, from, last, [&](int64_t ts, double v) { series.Append(ts, v); });
-    in.inputs.sensor_raw.push_back(std::move(series));
-  }
-  AuxStore aux(db);
-  for (const auto& channel : aux.Signals(machine.id)) {
-    TimeSeries series;
-    aux.ScanSignal(channel.id, from, last, [&](int64_t ts, double v) { series.Append(ts, v); });
-    in.inputs.signals.push_back(channel.name);
-    in.inputs.signal_raw.push_back(std::move(series));
-  }
-  for (const auto& e : aux.Events(machine.id)) in.events.push_back({e.ts_ms, e.kind});
-  for (const DriftRow& r : data.rows) {
-    TermPoint p;
-    p.ts_ms = r.ts_ms;
-    p.datum_ts_ms = r.datum_ts_ms;
-    p.temperature = r.temperature;
-    p.datum_temperature = r.datum_temperature;
-    p.position_mm = r.position_mm;
-    p.datum_position_mm = r.datum_position_mm;
-    in.points.push_back(std::move(p));
-    in.drift_mm.push_back(r.drift_mm);
-    in.run.push_back(r.run);
-    in.holdout.push_back(std::find(holdout.begin(), holdout.end(), data.runs[r.run]) !=
-                         holdout.end());
-  }
-  return in;
-}
-
 // RMSE of a stored model on the held-out points; nullopt when it cannot be
 // evaluated on any of them.
 std::optional<double> HeldOutRmse(const DriftModel& model, const EffectSearchInput& in) {
-  FeatureBuilder features(in.inputs, in.points);
-  std::vector<Eigen::VectorXd> columns;
-  for (size_t j = 0; j < model.inputs.size(); ++j)
-    columns.push_back(features.Column(model.TermAt(j)));
+  const std::vector<double> predicted = PredictAtPoints(model, in);
   double sse = 0;
   int n = 0;
   for (size_t i = 0; i < in.points.size(); ++i) {
-    if (!in.holdout[i]) continue;
-    std::vector<double> t;
-    for (const auto& c : columns) t.push_back(c(i));
-    const double r = in.drift_mm[i] - model.PredictDrift(t);
-    if (!std::isfinite(r)) continue;
+    const double r = in.drift_mm[i] - predicted[i];
+    if (!in.holdout[i] || !std::isfinite(r)) continue;
     sse += r * r;
     ++n;
   }
@@ -166,8 +104,8 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
       BuildDriftDataset(db_, *machine, axis_name, config_.gross_error_mm, max_gap_ms, cache_);
   auto holdout = ChooseHoldout(data, req.holdout_runs, config_.holdout_runs);
   if (!holdout.ok()) return holdout.status();
-  EffectSearchInput input = LoadSearchInput(db_, *machine, axis_name, data, *holdout, inputs,
-                                            max_gap_ms, config_.analysis);
+  EffectSearchInput input = LoadTermInput(db_, *machine, axis_name, data, *holdout, inputs,
+                                          max_gap_ms, RawChannels::ForSearch(config_.analysis));
   std::optional<ModelRecord> active = ModelStore(db_).Active(axis->id);
   const int64_t axis_id = axis->id;
   const double clamp_mm = axis->clamp_mm;

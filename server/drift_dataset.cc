@@ -82,7 +82,6 @@ DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const
         continue;
       }
       const std::vector<double> t = TemperaturesAt(samples, machine, p, max_gap_ms, cache);
-      for (size_t j = 0; j < t.size(); ++j) row.delta_t.push_back(t[j] - t0[j]);
       row.datum_ts_ms = datum->ts_ms;
       row.temperature = t;
       row.datum_temperature = t0;
@@ -134,7 +133,8 @@ Observations DriftDataset::ToObservations(const std::vector<int>& row_ids,
   for (int r : row_ids) {
     bool ok = true;
     for (int c : cols)
-      ok = ok && c < static_cast<int>(sensors.size()) && std::isfinite(rows[r].delta_t[c]);
+      ok = ok && c < static_cast<int>(sensors.size()) &&
+           std::isfinite(rows[r].temperature[c] - rows[r].datum_temperature[c]);
     if (ok) usable.push_back(r);
   }
   Observations obs;
@@ -144,7 +144,9 @@ Observations DriftDataset::ToObservations(const std::vector<int>& row_ids,
   for (size_t i = 0; i < usable.size(); ++i) {
     const DriftRow& row = rows[usable[i]];
     obs.y(i) = row.drift_mm;
-    for (size_t j = 0; j < cols.size(); ++j) obs.x(i, j) = row.delta_t[cols[j]];
+    for (size_t j = 0; j < cols.size(); ++j) {
+      obs.x(i, j) = row.temperature[cols[j]] - row.datum_temperature[cols[j]];
+    }
     obs.group.push_back(row.run);
     obs.source.push_back(usable[i]);
   }

@@ -20,9 +20,9 @@ struct DriftRow {
   int k = 0;
   int64_t ts_ms = 0;
   double drift_mm = 0;
-  std::vector<double> delta_t;  // per DriftDataset::sensors; NaN where unknown
   int64_t datum_ts_ms = 0;
-  std::vector<double> temperature, datum_temperature;  // filtered, per sensor
+  // Filtered, per DriftDataset::sensors; NaN where unknown. dT is their difference.
+  std::vector<double> temperature, datum_temperature;
   std::vector<double> position_mm, datum_position_mm;  // per DriftDataset::axes; NaN unknown
 };
 

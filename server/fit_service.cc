@@ -13,6 +13,7 @@
 #include "server/log.h"
 #include "server/machine_lookup.h"
 #include "server/model_codec.h"
+#include "server/term_input.h"
 #include "server/time_format.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
@@ -93,23 +94,43 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
   ModelStore models(db_);
   std::optional<int> active_version;
   std::optional<Errors> active_errors;
+  double candidate_rmse = validation.rmse;  // on the points both models can evaluate
   if (auto active = models.Active(axis->id)) {
     active_version = active->version;
     if (auto m = DriftModelFromJson(active->model_json); m.ok() && validation.n > 0) {
-      active_errors = Evaluate(*m, test);
+      // The active model may be an extended one (lags, positions, ...):
+      // evaluate both through their terms on the same held-out points.
+      EffectSearchInput in =
+          LoadTermInput(db_, *machine, axis_name, data, holdout, {},
+                        int64_t{config_.stale_after_s} * 1000, RawChannels::ForModel(*m));
+      const std::vector<double> by_active = PredictAtPoints(*m, in);
+      const std::vector<double> by_candidate = PredictAtPoints(model, in);
+      double sse_active = 0, sse_candidate = 0;
+      int n = 0;
+      for (size_t i = 0; i < in.points.size(); ++i) {
+        const double ra = in.drift_mm[i] - by_active[i], rc = in.drift_mm[i] - by_candidate[i];
+        if (!in.holdout[i] || !std::isfinite(ra) || !std::isfinite(rc)) continue;
+        sse_active += ra * ra;
+        sse_candidate += rc * rc;
+        ++n;
+      }
+      if (n > 0) {
+        active_errors = Errors{std::sqrt(sse_active / n), 0.0, n};
+        candidate_rmse = std::sqrt(sse_candidate / n);
+      }
     }
   }
   std::string status = "active";
   std::string reason = verdict.Summary();
   if (!verdict.passed) {
     status = "rejected";
-  } else if (active_errors && validation.rmse > active_errors->rmse) {
+  } else if (active_errors && candidate_rmse > active_errors->rmse) {
     status = "rejected";
     char buf[200];
     std::snprintf(
         buf, sizeof buf,
         "held-out RMSE %.4f mm is worse than active version %d's %.4f mm on the same runs",
-        validation.rmse, *active_version, active_errors->rmse);
+        candidate_rmse, *active_version, active_errors->rmse);
     reason = buf;
   } else if (active_errors) {
     reason += "; held-out RMSE not worse than active version " + std::to_string(*active_version);
@@ -199,7 +220,8 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
   if (active_version) {
     report["compared_with"] = {
         {"version", *active_version},
-        {"validation_rmse_mm", active_errors ? FiniteOrNull(active_errors->rmse) : nullptr}};
+        {"validation_rmse_mm", active_errors ? FiniteOrNull(active_errors->rmse) : nullptr},
+        {"candidate_rmse_mm", active_errors ? FiniteOrNull(candidate_rmse) : nullptr}};
   }
 
   Transaction tx(db_);

@@ -5,7 +5,9 @@
 #include "model/drift_model.h"
 #include "model/thinning.h"
 #include "server/drift_dataset.h"
+#include "server/machine_lookup.h"
 #include "server/model_codec.h"
+#include "server/term_input.h"
 #include "server/time_format.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
@@ -29,10 +31,10 @@ nlohmann::json Series(const std::vector<int64_t>& ts, const std::vector<double>&
 
 StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
   std::lock_guard<std::mutex> lock(db_.mutex());
-  auto machine = MachineStore(db_).Find(q.machine);
-  if (!machine) return Status::NotFound("unknown machine '" + q.machine + "'");
-  const AxisRecord* axis = machine->FindAxis(q.axis);
-  if (!axis) return Status::NotFound("unknown axis '" + q.axis + "' on " + q.machine);
+  auto found = FindMachineAxis(db_, q.machine, q.axis);
+  if (!found.ok()) return found.status();
+  const MachineRecord* machine = &found->machine;
+  const AxisRecord* axis = &found->axis();
   DriftDataset data = BuildDriftDataset(db_, *machine, q.axis, config_.gross_error_mm,
                                         int64_t{config_.stale_after_s} * 1000, cache_);
   std::optional<DriftModel> model;
@@ -43,25 +45,25 @@ StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
       version = active->version;
     }
   }
+  // Predicted by the active model's terms, extended ones too, as in the fit.
+  std::vector<double> by_model(data.rows.size(), NAN);
+  if (model) {
+    EffectSearchInput in =
+        LoadTermInput(db_, *machine, q.axis, data, {}, {}, int64_t{config_.stale_after_s} * 1000,
+                      RawChannels::ForModel(*model));
+    by_model = PredictAtPoints(*model, in);
+  }
   std::vector<int64_t> ts;
   std::vector<double> measured, predicted, residual;
   std::vector<std::string> runs;
-  for (const DriftRow& row : data.rows) {
+  for (size_t i = 0; i < data.rows.size(); ++i) {
+    const DriftRow& row = data.rows[i];
     if (row.ts_ms < q.from_ms || row.ts_ms > q.to_ms) continue;
     ts.push_back(row.ts_ms);
     measured.push_back(row.drift_mm);
     runs.push_back(data.runs[row.run]);
-    double p = NAN;
-    if (model) {
-      std::vector<double> terms;
-      for (const auto& in : model->inputs) {
-        auto it = std::find(data.sensors.begin(), data.sensors.end(), in);
-        terms.push_back(it == data.sensors.end() ? NAN : row.delta_t[it - data.sensors.begin()]);
-      }
-      p = model->PredictDrift(terms);
-    }
-    predicted.push_back(p);
-    residual.push_back(row.drift_mm - p);
+    predicted.push_back(by_model[i]);
+    residual.push_back(row.drift_mm - by_model[i]);
   }
   // Probe points are few; thin them together on the measured drift so the
   // three series stay aligned point by point.

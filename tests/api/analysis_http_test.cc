@@ -95,6 +95,16 @@ TEST_F(AnalysisHttpTest, FindsTheHiddenLagReportsItAndServesTheExtendedModel) {
   EXPECT_LE(std::fabs((*y)["offset_mm"].get<double>()), 0.03);
   ASSERT_TRUE(vm.in_run());
   EXPECT_NEAR((*y)["predicted_drift_mm"].get<double>(), vm.DriftSinceDatumY(), 0.003);
+
+  // The drift history predicts with the extended model's terms too.
+  json drift = GetJson("/api/v1/machines/m1/drift?axis=Y&max_points=100000");
+  ASSERT_FALSE(drift["probe_points"].empty());
+  double sse = 0;
+  for (const auto& p : drift["probe_points"]) {
+    ASSERT_TRUE(p["residual_mm"].is_number()) << p.dump();
+    sse += p["residual_mm"].get<double>() * p["residual_mm"].get<double>();
+  }
+  EXPECT_LT(std::sqrt(sse / drift["probe_points"].size()), 0.0015);
 }
 
 TEST_F(AnalysisHttpTest, PositionDependentExpansionIsServedAsSlopeAndAtTheProbe) {

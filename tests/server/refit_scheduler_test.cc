@@ -115,6 +115,29 @@ TEST_F(ScheduledActivationTest, ActivatePolicyServesTheExtendedModel) {
     ASSERT_TRUE(vm.in_run());
     EXPECT_NEAR(a.predicted_drift_mm, vm.DriftSinceDatumY(), 0.003);
   }
+  // New runs: the next scheduled refit of the declared inputs is compared
+  // with the served extended model through its terms, loses, and does not
+  // replace it.
+  clock_.Advance(2 * 86400000LL);
+  std::vector<TemperatureInput> samples;
+  std::vector<ProbePointInput> points;
+  SimExtras extras;
+  while (vm.now_ms() + 60000 <= clock_.NowMs()) vm.Step(samples, points, &extras);
+  Flush("m1", samples, points, extras);
+  ASSERT_EQ(app_->scheduler().Tick(), 2);
+  models = app_->fits().Models("m1", "Y");
+  ASSERT_GE(models->size(), 3u);
+  EXPECT_EQ((*models)[2].status, "rejected") << (*models)[2].reason;
+  EXPECT_NE((*models)[2].reason.find("worse than active version 2"), std::string::npos)
+      << (*models)[2].reason;
+  // What stays served is an extended model: v2, or the analysis' refit of it.
+  int extended_active = 0;
+  for (const auto& m : *models) {
+    if (m.status == "active" && m.model_json.find("\"lag\"") != std::string::npos) {
+      ++extended_active;
+    }
+  }
+  EXPECT_EQ(extended_active, 1);
 }
 
 }  // namespace
