@@ -35,7 +35,14 @@ std::vector<std::vector<double>> LiveTermValues(Database& db, const DriftModel& 
   in.sensor_raw.resize(m.sensors.size());
   SampleStore samples(db);
   AuxStore aux(db);
-  std::vector<SignalChannel> channels = aux.Signals(m.id);
+  // Signal channels are looked up only for a model that reads one: this
+  // runs on every recompute of the compensation.
+  bool reads_signals = false;
+  for (size_t j = 0; j < model.inputs.size(); ++j) {
+    reads_signals = reads_signals || model.TermAt(j).kind == EffectKind::kSignal;
+  }
+  std::vector<SignalChannel> channels;
+  if (reads_signals) channels = aux.Signals(m.id);
   for (const auto& ch : channels) in.signals.push_back(ch.name);
   in.signal_raw.resize(channels.size());
   for (size_t j = 0; j < model.inputs.size(); ++j) {
