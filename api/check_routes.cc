@@ -5,6 +5,7 @@
 #include "api/check_reports.h"
 #include "api/http_util.h"
 #include "api/ingest_parsers.h"
+#include "server/json_fields.h"
 #include "server/time_format.h"
 
 namespace thermocomp::api {
@@ -14,17 +15,6 @@ using nlohmann::json;
 using Req = httplib::Request;
 using Res = httplib::Response;
 
-// The body as a JSON object, or a 400 written and nullopt.
-std::optional<json> JsonBody(const Req& req, Res& res) {
-  if (!CheckMediaType(req, res, false)) return std::nullopt;
-  json body = json::parse(req.body, nullptr, false);
-  if (body.is_discarded() || !body.is_object()) {
-    WriteProblem(res, 400, "malformed JSON", {{0, "body", "must be a JSON object"}});
-    return std::nullopt;
-  }
-  return body;
-}
-
 }  // namespace
 
 void HttpServer::CheckRoutes() {
@@ -32,9 +22,9 @@ void HttpServer::CheckRoutes() {
   const std::string m = "/api/v1/machines/([A-Za-z0-9_.-]{1,64})";
 
   s.Put("/api/v1/artifacts/([A-Za-z0-9_.-]{1,64})", [this](const Req& req, Res& res) {
-    auto body = JsonBody(req, res);
+    auto body = JsonObjectBody(req, res);
     if (!body) return;
-    std::vector<FieldError> errors;
+    FieldErrors errors;
     auto created = app_.checks().PutArtifact(req.matches[1], *body, Actor(req), &errors);
     if (!created.ok()) return WriteProblem(res, created.status(), errors);
     WriteJson(res, {{"artifact", req.matches[1].str()}, {"points", (*body)["points"].size()}},
@@ -42,21 +32,13 @@ void HttpServer::CheckRoutes() {
   });
 
   s.Post(m + "/column-checks/requests", [this](const Req& req, Res& res) {
-    auto body = JsonBody(req, res);
+    auto body = JsonObjectBody(req, res);
     if (!body) return;
-    std::vector<FieldError> errors;
-    const std::string reason = body->value("reason", "");
-    if (reason.empty() || reason.size() > 1000) {
-      errors.push_back({0, "reason", "required string of up to 1000 characters"});
-    }
-    std::optional<int64_t> due;
-    if (body->contains("due")) {
-      const json& d = (*body)["due"];
-      due = d.is_number_integer() ? std::optional(d.get<int64_t>())
-            : d.is_string()       ? ParseTs(d.get<std::string>())
-                                  : std::nullopt;
-      if (!due) errors.push_back({0, "due", "must be RFC 3339 UTC or integer Unix milliseconds"});
-    }
+    FieldErrors errors;
+    JsonFields f(*body, errors);
+    const std::string reason = f.String("reason").value_or("");
+    if (errors.empty() && reason.empty()) errors.push_back({0, "reason", "must not be empty"});
+    std::optional<int64_t> due = f.Timestamp("due", JsonFields::kOptional);
     if (!errors.empty()) return WriteProblem(res, 400, "invalid check request", errors);
     const int64_t due_ms =
         due.value_or(app_.clock().NowMs() + int64_t{app_.config().check_due_after_h} * 3600000);
@@ -78,9 +60,9 @@ void HttpServer::CheckRoutes() {
   });
 
   s.Post(m + "/column-checks", [this](const Req& req, Res& res) {
-    auto body = JsonBody(req, res);
+    auto body = JsonObjectBody(req, res);
     if (!body) return;
-    std::vector<FieldError> errors;
+    FieldErrors errors;
     auto input = ColumnCheckFromJson(*body, errors);
     if (!input) return WriteProblem(res, 400, "invalid column check", errors);
     bool created = false;
@@ -102,24 +84,23 @@ void HttpServer::CheckRoutes() {
 
   s.Post(m + "/positioning-checks", [this](const Req& req, Res& res) {
     if (!CheckMediaType(req, res, true)) return;
-    std::vector<FieldError> errors;
+    FieldErrors errors;
     std::optional<PositioningInput> input;
     if (IsCsv(req)) {
       // Laser-software export; what the CSV does not carry comes as parameters.
       input.emplace();
       input->axis = req.get_param_value("axis");
       if (input->axis.empty()) errors.push_back({0, "axis", "query parameter axis required"});
-      auto ts = ParseTs(req.get_param_value("ts"));
+      auto ts = ParseTimestamp(req.get_param_value("ts"));
       if (!ts) errors.push_back({0, "ts", "query parameter ts required (RFC 3339 or Unix ms)"});
       input->ts_ms = ts.value_or(0);
       input->compensation_active = req.get_param_value("compensation_active") == "true";
       PositioningFromCsv(req.body, input->data, errors);
     } else {
-      json body = json::parse(req.body, nullptr, false);
-      if (body.is_discarded())
-        errors.push_back({0, "body", "malformed JSON"});
-      else
-        input = PositioningFromJson(body, errors);
+      Status status;
+      auto body = ParseJsonBody(req.body, errors, &status);
+      if (!body) return WriteProblem(res, status, errors);
+      input = PositioningFromJson(*body, errors);
     }
     if (!errors.empty() || !input)
       return WriteProblem(res, 400, "invalid positioning check", errors);

@@ -11,6 +11,7 @@
 #include "api/openapi.h"
 #include "api/problem.h"
 #include "server/analysis_report.h"
+#include "server/json_fields.h"
 #include "server/log.h"
 #include "server/time_format.h"
 
@@ -27,17 +28,6 @@ thread_local std::chrono::steady_clock::time_point t_request_start;
 void WriteIngest(Res& res, const IngestResult& r) {
   if (!r.status.ok()) return WriteProblem(res, r.status, r.errors);
   WriteJson(res, {{"accepted", r.accepted}, {"duplicates", r.duplicates}});
-}
-
-std::optional<std::vector<std::string>> StringList(const json& body, const char* key,
-                                                   std::vector<FieldError>& errors) {
-  if (!body.contains(key)) return std::nullopt;
-  if (!body[key].is_array() || !std::all_of(body[key].begin(), body[key].end(),
-                                            [](const json& v) { return v.is_string(); })) {
-    errors.push_back({0, key, "must be an array of strings"});
-    return std::nullopt;
-  }
-  return body[key].get<std::vector<std::string>>();
 }
 
 }  // namespace
@@ -87,7 +77,7 @@ std::string HttpServer::CompensationBody(const std::string& machine,
       return it->second.second;
     }
   }
-  std::string body = CompensationToJson(*c).dump();
+  std::string body = JsonText(CompensationToJson(*c));
   std::unique_lock lock(rendered_mutex_);
   rendered_[machine] = {c, body};
   return body;
@@ -164,7 +154,7 @@ void HttpServer::Routes() {
   });
   s.Put(m, [this](const Req& req, Res& res) {
     if (!CheckMediaType(req, res, false)) return;
-    std::vector<FieldError> errors;
+    FieldErrors errors;
     auto record = MachineFromJson(req.matches[1], req.body, errors);
     if (!record)
       return WriteProblem(res, Status::InvalidArgument("invalid machine definition"), errors);
@@ -177,7 +167,7 @@ void HttpServer::Routes() {
   s.Post(m + "/temperatures", [this](const Req& req, Res& res) {
     if (!CheckMediaType(req, res, true)) return;
     std::vector<TemperatureInput> samples;
-    std::vector<FieldError> errors;
+    FieldErrors errors;
     bool ok = IsCsv(req) ? ParseTemperaturesCsv(req.body, samples, errors)
                          : ParseTemperaturesJson(req.body, samples, errors);
     if (!ok) {
@@ -196,7 +186,7 @@ void HttpServer::Routes() {
   s.Post(m + "/probe-points", [this](const Req& req, Res& res) {
     if (!CheckMediaType(req, res, true)) return;
     std::vector<ProbePointInput> points;
-    std::vector<FieldError> errors;
+    FieldErrors errors;
     bool ok = IsCsv(req) ? ParseProbePointsCsv(req.body, points, errors)
                          : ParseProbePointsJson(req.body, points, errors);
     if (!ok) {
@@ -215,15 +205,12 @@ void HttpServer::Routes() {
     FitRequest fr;
     fr.actor = Actor(req);
     if (!req.body.empty()) {
-      if (!CheckMediaType(req, res, false)) return;
-      json body = json::parse(req.body, nullptr, false);
-      std::vector<FieldError> errors;
-      if (body.is_discarded() || !body.is_object())
-        errors.push_back({0, "body", "must be a JSON object"});
-      else {
-        fr.inputs = StringList(body, "inputs", errors);
-        fr.holdout_runs = StringList(body, "holdout_runs", errors);
-      }
+      auto body = JsonObjectBody(req, res);
+      if (!body) return;
+      FieldErrors errors;
+      JsonFields f(*body, errors);
+      fr.inputs = f.Strings("inputs");
+      fr.holdout_runs = f.Strings("holdout_runs");
       if (!errors.empty())
         return WriteProblem(res, Status::InvalidArgument("invalid fit request"), errors);
     }
@@ -252,7 +239,7 @@ void HttpServer::Routes() {
   s.Post(m + "/signals", [this](const Req& req, Res& res) {
     if (!CheckMediaType(req, res, true)) return;
     std::vector<SignalInput> samples;
-    std::vector<FieldError> errors;
+    FieldErrors errors;
     bool ok = IsCsv(req) ? ParseSignalsCsv(req.body, samples, errors)
                          : ParseSignalsJson(req.body, samples, errors);
     if (!ok) return WriteProblem(res, Status::InvalidArgument("malformed signals"), errors);
@@ -261,7 +248,7 @@ void HttpServer::Routes() {
   s.Post(m + "/events", [this](const Req& req, Res& res) {
     if (!CheckMediaType(req, res, false)) return;
     EventInput event;
-    std::vector<FieldError> errors;
+    FieldErrors errors;
     if (!ParseEventJson(req.body, event, errors)) {
       return WriteProblem(res, Status::InvalidArgument("malformed event"), errors);
     }
@@ -275,21 +262,17 @@ void HttpServer::Routes() {
     AnalysisRequest ar;
     ar.actor = Actor(req);
     if (!req.body.empty()) {
-      if (!CheckMediaType(req, res, false)) return;
-      json body = json::parse(req.body, nullptr, false);
-      std::vector<FieldError> errors;
-      if (body.is_discarded() || !body.is_object()) {
-        errors.push_back({0, "body", "must be a JSON object"});
-      } else {
-        ar.inputs = StringList(body, "inputs", errors);
-        ar.holdout_runs = StringList(body, "holdout_runs", errors);
-        if (body.contains("policy")) {
-          const json& p = body["policy"];
-          if (!p.is_string() || (p != "off" && p != "propose" && p != "activate")) {
-            errors.push_back({0, "policy", "must be \"off\", \"propose\" or \"activate\""});
-          } else {
-            ar.policy = p.get<std::string>();
-          }
+      auto body = JsonObjectBody(req, res);
+      if (!body) return;
+      FieldErrors errors;
+      JsonFields f(*body, errors);
+      ar.inputs = f.Strings("inputs");
+      ar.holdout_runs = f.Strings("holdout_runs");
+      if (auto p = f.String("policy", JsonFields::kOptional, 16)) {
+        if (*p != "off" && *p != "propose" && *p != "activate") {
+          errors.push_back({0, "policy", "must be \"off\", \"propose\" or \"activate\""});
+        } else {
+          ar.policy = *p;
         }
       }
       if (!errors.empty()) {
@@ -328,7 +311,7 @@ void HttpServer::Routes() {
 
   s.Get(m + "/drift", [this](const Req& req, Res& res) {
     HistoryQuery q;
-    std::vector<FieldError> errors;
+    FieldErrors errors;
     if (!ParseHistoryQuery(req, q, errors)) {
       return WriteProblem(res, Status::InvalidArgument("invalid drift query"), errors);
     }

@@ -1,32 +1,64 @@
 // Small helpers shared by the route files (http_server.cc, check_routes.cc).
 #pragma once
 
+#include <cctype>
+#include <optional>
 #include <string>
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
 #include "api/problem.h"
+#include "server/json_text.h"
 
 namespace thermocomp::api {
 
 inline void WriteJson(httplib::Response& res, const nlohmann::json& body, int status = 200) {
   res.status = status;
-  res.set_content(body.dump(), "application/json");
+  res.set_content(JsonText(body), "application/json");
+}
+
+// The media type of the body, lower case, without parameters:
+// "Application/JSON; charset=utf-8" -> "application/json".
+inline std::string MediaType(const httplib::Request& req) {
+  std::string type = req.get_header_value("Content-Type");
+  type = type.substr(0, type.find(';'));
+  while (!type.empty() && (type.back() == ' ' || type.back() == '\t')) type.pop_back();
+  for (char& c : type) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return type;
 }
 
 inline bool IsCsv(const httplib::Request& req) {
-  return req.get_header_value("Content-Type").rfind("text/csv", 0) == 0;
+  return MediaType(req) == "text/csv";
 }
 
 // 415 unless the body is JSON (or CSV where `csv_ok`).
 inline bool CheckMediaType(const httplib::Request& req, httplib::Response& res, bool csv_ok) {
   const std::string type = req.get_header_value("Content-Type");
-  if (type.rfind("application/json", 0) == 0 || (csv_ok && IsCsv(req))) return true;
+  if (MediaType(req) == "application/json" || (csv_ok && IsCsv(req))) return true;
   WriteProblem(res, 415,
                "Content-Type must be application/json" + std::string(csv_ok ? " or text/csv" : "") +
                    ", got '" + type + "'");
   return false;
+}
+
+// The request's JSON object body (media type checked, nesting and size
+// bounded), or nullopt with the problem written.
+inline std::optional<nlohmann::json> JsonObjectBody(const httplib::Request& req,
+                                                    httplib::Response& res) {
+  if (!CheckMediaType(req, res, false)) return std::nullopt;
+  FieldErrors errors;
+  Status status;
+  std::optional<nlohmann::json> body = ParseJsonBody(req.body, errors, &status);
+  if (!body) {
+    WriteProblem(res, status, errors);
+    return std::nullopt;
+  }
+  if (!body->is_object()) {
+    WriteProblem(res, 400, "malformed JSON", {{0, "body", "must be a JSON object"}});
+    return std::nullopt;
+  }
+  return body;
 }
 
 // A stored report as ?format= asks: json (default), markdown or html.

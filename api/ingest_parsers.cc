@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "server/json_fields.h"
+#include "server/json_text.h"
 #include "server/time_format.h"
 
 namespace thermocomp::api {
@@ -54,77 +56,55 @@ std::optional<double> ParseDouble(std::string_view s) {
   return v;
 }
 
-std::optional<int64_t> TsFromJson(const json& j) {
-  if (j.is_number_integer()) return j.get<int64_t>();
-  if (j.is_string()) return ParseTs(j.get<std::string>());
-  return std::nullopt;
-}
-
-const char* kTsHelp = "must be RFC 3339 UTC or integer Unix milliseconds";
-
-std::optional<json> ParseJson(const std::string& body, std::vector<FieldError>& errors) {
-  try {
-    return json::parse(body);
-  } catch (const json::parse_error& e) {
-    errors.push_back({0, "body", std::string("malformed JSON at byte ") + std::to_string(e.byte)});
-    return std::nullopt;
-  }
-}
+const char* kTsHelp =
+    "must be RFC 3339 (e.g. 2026-03-01T06:00:00Z) or integer Unix milliseconds, from 2000 to 2099";
 
 }  // namespace
 
-std::optional<int64_t> ParseTs(const std::string& text) {
-  if (!text.empty() && (std::isdigit(static_cast<unsigned char>(text[0])) || text[0] == '-') &&
-      text.find_first_not_of("-0123456789") == std::string::npos) {
-    int64_t v;
-    auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-    if (ec == std::errc() && p == text.data() + text.size()) return v;
-    return std::nullopt;
-  }
-  return ParseRfc3339(text);
-}
-
 // Reads {"samples": [{"sensor": s, "ts": t, "value": v}, ...]} as events,
 // straight into the inputs: no document tree for a hot path that carries
-// thousands of samples per request. Unknown keys are ignored.
+// thousands of samples per request. Unknown keys are ignored; nesting is
+// bounded like every JSON body (kMaxJsonDepth).
 class TemperatureSax : public nlohmann::json_sax<json> {
  public:
-  TemperatureSax(std::vector<TemperatureInput>& out, std::vector<FieldError>& errors,
-                 const char* channel_key)
+  TemperatureSax(std::vector<TemperatureInput>& out, FieldErrors& errors, const char* channel_key)
       : out_(out), errors_(errors), channel_key_(channel_key) {}
 
   bool start_object(std::size_t) override {
-    ++depth_;
-    if (depth_ == 2 && in_samples_) {
+    if (!Open()) return false;
+    if (in_samples_) {
+      if (level_ != 3) return Fail("sample", "must be a flat object {sensor, ts, value}");
       current_ = TemperatureInput{};
       seen_ = 0;
-    } else if (depth_ == 2 || depth_ > 2) {
-      return Fail("sample", "must be a flat object");
+      return true;
     }
-    return true;
+    if (level_ == 2 && key_ == "samples") return Fail("samples", "must be an array");
+    return true;  // the body, or an unknown key's object
   }
   bool end_object() override {
-    if (depth_ == 2 && in_samples_) {
-      const size_t i = out_.size();
+    if (in_samples_ && level_ == 3) {
+      const size_t i = items_++;
       if (!(seen_ & kSensor)) errors_.push_back({i, channel_key_, "required string"});
       if (!(seen_ & kTs)) errors_.push_back({i, "ts", kTsHelp});
       if (!(seen_ & kValue)) errors_.push_back({i, "value", "required number"});
-      out_.push_back(std::move(current_));
+      if (seen_ == (kSensor | kTs | kValue)) out_.push_back(std::move(current_));
     }
-    --depth_;
+    --level_;
     return true;
   }
   bool start_array(std::size_t) override {
-    if (depth_ == 1 && key_ == "samples") {
+    if (!Open()) return false;
+    if (level_ == 1) return Fail("body", "must be {\"samples\": [...]}");
+    if (in_samples_) return Fail("sample", "must be a flat object {sensor, ts, value}");
+    if (level_ == 2 && key_ == "samples") {
       in_samples_ = true;
       saw_samples_ = true;
-      return true;
     }
-    if (depth_ >= 2) return Fail("sample", "must be a flat object");
-    return Fail("samples", "body must be {\"samples\": [...]}");
+    return true;  // samples, or an unknown key's array
   }
   bool end_array() override {
-    in_samples_ = false;
+    if (in_samples_ && level_ == 2) in_samples_ = false;
+    --level_;
     return true;
   }
   bool key(string_t& k) override {
@@ -132,26 +112,34 @@ class TemperatureSax : public nlohmann::json_sax<json> {
     return true;
   }
   bool string(string_t& s) override {
-    if (!InSample()) return Top("samples");
+    if (!Scalar()) return false;
+    if (!InSample()) return true;
     if (key_ == channel_key_) {
       current_.sensor = s;
       seen_ |= kSensor;
     } else if (key_ == "ts") {
-      if (auto ts = ParseTs(s)) current_.ts_ms = *ts, seen_ |= kTs;
+      if (auto ts = ParseTimestamp(s)) current_.ts_ms = *ts, seen_ |= kTs;
+    } else if (key_ == "value") {
+      errors_.push_back({items_, "value", "must be a number"});
     }
     return true;
   }
-  bool number_integer(number_integer_t v) override { return Number(static_cast<double>(v), v); }
-  bool number_unsigned(number_unsigned_t v) override {
-    return Number(static_cast<double>(v), static_cast<int64_t>(v));
+  bool number_integer(number_integer_t v) override {
+    return Number(static_cast<double>(v), v >= kEarliestTsMs && v < kLatestTsMs);
   }
-  bool number_float(number_float_t v, const string_t&) override { return Number(v, std::nullopt); }
-  bool boolean(bool) override { return InSample() || Top("samples"); }
-  bool null() override { return InSample() || Top("samples"); }
+  bool number_unsigned(number_unsigned_t v) override {
+    return Number(static_cast<double>(v), v >= static_cast<uint64_t>(kEarliestTsMs) &&
+                                              v < static_cast<uint64_t>(kLatestTsMs));
+  }
+  bool number_float(number_float_t v, const string_t&) override { return Number(v, false); }
+  bool boolean(bool) override { return Scalar(); }
+  bool null() override { return Scalar(); }
   bool binary(binary_t&) override { return Fail("body", "binary values are not JSON"); }
   bool parse_error(std::size_t position, const std::string&,
-                   const nlohmann::detail::exception&) override {
-    errors_.push_back({0, "body", "malformed JSON at byte " + std::to_string(position)});
+                   const nlohmann::detail::exception& e) override {
+    errors_.push_back({items_, "body",
+                       e.id == 406 ? "a number is out of range (beyond +-1.8e308)"
+                                   : "malformed JSON at byte " + std::to_string(position)});
     return false;
   }
   bool Finish() {
@@ -163,41 +151,53 @@ class TemperatureSax : public nlohmann::json_sax<json> {
 
  private:
   static constexpr int kSensor = 1, kTs = 2, kValue = 4;
-  bool InSample() const { return in_samples_ && depth_ == 2; }
-  // A scalar at the top level is only an error when it is the samples key.
-  bool Top(const char* field) {
-    if (depth_ == 1 && key_ == field) return Fail(field, "body must be {\"samples\": [...]}");
-    if (depth_ == 0) return Fail("samples", "body must be {\"samples\": [...]}");
+  bool InSample() const { return in_samples_ && level_ == 3; }
+  bool Open() {
+    if (++level_ > kMaxJsonDepth) {
+      return Fail("body", "nested deeper than 32 levels");
+    }
     return true;
   }
-  bool Number(double v, std::optional<int64_t> integer) {
-    if (!InSample()) return Top("samples");
+  // A scalar: the whole body, an item of samples or the samples key itself
+  // are malformed; a field of a sample or an unknown key's value are fine.
+  bool Scalar() {
+    if (level_ == 0) return Fail("body", "must be {\"samples\": [...]}");
+    if (level_ == 1 && key_ == "samples") return Fail("samples", "must be an array");
+    if (in_samples_ && level_ == 2) return Fail("sample", "must be an object {sensor, ts, value}");
+    return true;
+  }
+  bool Number(double v, bool valid_ts) {
+    if (!Scalar()) return false;
+    if (!InSample()) return true;
     if (key_ == "value") {
       current_.value = v;
       seen_ |= kValue;
-    } else if (key_ == "ts" && integer) {
-      current_.ts_ms = *integer;
+    } else if (key_ == "ts" && valid_ts) {
+      current_.ts_ms = static_cast<int64_t>(v);
       seen_ |= kTs;
+    } else if (key_ == channel_key_) {
+      errors_.push_back({items_, channel_key_, "must be a string"});
     }
     return true;
   }
   bool Fail(const char* field, const char* message) {
-    errors_.push_back({out_.size(), field, message});
+    errors_.push_back({items_, field, message});
     return false;
   }
 
   std::vector<TemperatureInput>& out_;
-  std::vector<FieldError>& errors_;
+  FieldErrors& errors_;
   const char* channel_key_;  // "sensor", or "signal" for auxiliary signals
   TemperatureInput current_;
   std::string key_;
-  int depth_ = 0, seen_ = 0;
+  int level_ = 0, seen_ = 0;
+  size_t items_ = 0;  // samples read, for error indexes
   bool in_samples_ = false, saw_samples_ = false;
 };
 
 // Samples of named channels: temperatures ("sensor") or signals ("signal").
 bool ParseChannelJson(const std::string& body, const char* key, std::vector<TemperatureInput>& out,
-                      std::vector<FieldError>& errors) {
+                      FieldErrors& errors) {
   TemperatureSax sax(out, errors, key);
   out.reserve(body.size() / 48);
   const bool parsed = json::sax_parse(body, &sax);
@@ -205,7 +205,7 @@ bool ParseChannelJson(const std::string& body, const char* key, std::vector<Temp
 }
 
 bool ParseChannelCsv(const std::string& body, const std::string& key,
-                     std::vector<TemperatureInput>& out, std::vector<FieldError>& errors) {
+                     std::vector<TemperatureInput>& out, FieldErrors& errors) {
   auto rows = SplitCsv(body);
   if (rows.empty() || rows[0].empty() || rows[0][0] != "ts" || rows[0].size() < 2) {
     errors.push_back(
@@ -224,7 +224,7 @@ bool ParseChannelCsv(const std::string& body, const std::string& key,
                             std::to_string(cells.size())});
       continue;
     }
-    auto ts = ParseTs(std::string(cells[0]));
+    auto ts = ParseTimestamp(cells[0]);
     if (!ts) {
       errors.push_back({index, "ts", kTsHelp});
       continue;
@@ -245,18 +245,17 @@ bool ParseChannelCsv(const std::string& body, const std::string& key,
       else
         out.push_back({std::string(header[c]), *ts, *v});
     }
-    if (errors.size() > 100) break;
   }
   return errors.empty();
 }
 
 bool ParseTemperaturesJson(const std::string& body, std::vector<TemperatureInput>& out,
-                           std::vector<FieldError>& errors) {
+                           FieldErrors& errors) {
   return ParseChannelJson(body, "sensor", out, errors);
 }
 
 bool ParseTemperaturesCsv(const std::string& body, std::vector<TemperatureInput>& out,
-                          std::vector<FieldError>& errors) {
+                          FieldErrors& errors) {
   return ParseChannelCsv(body, "sensor", out, errors);
 }
 
@@ -271,110 +270,71 @@ std::vector<SignalInput> AsSignals(const std::vector<TemperatureInput>& samples)
 
 }  // namespace
 
-bool ParseSignalsJson(const std::string& body, std::vector<SignalInput>& out,
-                      std::vector<FieldError>& errors) {
+bool ParseSignalsJson(const std::string& body, std::vector<SignalInput>& out, FieldErrors& errors) {
   std::vector<TemperatureInput> samples;
   const bool ok = ParseChannelJson(body, "signal", samples, errors);
   out = AsSignals(samples);
   return ok;
 }
 
-bool ParseSignalsCsv(const std::string& body, std::vector<SignalInput>& out,
-                     std::vector<FieldError>& errors) {
+bool ParseSignalsCsv(const std::string& body, std::vector<SignalInput>& out, FieldErrors& errors) {
   std::vector<TemperatureInput> samples;
   const bool ok = ParseChannelCsv(body, "signal", samples, errors);
   out = AsSignals(samples);
   return ok;
 }
 
-bool ParseEventJson(const std::string& body, EventInput& out, std::vector<FieldError>& errors) {
-  auto j = ParseJson(body, errors);
+bool ParseEventJson(const std::string& body, EventInput& out, FieldErrors& errors) {
+  auto j = ParseJsonBody(body, errors);
   if (!j) return false;
-  if (!j->is_object()) {
-    errors.push_back({0, "body", "must be a JSON object {ts, kind, note}"});
-    return false;
-  }
-  auto ts = TsFromJson(j->value("ts", json()));
-  if (!ts)
-    errors.push_back({0, "ts", kTsHelp});
-  else
-    out.ts_ms = *ts;
-  if (!j->contains("kind") || !(*j)["kind"].is_string()) {
-    errors.push_back({0, "kind", "required string: maintenance, collision, column_check or other"});
-  } else {
-    out.kind = (*j)["kind"].get<std::string>();
-  }
-  if (j->contains("note")) {
-    if (!(*j)["note"].is_string())
-      errors.push_back({0, "note", "must be a string"});
-    else
-      out.note = (*j)["note"].get<std::string>();
-  }
+  JsonFields f(*j, errors);
+  if (!f.IsObject()) return false;
+  if (auto ts = f.Timestamp("ts")) out.ts_ms = *ts;
+  if (auto kind = f.String("kind", JsonFields::kRequired, 64)) out.kind = *kind;
+  if (auto note = f.String("note", JsonFields::kOptional, kMaxNoteLength)) out.note = *note;
   return errors.empty();
 }
 
 bool ParseProbePointsJson(const std::string& body, std::vector<ProbePointInput>& out,
-                          std::vector<FieldError>& errors) {
-  auto j = ParseJson(body, errors);
+                          FieldErrors& errors) {
+  auto j = ParseJsonBody(body, errors);
   if (!j) return false;
-  if (!j->is_object() || !j->contains("points") || !(*j)["points"].is_array()) {
-    errors.push_back({0, "points", "body must be {\"points\": [...]}"});
-    return false;
-  }
-  size_t i = 0;
-  for (const json& p : (*j)["points"]) {
+  JsonFields body_fields(*j, errors);
+  if (!body_fields.IsObject()) return false;
+  const json* points = body_fields.Array("points");
+  if (!points) return false;
+  out.reserve(points->size());
+  for (size_t i = 0; i < points->size(); ++i) {
+    JsonFields f = body_fields.Item((*points)[i], i, "points");
+    if (!f.IsObject()) continue;
     ProbePointInput in;
-    if (!p.is_object()) {
-      errors.push_back({i++, "point", "must be an object"});
-      continue;
-    }
-    if (auto it = p.find("run"); it != p.end() && it->is_string())
-      in.run = *it;
-    else
-      errors.push_back({i, "run", "required string"});
-    if (auto it = p.find("k"); it != p.end() && it->is_number_integer())
-      in.k = it->get<int>();
-    else
-      errors.push_back({i, "k", "required integer"});
-    if (auto ts = p.contains("ts") ? TsFromJson(p["ts"]) : std::nullopt)
-      in.ts_ms = *ts;
-    else
-      errors.push_back({i, "ts", kTsHelp});
+    in.run = f.String("run", JsonFields::kRequired, 64).value_or("");
+    in.k = static_cast<int>(f.Integer("k", JsonFields::kRequired, 0, kMaxProbeK).value_or(0));
+    in.ts_ms = f.Timestamp("ts").value_or(0);
     for (const char* part : {"position", "deviation"}) {
-      if (!p.contains(part)) continue;
-      if (!p[part].is_object()) {
-        errors.push_back({i, part, "must be an object of axis: mm"});
-        continue;
-      }
-      for (auto& [axis, v] : p[part].items()) {
-        if (!v.is_number()) {
-          errors.push_back({i, std::string(part) + "." + axis, "must be a number"});
-          continue;
-        }
+      const json* axes = f.Object(part, JsonFields::kOptional);
+      if (!axes) continue;
+      JsonFields values = f.Field(*axes, part);
+      for (const auto& [axis, v] : axes->items()) {
+        auto mm = values.Number(axis.c_str());
+        if (!mm) continue;
         auto& av = in.axes[axis];
-        (std::string(part) == "position" ? av.position_mm : av.deviation_mm) = v.get<double>();
+        (std::string(part) == "position" ? av.position_mm : av.deviation_mm) = *mm;
       }
     }
-    if (p.contains("temperatures")) {
-      if (!p["temperatures"].is_object()) {
-        errors.push_back({i, "temperatures", "must be an object of sensor: degC"});
-      } else {
-        for (auto& [sensor, v] : p["temperatures"].items()) {
-          if (v.is_number())
-            in.temperatures[sensor] = v.get<double>();
-          else
-            errors.push_back({i, "temperatures." + sensor, "must be a number"});
-        }
+    if (const json* t = f.Object("temperatures", JsonFields::kOptional)) {
+      JsonFields values = f.Field(*t, "temperatures");
+      for (const auto& [sensor, v] : t->items()) {
+        if (auto c = values.Number(sensor.c_str())) in.temperatures[sensor] = *c;
       }
     }
     out.push_back(std::move(in));
-    ++i;
   }
   return errors.empty();
 }
 
 bool ParseProbePointsCsv(const std::string& body, std::vector<ProbePointInput>& out,
-                         std::vector<FieldError>& errors) {
+                         FieldErrors& errors) {
   auto rows = SplitCsv(body);
   if (rows.empty() || rows[0].size() < 4 || rows[0][0] != "ts" || rows[0][1] != "run" ||
       rows[0][2] != "k") {
@@ -392,7 +352,7 @@ bool ParseProbePointsCsv(const std::string& body, std::vector<ProbePointInput>& 
       continue;
     }
     ProbePointInput in;
-    auto ts = ParseTs(std::string(cells[0]));
+    auto ts = ParseTimestamp(cells[0]);
     if (!ts)
       errors.push_back({index, "ts", kTsHelp});
     else
@@ -400,8 +360,8 @@ bool ParseProbePointsCsv(const std::string& body, std::vector<ProbePointInput>& 
     in.run = std::string(cells[1]);
     int k = -1;
     auto [p, ec] = std::from_chars(cells[2].data(), cells[2].data() + cells[2].size(), k);
-    if (ec != std::errc() || p != cells[2].data() + cells[2].size()) {
-      errors.push_back({index, "k", "not an integer"});
+    if (ec != std::errc() || p != cells[2].data() + cells[2].size() || k < 0 || k > kMaxProbeK) {
+      errors.push_back({index, "k", "not an integer within 0.." + std::to_string(kMaxProbeK)});
     }
     in.k = k;
     for (size_t c = 3; c < cells.size(); ++c) {

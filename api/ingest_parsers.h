@@ -10,27 +10,22 @@
 
 namespace thermocomp::api {
 
-// RFC 3339 string or integer Unix milliseconds.
-std::optional<int64_t> ParseTs(const std::string& text);
-
 // Each returns false and fills `errors` (index = item or CSV data row,
 // 0-based) when the body is malformed.
 bool ParseTemperaturesJson(const std::string& body, std::vector<TemperatureInput>& out,
-                           std::vector<FieldError>& errors);
+                           FieldErrors& errors);
 // Long form "ts,sensor,value" or wide form "ts,<sensor>,<sensor>,...".
 bool ParseTemperaturesCsv(const std::string& body, std::vector<TemperatureInput>& out,
-                          std::vector<FieldError>& errors);
+                          FieldErrors& errors);
 // Auxiliary signals: the temperature shapes with "signal" for "sensor".
-bool ParseSignalsJson(const std::string& body, std::vector<SignalInput>& out,
-                      std::vector<FieldError>& errors);
-bool ParseSignalsCsv(const std::string& body, std::vector<SignalInput>& out,
-                     std::vector<FieldError>& errors);
+bool ParseSignalsJson(const std::string& body, std::vector<SignalInput>& out, FieldErrors& errors);
+bool ParseSignalsCsv(const std::string& body, std::vector<SignalInput>& out, FieldErrors& errors);
 // {"ts": ..., "kind": "...", "note": "..."}.
-bool ParseEventJson(const std::string& body, EventInput& out, std::vector<FieldError>& errors);
+bool ParseEventJson(const std::string& body, EventInput& out, FieldErrors& errors);
 bool ParseProbePointsJson(const std::string& body, std::vector<ProbePointInput>& out,
-                          std::vector<FieldError>& errors);
+                          FieldErrors& errors);
 // "ts,run,k,pos_X...,dev_X...,[sensor...]".
 bool ParseProbePointsCsv(const std::string& body, std::vector<ProbePointInput>& out,
-                         std::vector<FieldError>& errors);
+                         FieldErrors& errors);
 
 }  // namespace thermocomp::api

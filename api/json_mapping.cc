@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include "api/ingest_parsers.h"
+#include "server/json_fields.h"
+#include "server/json_text.h"
 #include "server/model_codec.h"
 #include "server/time_format.h"
 
@@ -32,48 +34,42 @@ std::string MachineToJsonText(const MachineRecord& m) {
 }
 
 std::optional<MachineRecord> MachineFromJson(const std::string& name, const std::string& body,
-                                             std::vector<FieldError>& errors) {
-  json j = json::parse(body, nullptr, false);
-  if (j.is_discarded() || !j.is_object()) {
-    errors.push_back({0, "body", "must be a JSON object"});
-    return std::nullopt;
-  }
+                                             FieldErrors& errors) {
+  auto j = ParseJsonBody(body, errors);
+  if (!j) return std::nullopt;
+  JsonFields f(*j, errors);
+  if (!f.IsObject()) return std::nullopt;
   MachineRecord m;
   m.name = name;
-  try {
-    m.display_name = j.value("name", "");
-    m.controller = j.value("controller", "sinumerik");
-    size_t i = 0;
-    for (const json& s : j.value("sensors", json::array())) {
+  m.display_name = f.String("name", JsonFields::kOptional, 200).value_or("");
+  m.controller = f.String("controller", JsonFields::kOptional, 64).value_or("sinumerik");
+  if (const json* sensors = f.Array("sensors", JsonFields::kOptional)) {
+    for (size_t i = 0; i < sensors->size(); ++i) {
+      JsonFields s = f.Item((*sensors)[i], i, "sensors");
+      if (!s.IsObject()) continue;
       SensorRecord r;
-      if (!s.is_object() || !s.contains("id") || !s["id"].is_string()) {
-        errors.push_back({i++, "sensors.id", "required string"});
-        continue;
-      }
-      r.name = s["id"];
-      r.location = s.value("location", "");
-      r.ewma_alpha = s.value("ewma_alpha", 0.2);
+      r.name = s.String("id", JsonFields::kRequired, 64).value_or("");
+      r.location = s.String("location", JsonFields::kOptional, 200).value_or("");
+      r.ewma_alpha = s.Number("ewma_alpha", JsonFields::kOptional).value_or(0.2);
       m.sensors.push_back(r);
-      ++i;
     }
-    i = 0;
-    for (const json& a : j.value("axes", json::array())) {
+  }
+  if (const json* axes = f.Array("axes", JsonFields::kOptional)) {
+    for (size_t i = 0; i < axes->size(); ++i) {
+      JsonFields a = f.Item((*axes)[i], i, "axes");
+      if (!a.IsObject()) continue;
       AxisRecord r;
-      if (!a.is_object() || !a.contains("id") || !a["id"].is_string()) {
-        errors.push_back({i++, "axes.id", "required string"});
-        continue;
-      }
-      r.name = a["id"];
-      r.reference_position_mm = a.value("reference_position_mm", 0.0);
-      if (a.contains("model")) {
-        r.inputs = a["model"].value("inputs", std::vector<std::string>{});
-        r.clamp_mm = a["model"].value("clamp_mm", 0.03);
+      r.name = a.String("id", JsonFields::kRequired, 8).value_or("");
+      r.reference_position_mm =
+          a.Number("reference_position_mm", JsonFields::kOptional).value_or(0.0);
+      if (const json* model = a.Object("model", JsonFields::kOptional)) {
+        JsonFields mf = a.Field(*model, "model");
+        r.inputs =
+            mf.Strings("inputs", JsonFields::kOptional, 256).value_or(std::vector<std::string>{});
+        r.clamp_mm = mf.Number("clamp_mm", JsonFields::kOptional).value_or(0.03);
       }
       m.axes.push_back(r);
-      ++i;
     }
-  } catch (const json::exception& e) {
-    errors.push_back({0, "body", std::string("wrong type: ") + e.what()});
   }
   if (!errors.empty()) return std::nullopt;
   return m;
@@ -151,15 +147,18 @@ StatusOr<json> GetModel(App& app, const std::string& machine, const std::string&
   return ModelJson(*r);
 }
 
-bool ParseHistoryQuery(const httplib::Request& req, HistoryQuery& q,
-                       std::vector<FieldError>& errors) {
+bool ParseHistoryQuery(const httplib::Request& req, HistoryQuery& q, FieldErrors& errors) {
   q.axis = req.get_param_value("axis");
-  if (q.axis.empty()) errors.push_back({0, "axis", "required, e.g. axis=Y"});
+  if (q.axis.empty()) {
+    errors.push_back({0, "axis", "required, e.g. axis=Y"});
+  } else if (!ValidAxisName(q.axis)) {
+    errors.push_back({0, "axis", "must be one of X Y Z A B C U V W"});
+  }
   for (const char* key : {"from", "to"}) {
     if (!req.has_param(key)) continue;
-    auto ts = ParseTs(req.get_param_value(key));
+    auto ts = ParseTimestamp(req.get_param_value(key));
     if (!ts)
-      errors.push_back({0, key, "must be RFC 3339 UTC or Unix milliseconds"});
+      errors.push_back({0, key, "must be RFC 3339 UTC or Unix milliseconds, from 2000 to 2099"});
     else
       (std::string(key) == "from" ? q.from_ms : q.to_ms) = *ts;
   }

@@ -17,7 +17,7 @@ nlohmann::json MachineToJson(const MachineRecord& m);
 std::string MachineToJsonText(const MachineRecord& m);
 // The body of PUT /machines/{m}; nullopt with errors when malformed.
 std::optional<MachineRecord> MachineFromJson(const std::string& name, const std::string& body,
-                                             std::vector<FieldError>& errors);
+                                             FieldErrors& errors);
 // Analysis list entries, newest first: {"analyses": [{id, created_at, trigger, effects,
 // model_version}]}.
 nlohmann::json AnalysesToJson(const std::vector<AnalysisRecord>& list);
@@ -26,7 +26,6 @@ StatusOr<nlohmann::json> ListModels(App& app, const std::string& machine, const 
 StatusOr<nlohmann::json> GetModel(App& app, const std::string& machine, const std::string& axis,
                                   int version);
 // axis (required), from, to, max_points of GET /drift.
-bool ParseHistoryQuery(const httplib::Request& req, HistoryQuery& q,
-                       std::vector<FieldError>& errors);
+bool ParseHistoryQuery(const httplib::Request& req, HistoryQuery& q, FieldErrors& errors);
 
 }  // namespace thermocomp::api

@@ -2,9 +2,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "server/json_text.h"
+
 namespace thermocomp::api {
 namespace {
 
+// Reason phrases of RFC 9110 (and 4918 for 507) for every status we send.
 const char* Title(int status) {
   switch (status) {
     case 400:
@@ -17,18 +20,38 @@ const char* Title(int status) {
       return "Not Found";
     case 405:
       return "Method Not Allowed";
+    case 408:
+      return "Request Timeout";
     case 409:
       return "Conflict";
+    case 411:
+      return "Length Required";
     case 413:
-      return "Payload Too Large";
+      return "Content Too Large";
+    case 414:
+      return "URI Too Long";
     case 415:
       return "Unsupported Media Type";
+    case 416:
+      return "Range Not Satisfiable";
+    case 417:
+      return "Expectation Failed";
     case 422:
       return "Unprocessable Content";
+    case 429:
+      return "Too Many Requests";
+    case 431:
+      return "Request Header Fields Too Large";
+    case 500:
+      return "Internal Server Error";
+    case 501:
+      return "Not Implemented";
     case 503:
       return "Service Unavailable";
+    case 507:
+      return "Insufficient Storage";
     default:
-      return "Internal Server Error";
+      return status >= 500 ? "Internal Server Error" : "Bad Request";
   }
 }
 
@@ -59,23 +82,25 @@ int HttpStatus(const Status& s) {
 }
 
 void WriteProblem(httplib::Response& res, int http_status, const std::string& detail,
-                  const std::vector<FieldError>& errors) {
+                  const FieldErrors& errors) {
   nlohmann::json p = {{"type", "about:blank"},
                       {"title", Title(http_status)},
                       {"status", http_status},
                       {"detail", detail}};
   if (!errors.empty()) {
     nlohmann::json list = nlohmann::json::array();
-    for (const auto& e : errors) {
+    for (size_t i = 0; i < errors.size() && i < FieldErrors::kMaxReported; ++i) {
+      const FieldError& e = errors[i];
       list.push_back({{"index", e.index}, {"field", e.field}, {"message", e.message}});
     }
     p["errors"] = list;
+    if (errors.total() > errors.size()) p["errors_total"] = errors.total();
   }
   res.status = http_status;
-  res.set_content(p.dump(), "application/problem+json");
+  res.set_content(JsonText(p), "application/problem+json");
 }
 
-void WriteProblem(httplib::Response& res, const Status& s, const std::vector<FieldError>& errors) {
+void WriteProblem(httplib::Response& res, const Status& s, const FieldErrors& errors) {
   std::string detail = s.message();
   if (!errors.empty()) detail += ": " + errors.front().field + ": " + errors.front().message;
   WriteProblem(res, HttpStatus(s), detail, errors);

@@ -14,8 +14,7 @@ namespace thermocomp::api {
 
 int HttpStatus(const Status& s);
 void WriteProblem(httplib::Response& res, int http_status, const std::string& detail,
-                  const std::vector<FieldError>& errors = {});
-void WriteProblem(httplib::Response& res, const Status& s,
-                  const std::vector<FieldError>& errors = {});
+                  const FieldErrors& errors = {});
+void WriteProblem(httplib::Response& res, const Status& s, const FieldErrors& errors = {});
 
 }  // namespace thermocomp::api

@@ -106,7 +106,7 @@ Archive& OpenArchive() {
     x.app = std::move(App::Open(x.config, x.clock)).value();
     if (fresh) {
       const SimRecording& rec = Recording();
-      std::vector<FieldError> errors;
+      FieldErrors errors;
       (void)x.app->machines().Register(rec.machine, "bench", &errors);
       const size_t chunk = 100000;
       for (size_t i = 0; i < rec.samples.size(); i += chunk) {

@@ -31,6 +31,9 @@ struct UncertaintyInputs {
   double delta_t_c = 0;               // deviation of the mean temperature from 20 degC
   double alpha_range_um_per_m_c = 0;  // R(alpha): uncertainty range of alpha
   double e_ve_um = 0;                 // E_VE: drift with the axis parked for a test's duration
+  // Whether any input was given: without a budget the uncertainties are
+  // not stated (they would read 0 and claim a perfect measurement).
+  bool stated = false;
 };
 
 struct PositionStats {

@@ -7,6 +7,7 @@
 #include "model/drift_model.h"
 #include "server/analysis_report.h"
 #include "server/drift_dataset.h"
+#include "server/json_text.h"
 #include "server/log.h"
 #include "server/machine_lookup.h"
 #include "server/model_codec.h"
@@ -160,7 +161,7 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
       reason = buf;
     }
     model_record =
-        ModelRecord{0, status, reason, context.created_ms, DriftModelToJson(model).dump(), ""};
+        ModelRecord{0, status, reason, context.created_ms, JsonText(DriftModelToJson(model)), ""};
     model_report = ExtendedModelReport(*result, model, context, status, reason, verdict);
   }
 
@@ -182,12 +183,12 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
                                       static_cast<int>(result->effects.size()), version, ""});
   if (!id.ok()) return id.status();
   report["id"] = *id;
-  if (Status s = analyses.SetReport(*id, report.dump()); !s.ok()) return s;
+  if (Status s = analyses.SetReport(*id, JsonText(report)); !s.ok()) return s;
   if (version) {
     model_report["version"] = *version;
     model_report["analysis_id"] = *id;
     Statement up(db_, "UPDATE models SET report_json = ? WHERE axis_id = ? AND version = ?");
-    up.Bind(1, model_report.dump()).Bind(2, axis_id).Bind(3, int64_t{*version});
+    up.Bind(1, JsonText(model_report)).Bind(2, axis_id).Bind(3, int64_t{*version});
     if (Status s = up.Run(); !s.ok()) return s;
   }
   if (Status s = LogStore(db_).Audit(context.created_ms, req.actor, "analysis", machine_name,

@@ -23,7 +23,7 @@ IngestResult IngestService::AddSignals(const std::string& machine_name,
   std::unique_lock<std::mutex> lock(db_.mutex());
   auto machine = MachineStore(db_).Find(machine_name);
   if (!machine) return Rejected({}, Status::NotFound("unknown machine '" + machine_name + "'"));
-  std::vector<FieldError> bad;
+  FieldErrors bad;
   for (size_t i = 0; i < samples.size(); ++i) {
     const auto& s = samples[i];
     if (!ValidIdentifier(s.signal)) {
@@ -37,7 +37,7 @@ IngestResult IngestService::AddSignals(const std::string& machine_name,
   if (!bad.empty()) return Rejected(bad, Status::InvalidArgument("invalid signal samples"));
 
   IngestResult result;
-  std::vector<FieldError> conflicts;
+  FieldErrors conflicts;
   Transaction tx(db_);
   if (!tx.status().ok()) return Rejected({}, tx.status());
   AuxStore store(db_);
@@ -70,7 +70,7 @@ IngestResult IngestService::AddEvent(const std::string& machine_name, const Even
   std::unique_lock<std::mutex> lock(db_.mutex());
   auto machine = MachineStore(db_).Find(machine_name);
   if (!machine) return Rejected({}, Status::NotFound("unknown machine '" + machine_name + "'"));
-  std::vector<FieldError> bad;
+  FieldErrors bad;
   if (!kEventKinds.count(e.kind)) {
     bad.push_back({0, "kind", "must be one of maintenance, collision, column_check, other"});
   }

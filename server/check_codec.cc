@@ -5,7 +5,9 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 
+#include "server/json_fields.h"
 #include "server/time_format.h"
 
 namespace thermocomp {
@@ -13,156 +15,142 @@ namespace {
 
 using nlohmann::json;
 
-std::optional<int64_t> Ts(const json& j) {
-  if (j.is_number_integer()) return j.get<int64_t>();
-  if (j.is_string()) return ParseRfc3339(j.get<std::string>());
-  return std::nullopt;
-}
+// Coordinates and lengths of artifacts and probes: finite and within +-10 m.
+constexpr double kMaxMm = 1e4;
 
-// A number at j[key]; records an error (field path `where.key`) otherwise.
-std::optional<double> Number(const json& j, const char* key, const std::string& where,
-                             std::vector<FieldError>& errors, size_t index, bool required = true) {
-  if (!j.contains(key)) {
-    if (required) errors.push_back({index, where + key, "required number"});
-    return std::nullopt;
-  }
-  if (!j[key].is_number() || !std::isfinite(j[key].get<double>())) {
-    errors.push_back({index, where + key, "must be a finite number"});
-    return std::nullopt;
-  }
-  return j[key].get<double>();
-}
-
-std::optional<Vec3> Xyz(const json& j, const std::string& where, std::vector<FieldError>& errors,
-                        size_t index) {
-  if (!j.is_object()) {
-    errors.push_back({index, where, "must be an object {x, y, z}"});
-    return std::nullopt;
-  }
-  auto x = Number(j, "x", where + ".", errors, index);
-  auto y = Number(j, "y", where + ".", errors, index);
-  auto z = Number(j, "z", where + ".", errors, index);
+std::optional<Vec3> Xyz(JsonFields& f) {
+  auto x = f.Number("x", JsonFields::kRequired, -kMaxMm, kMaxMm);
+  auto y = f.Number("y", JsonFields::kRequired, -kMaxMm, kMaxMm);
+  auto z = f.Number("z", JsonFields::kRequired, -kMaxMm, kMaxMm);
   if (!x || !y || !z) return std::nullopt;
   return Vec3{*x, *y, *z};
 }
 
-char AxisLetter(const json& j) {
-  if (!j.is_string() || j.get<std::string>().size() != 1) return 0;
-  const char c = j.get<std::string>()[0];
+// An {x, y, z} object at `key` of f.
+std::optional<Vec3> XyzField(JsonFields& f, const char* key, JsonFields::Need need) {
+  const json* v = f.Object(key, need);
+  if (!v) return std::nullopt;
+  JsonFields xyz = f.Field(*v, key);
+  return Xyz(xyz);
+}
+
+char AxisLetter(const std::optional<std::string>& s) {
+  if (!s || s->size() != 1) return 0;
+  const char c = (*s)[0];
   return c == 'X' || c == 'Y' || c == 'Z' ? c : 0;
+}
+
+void UncertaintyFromFields(JsonFields& u, UncertaintyInputs& ui) {
+  std::tuple<const char*, double*, double> fields[] = {
+      {"device_um_per_m", &ui.device_um_per_m, 1e3},
+      {"misalignment_mm", &ui.misalignment_mm, 1e3},
+      {"alpha_um_per_m_c", &ui.alpha_um_per_m_c, 1e3},
+      {"temperature_range_c", &ui.temperature_range_c, 100.0},
+      {"delta_t_c", &ui.delta_t_c, 100.0},
+      {"alpha_range_um_per_m_c", &ui.alpha_range_um_per_m_c, 1e3},
+      {"e_ve_um", &ui.e_ve_um, 1e4}};
+  for (auto& [key, dest, max] : fields) {
+    if (auto v = u.Number(key, JsonFields::kOptional, key == std::string("delta_t_c") ? -max : 0.0,
+                          max)) {
+      *dest = *v;
+      ui.stated = true;
+    }
+  }
 }
 
 }  // namespace
 
-std::optional<Artifact> ArtifactFromJson(const json& j, std::vector<FieldError>& errors) {
+std::optional<Artifact> ArtifactFromJson(const json& j, FieldErrors& errors) {
   Artifact a;
-  if (!j.is_object() || !j.contains("points") || !j["points"].is_array() || j["points"].empty()) {
-    errors.push_back({0, "points", "required: a non-empty array of artifact points"});
-    return std::nullopt;
-  }
-  for (size_t i = 0; i < j["points"].size(); ++i) {
-    const json& p = j["points"][i];
-    if (!p.is_object() || !p.contains("id") || !p["id"].is_string()) {
-      errors.push_back({i, "points.id", "required string"});
-      continue;
-    }
+  JsonFields f(j, errors);
+  if (!f.IsObject()) return std::nullopt;
+  const json* points = f.Array("points");
+  if (points && points->empty()) errors.push_back({0, "points", "must not be empty"});
+  for (size_t i = 0; points && i < points->size(); ++i) {
+    JsonFields p = f.Item((*points)[i], i, "points");
+    if (!p.IsObject()) continue;
+    auto id = p.String("id", JsonFields::kRequired, 64);
     ArtifactPoint ap;
-    if (auto n = Xyz(p.value("nominal", json()), "points.nominal", errors, i)) ap.nominal = *n;
-    if (p.contains("expansion")) {
-      const json& e = p["expansion"];
+    if (auto n = XyzField(p, "nominal", JsonFields::kRequired)) ap.nominal = *n;
+    if (const json* e = p.Object("expansion", JsonFields::kOptional)) {
+      JsonFields ef = p.Field(*e, "expansion");
       double* beta[] = {&ap.expansion.beta_x, &ap.expansion.beta_y, &ap.expansion.beta_z};
       double* b[] = {&ap.expansion.b_x, &ap.expansion.b_y, &ap.expansion.b_z};
       const char* dirs[] = {"x", "y", "z"};
       for (int d = 0; d < 3; ++d) {
-        if (!e.is_object() || !e.contains(dirs[d])) continue;
-        const std::string where = std::string("points.expansion.") + dirs[d] + ".";
-        if (auto v = Number(e[dirs[d]], "beta_mm_per_c", where, errors, i)) *beta[d] = *v;
-        if (auto v = Number(e[dirs[d]], "b_mm", where, errors, i)) *b[d] = *v;
+        const json* dir = ef.Object(dirs[d], JsonFields::kOptional);
+        if (!dir) continue;
+        JsonFields df = ef.Field(*dir, dirs[d]);
+        if (auto v = df.Number("beta_mm_per_c", JsonFields::kRequired, -1.0, 1.0)) *beta[d] = *v;
+        if (auto v = df.Number("b_mm", JsonFields::kRequired, -100.0, 100.0)) *b[d] = *v;
       }
     }
-    if (!a.points.emplace(p["id"].get<std::string>(), ap).second) {
+    if (id && !a.points.emplace(*id, ap).second) {
       errors.push_back({i, "points.id", "duplicate point id"});
     }
   }
-  if (j.contains("schemes")) {
-    for (size_t i = 0; i < j["schemes"].size(); ++i) {
-      const json& s = j["schemes"][i];
+  if (const json* schemes = f.Array("schemes", JsonFields::kOptional)) {
+    for (size_t i = 0; i < schemes->size(); ++i) {
+      JsonFields sf = f.Item((*schemes)[i], i, "schemes");
+      if (!sf.IsObject()) continue;
       StraightnessScheme sc;
-      sc.id = s.value("id", "");
-      sc.travel_axis = AxisLetter(s.value("travel_axis", json()));
-      sc.deviation_axis = AxisLetter(s.value("deviation_axis", json()));
-      sc.reference_point = s.value("reference_point", "");
+      sc.id = sf.String("id", JsonFields::kRequired, 64).value_or("");
+      sc.travel_axis = AxisLetter(sf.String("travel_axis", JsonFields::kRequired, 1));
+      sc.deviation_axis = AxisLetter(sf.String("deviation_axis", JsonFields::kRequired, 1));
+      sc.reference_point = sf.String("reference_point", JsonFields::kRequired, 64).value_or("");
       if (sc.id.empty() || !sc.travel_axis || !sc.deviation_axis ||
-          !a.points.count(sc.reference_point)) {
+          sc.travel_axis == sc.deviation_axis || !a.points.count(sc.reference_point)) {
         errors.push_back({i, "schemes",
-                          "each needs id, travel_axis and deviation_axis (X, Y or Z) and a "
+                          "each needs id, travel_axis and deviation_axis (two of X, Y, Z) and a "
                           "reference_point that is one of the points"});
         continue;
       }
       a.schemes.push_back(sc);
     }
   }
-  if (j.contains("table_centre")) {
-    if (auto c = Xyz(j["table_centre"], "table_centre", errors, 0)) a.table_centre = *c;
-  }
+  if (auto c = XyzField(f, "table_centre", JsonFields::kOptional)) a.table_centre = *c;
   if (!errors.empty()) return std::nullopt;
   return a;
 }
 
-std::optional<ColumnCheckInput> ColumnCheckFromJson(const json& j,
-                                                    std::vector<FieldError>& errors) {
+std::optional<ColumnCheckInput> ColumnCheckFromJson(const json& j, FieldErrors& errors) {
   ColumnCheckInput in;
-  if (!j.is_object()) {
-    errors.push_back({0, "body", "must be a JSON object"});
-    return std::nullopt;
+  JsonFields f(j, errors);
+  if (!f.IsObject()) return std::nullopt;
+  in.request_id = f.Integer("request_id", JsonFields::kOptional, 1, INT64_MAX);
+  in.ts_ms = f.Timestamp("ts").value_or(0);
+  in.artifact = f.String("artifact", JsonFields::kRequired, 64).value_or("");
+  if (auto t = f.Number("artifact_temperature_c", JsonFields::kRequired, -40.0, 150.0)) {
+    in.temperature_c = *t;
   }
-  if (j.contains("request_id")) {
-    if (!j["request_id"].is_number_integer()) {
-      errors.push_back({0, "request_id", "must be an integer"});
-    } else {
-      in.request_id = j["request_id"].get<int64_t>();
-    }
-  }
-  if (auto ts = Ts(j.value("ts", json()))) {
-    in.ts_ms = *ts;
-  } else {
-    errors.push_back({0, "ts", "must be RFC 3339 UTC or integer Unix milliseconds"});
-  }
-  in.artifact = j.value("artifact", "");
-  if (in.artifact.empty()) errors.push_back({0, "artifact", "required string"});
-  if (auto t = Number(j, "artifact_temperature_c", "", errors, 0)) in.temperature_c = *t;
-  if (!j.contains("spheres") || !j["spheres"].is_array()) {
-    errors.push_back({0, "spheres", "required array of {sphere, b_deg, x, y, z}"});
-  } else {
-    for (size_t i = 0; i < j["spheres"].size(); ++i) {
-      const json& s = j["spheres"][i];
+  if (const json* spheres = f.Array("spheres")) {
+    for (size_t i = 0; i < spheres->size(); ++i) {
+      JsonFields sf = f.Item((*spheres)[i], i, "spheres");
+      if (!sf.IsObject()) continue;
       SphereProbe sp;
-      sp.sphere = s.value("sphere", "");
-      if (sp.sphere.empty()) errors.push_back({i, "spheres.sphere", "required string"});
-      if (auto b = Number(s, "b_deg", "spheres.", errors, i)) sp.b_deg = *b;
-      if (auto p = Xyz(s, "spheres", errors, i)) sp.position = *p;
+      sp.sphere = sf.String("sphere", JsonFields::kRequired, 64).value_or("");
+      if (auto b = sf.Number("b_deg", JsonFields::kRequired, -360.0, 360.0)) sp.b_deg = *b;
+      if (auto p = Xyz(sf)) sp.position = *p;
       in.spheres.push_back(sp);
     }
   }
-  if (j.contains("points")) {
-    for (size_t i = 0; i < j["points"].size(); ++i) {
-      const json& p = j["points"][i];
+  if (const json* points = f.Array("points", JsonFields::kOptional)) {
+    for (size_t i = 0; i < points->size(); ++i) {
+      JsonFields pf = f.Item((*points)[i], i, "points");
+      if (!pf.IsObject()) continue;
       SurfaceProbe sp;
-      sp.point = p.value("id", "");
-      sp.scheme = p.value("scheme", "");
-      if (sp.point.empty() || sp.scheme.empty()) {
-        errors.push_back({i, "points", "each needs id and scheme"});
-      }
-      if (auto v = Xyz(p, "points", errors, i)) sp.position = *v;
+      sp.point = pf.String("id", JsonFields::kRequired, 64).value_or("");
+      sp.scheme = pf.String("scheme", JsonFields::kRequired, 64).value_or("");
+      if (auto v = Xyz(pf)) sp.position = *v;
       in.points.push_back(sp);
     }
   }
-  if (j.contains("parallelism")) {
-    const json& p = j["parallelism"];
+  if (const json* p = f.Object("parallelism", JsonFields::kOptional)) {
+    JsonFields pf = f.Field(*p, "parallelism");
     ParallelismProbe pp;
-    auto ball = Xyz(p.value("ball", json()), "parallelism.ball", errors, 0);
-    auto shank = Xyz(p.value("shank", json()), "parallelism.shank", errors, 0);
-    if (auto h = Number(p, "height_mm", "parallelism.", errors, 0, false)) pp.height_mm = *h;
+    auto ball = XyzField(pf, "ball", JsonFields::kRequired);
+    auto shank = XyzField(pf, "shank", JsonFields::kRequired);
+    if (auto h = pf.Number("height_mm", JsonFields::kOptional, 1.0, 1000.0)) pp.height_mm = *h;
     if (ball && shank) {
       pp.ball = *ball;
       pp.shank = *shank;
@@ -173,83 +161,47 @@ std::optional<ColumnCheckInput> ColumnCheckFromJson(const json& j,
   return in;
 }
 
-std::optional<PositioningInput> PositioningFromJson(const json& j,
-                                                    std::vector<FieldError>& errors) {
+std::optional<PositioningInput> PositioningFromJson(const json& j, FieldErrors& errors) {
   PositioningInput in;
-  if (!j.is_object()) {
-    errors.push_back({0, "body", "must be a JSON object"});
-    return std::nullopt;
+  JsonFields f(j, errors);
+  if (!f.IsObject()) return std::nullopt;
+  in.axis = f.String("axis", JsonFields::kRequired, 1).value_or("");
+  in.ts_ms = f.Timestamp("ts").value_or(0);
+  if (auto targets = f.Numbers("targets_mm", JsonFields::kRequired, kMaxPositioningTargets)) {
+    in.data.targets_mm = *targets;
   }
-  in.axis = j.value("axis", "");
-  if (in.axis.empty()) errors.push_back({0, "axis", "required string"});
-  if (auto ts = Ts(j.value("ts", json()))) {
-    in.ts_ms = *ts;
-  } else {
-    errors.push_back({0, "ts", "must be RFC 3339 UTC or integer Unix milliseconds"});
-  }
-  if (!j.contains("targets_mm") || !j["targets_mm"].is_array()) {
-    errors.push_back({0, "targets_mm", "required array of numbers"});
-  } else {
-    for (const auto& t : j["targets_mm"]) {
-      if (!t.is_number()) {
-        errors.push_back({0, "targets_mm", "must hold numbers only"});
-        break;
-      }
-      in.data.targets_mm.push_back(t.get<double>());
+  if (const json* runs = f.Array("runs")) {
+    if (runs->size() > kMaxPositioningRuns) {
+      errors.push_back({0, "runs", "more than " + std::to_string(kMaxPositioningRuns) + " runs"});
     }
-  }
-  if (!j.contains("runs") || !j["runs"].is_array()) {
-    errors.push_back({0, "runs", "required array of {direction, deviations_um}"});
-  } else {
-    for (size_t i = 0; i < j["runs"].size(); ++i) {
-      const json& r = j["runs"][i];
+    for (size_t i = 0; i < runs->size() && i < kMaxPositioningRuns; ++i) {
+      JsonFields rf = f.Item((*runs)[i], i, "runs");
+      if (!rf.IsObject()) continue;
       PositioningRun run;
-      const std::string dir = r.value("direction", "");
-      if (dir != "+" && dir != "-")
+      const auto dir = rf.String("direction", JsonFields::kRequired, 1);
+      if (dir && *dir != "+" && *dir != "-") {
         errors.push_back({i, "runs.direction", "must be \"+\" or \"-\""});
+      }
       run.direction = dir == "-" ? -1 : 1;
-      if (!r.contains("deviations_um") || !r["deviations_um"].is_array()) {
-        errors.push_back({i, "runs.deviations_um", "required array of numbers"});
-      } else {
-        for (const auto& v : r["deviations_um"]) {
-          if (!v.is_number()) {
-            errors.push_back({i, "runs.deviations_um", "must hold numbers only"});
-            break;
-          }
-          run.deviations_um.push_back(v.get<double>());
-        }
+      if (auto d = rf.Numbers("deviations_um", JsonFields::kRequired, kMaxPositioningTargets)) {
+        run.deviations_um = *d;
       }
       in.data.runs.push_back(run);
     }
   }
-  in.compensation_active = j.value("compensation_active", false);
-  if (j.contains("machine_temperature_c") && j["machine_temperature_c"].is_number())
-    in.machine_temperature_c = j["machine_temperature_c"].get<double>();
-  if (j.contains("air_temperature_c") && j["air_temperature_c"].is_number())
-    in.air_temperature_c = j["air_temperature_c"].get<double>();
-  if (j.contains("note") && j["note"].is_string()) in.note = j["note"].get<std::string>();
-  if (j.contains("uncertainty")) {
-    const json& u = j["uncertainty"];
-    UncertaintyInputs& ui = in.uncertainty;
-    const std::string w = "uncertainty.";
-    std::pair<const char*, double*> fields[] = {
-        {"device_um_per_m", &ui.device_um_per_m},
-        {"misalignment_mm", &ui.misalignment_mm},
-        {"alpha_um_per_m_c", &ui.alpha_um_per_m_c},
-        {"temperature_range_c", &ui.temperature_range_c},
-        {"delta_t_c", &ui.delta_t_c},
-        {"alpha_range_um_per_m_c", &ui.alpha_range_um_per_m_c},
-        {"e_ve_um", &ui.e_ve_um}};
-    for (auto& [key, dest] : fields) {
-      if (auto v = Number(u, key, w, errors, 0, false)) *dest = *v;
-    }
+  in.compensation_active = f.Bool("compensation_active").value_or(false);
+  in.machine_temperature_c = f.Number("machine_temperature_c", JsonFields::kOptional, -40, 150);
+  in.air_temperature_c = f.Number("air_temperature_c", JsonFields::kOptional, -40, 150);
+  in.note = f.String("note", JsonFields::kOptional).value_or("");
+  if (const json* u = f.Object("uncertainty", JsonFields::kOptional)) {
+    JsonFields uf = f.Field(*u, "uncertainty");
+    UncertaintyFromFields(uf, in.uncertainty);
   }
   if (!errors.empty()) return std::nullopt;
   return in;
 }
 
-bool PositioningFromCsv(const std::string& body, PositioningData& out,
-                        std::vector<FieldError>& errors) {
+bool PositioningFromCsv(const std::string& body, PositioningData& out, FieldErrors& errors) {
   std::istringstream in(body);
   std::string line;
   std::getline(in, line);

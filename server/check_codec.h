@@ -15,6 +15,11 @@
 
 namespace thermocomp {
 
+// Bounds of a positioning check body: ISO 230-2 asks for at least 5
+// targets per metre and 5 runs per direction; these leave room for any axis.
+inline constexpr size_t kMaxPositioningTargets = 10000;
+inline constexpr size_t kMaxPositioningRuns = 100;
+
 struct ColumnCheckInput {
   std::optional<int64_t> request_id;
   int64_t ts_ms = 0;
@@ -38,15 +43,12 @@ struct PositioningInput {
 // PUT /artifacts/{a} body: {"points": [{"id", "nominal": {x,y,z},
 // "expansion": {"x": {"beta_mm_per_c", "b_mm"}, ...}}], "schemes": [{"id",
 // "travel_axis", "deviation_axis", "reference_point"}], "table_centre": {x,y,z}}.
-std::optional<Artifact> ArtifactFromJson(const nlohmann::json& j, std::vector<FieldError>& errors);
-std::optional<ColumnCheckInput> ColumnCheckFromJson(const nlohmann::json& j,
-                                                    std::vector<FieldError>& errors);
-std::optional<PositioningInput> PositioningFromJson(const nlohmann::json& j,
-                                                    std::vector<FieldError>& errors);
+std::optional<Artifact> ArtifactFromJson(const nlohmann::json& j, FieldErrors& errors);
+std::optional<ColumnCheckInput> ColumnCheckFromJson(const nlohmann::json& j, FieldErrors& errors);
+std::optional<PositioningInput> PositioningFromJson(const nlohmann::json& j, FieldErrors& errors);
 // "target_mm,run,direction,deviation_um", direction + or -; runs in the order
 // they first appear, targets sorted. Axis, time and the rest come separately.
-bool PositioningFromCsv(const std::string& body, PositioningData& out,
-                        std::vector<FieldError>& errors);
+bool PositioningFromCsv(const std::string& body, PositioningData& out, FieldErrors& errors);
 nlohmann::json PositioningInputToJson(const PositioningInput& in);
 nlohmann::json EvaluationToJson(const PositioningEvaluation& e);
 nlohmann::json ColumnResultToJson(const ColumnCheckResult& r);

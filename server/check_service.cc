@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "server/json_text.h"
 #include "server/log.h"
 #include "server/machine_lookup.h"
 #include "server/time_format.h"
@@ -54,15 +55,14 @@ nlohmann::json RequestToJson(const RequestView& v) {
 }
 
 StatusOr<bool> CheckService::PutArtifact(const std::string& name, const nlohmann::json& definition,
-                                         const std::string& actor,
-                                         std::vector<FieldError>* errors) {
+                                         const std::string& actor, FieldErrors* errors) {
   if (!ArtifactFromJson(definition, *errors)) return Status::InvalidArgument("invalid artifact");
   std::lock_guard<std::mutex> lock(db_.mutex());
   CheckStore store(db_);
   const bool created = !store.Artifact(name);
   Transaction tx(db_);
   if (!tx.status().ok()) return tx.status();
-  if (Status s = store.PutArtifact(name, definition.dump(), clock_.NowMs()); !s.ok()) return s;
+  if (Status s = store.PutArtifact(name, JsonText(definition), clock_.NowMs()); !s.ok()) return s;
   if (Status s = LogStore(db_).Audit(clock_.NowMs(), actor, "artifact", "", 1, name); !s.ok()) {
     return s;
   }
@@ -141,7 +141,7 @@ StatusOr<nlohmann::json> CheckService::AddColumnCheck(const std::string& machine
   CheckStore store(db_);
   auto definition = store.Artifact(in.artifact);
   if (!definition) return Status::Unprocessable("artifact: unknown artifact '" + in.artifact + "'");
-  std::vector<FieldError> errors;
+  FieldErrors errors;
   auto artifact = ArtifactFromJson(nlohmann::json::parse(*definition), errors);
   if (!artifact) return Status::Internal("stored artifact is unreadable");
   auto result =
@@ -206,7 +206,7 @@ StatusOr<nlohmann::json> CheckService::AddColumnCheck(const std::string& machine
   out["request_id"] = request ? nlohmann::json(request->id) : nullptr;
   {
     Statement up(db_, "UPDATE column_checks SET result_json = ? WHERE id = ?");
-    up.Bind(1, out.dump()).Bind(2, *id);
+    up.Bind(1, JsonText(out)).Bind(2, *id);
     if (Status s = up.Run(); !s.ok()) return s;
   }
   if (request && !request->done_ms) {
@@ -296,7 +296,7 @@ StatusOr<nlohmann::json> CheckService::AddPositioningCheck(const std::string& ma
                 " AND ts_ms = ?");
   dup.Bind(1, machine_id).Bind(2, in.axis).Bind(3, in.ts_ms);
   if (dup.Step()) {
-    if (dup.Text(1) != input.dump()) {
+    if (dup.Text(1) != JsonText(input)) {
       return Status::Conflict("a different positioning check of " + in.axis + " at " +
                               FormatRfc3339(in.ts_ms) + " is stored already");
     }
@@ -305,12 +305,12 @@ StatusOr<nlohmann::json> CheckService::AddPositioningCheck(const std::string& ma
   }
   Transaction tx(db_);
   if (!tx.status().ok()) return tx.status();
-  auto id = store.InsertPositioningCheck(machine_id, {0, in.axis, in.ts_ms, input.dump(), ""});
+  auto id = store.InsertPositioningCheck(machine_id, {0, in.axis, in.ts_ms, JsonText(input), ""});
   if (!id.ok()) return id.status();
   out["id"] = *id;
   {
     Statement up(db_, "UPDATE positioning_checks SET result_json = ? WHERE id = ?");
-    up.Bind(1, out.dump()).Bind(2, *id);
+    up.Bind(1, JsonText(out)).Bind(2, *id);
     if (Status s = up.Run(); !s.ok()) return s;
   }
   if (Status s =
@@ -339,7 +339,7 @@ StatusOr<PitchTable> CheckService::PitchTableOf(const std::string& machine_name,
                                                 std::string* axis) {
   auto report = PositioningCheck(machine_name, id);
   if (!report.ok()) return report.status();
-  std::vector<FieldError> errors;
+  FieldErrors errors;
   auto input = PositioningFromJson((*report)["input"], errors);
   if (!input) return Status::Internal("stored positioning check is unreadable");
   auto evaluation = EvaluatePositioning(input->data, input->uncertainty);

@@ -38,7 +38,7 @@ class CheckService {
 
   // Validates the definition; returns true when it was new.
   StatusOr<bool> PutArtifact(const std::string& name, const nlohmann::json& definition,
-                             const std::string& actor, std::vector<FieldError>* errors);
+                             const std::string& actor, FieldErrors* errors);
   StatusOr<int64_t> RequestCheck(const std::string& machine, const std::string& reason,
                                  int64_t due_ms, const std::string& actor);
   // state: empty for all, or pending | overdue | done.

@@ -117,7 +117,7 @@ int Analyze(const Args& a) {
 // axis with a pitch error, 3 um of backlash and 0.5 um of noise.
 Status DemoChecks(App& app, const std::string& machine) {
   using nlohmann::json;
-  std::vector<FieldError> errors;
+  FieldErrors errors;
   json artifact = json::parse(R"({"points": [
       {"id": "KD", "nominal": {"x": 0, "y": 500, "z": 0},
        "expansion": {"y": {"beta_mm_per_c": 0.0069, "b_mm": -0.1371}}},

@@ -10,6 +10,7 @@
 #include "model/residual_checks.h"
 #include "model/selection.h"
 #include "server/drift_dataset.h"
+#include "server/json_text.h"
 #include "server/log.h"
 #include "server/machine_lookup.h"
 #include "server/model_codec.h"
@@ -228,12 +229,12 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
   if (!tx.status().ok()) return tx.status();
   // The version is known only after the insert; the stored report carries it too.
   auto version =
-      models.Insert(axis->id, {0, status, reason, now, DriftModelToJson(model).dump(), ""});
+      models.Insert(axis->id, {0, status, reason, now, JsonText(DriftModelToJson(model)), ""});
   if (!version.ok()) return version.status();
   report["version"] = *version;
   {
     Statement up(db_, "UPDATE models SET report_json = ? WHERE axis_id = ? AND version = ?");
-    up.Bind(1, report.dump()).Bind(2, axis->id).Bind(3, int64_t{*version});
+    up.Bind(1, JsonText(report)).Bind(2, axis->id).Bind(3, int64_t{*version});
     if (Status s = up.Run(); !s.ok()) return s;
   }
   if (Status s = LogStore(db_).Audit(now, req.actor, "fit", machine_name, fit.n,

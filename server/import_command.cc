@@ -28,7 +28,7 @@ StatusOr<std::pair<int, int>> ImportStudy(App& app, const std::string& machine,
     for (size_t i = 0; i < kSensors.size(); ++i)
       m.sensors.push_back({0, kSensors[i], "", kAlpha[i]});
     m.axes = {{0, "X", 0.0, kSensors, 0.03}, {0, "Y", 0.0, kSensors, 0.03}};
-    std::vector<FieldError> errors;
+    FieldErrors errors;
     auto created = app.machines().Register(m, "import", &errors);
     if (!created.ok()) return created.status();
   }
@@ -137,7 +137,7 @@ int Import(const Args& a) {
     if (in.axis.empty() || !ts) return Fail("--positioning needs --axis A and --ts RFC3339");
     in.ts_ms = *ts;
     in.compensation_active = a.Has("compensation-active");
-    std::vector<FieldError> errors;
+    FieldErrors errors;
     if (!PositioningFromCsv(text, in.data, errors)) {
       return Fail("positioning: row " + std::to_string(errors[0].index) + " " + errors[0].field +
                   ": " + errors[0].message);

@@ -22,7 +22,7 @@ std::string Num(double v) {
 
 }  // namespace
 
-IngestResult Rejected(std::vector<FieldError> errors, Status status) {
+IngestResult Rejected(FieldErrors errors, Status status) {
   IngestResult r;
   r.status = std::move(status);
   r.errors = std::move(errors);
@@ -56,7 +56,7 @@ IngestResult IngestService::AddTemperatures(const std::string& machine_name,
   if (!machine) return Rejected({}, Status::NotFound("unknown machine '" + machine_name + "'"));
 
   // Validate everything before touching the database.
-  std::vector<FieldError> bad, unknown;
+  FieldErrors bad, unknown;
   std::map<const SensorRecord*, std::vector<size_t>> by_sensor;
   for (size_t i = 0; i < samples.size(); ++i) {
     const auto& s = samples[i];
@@ -77,7 +77,7 @@ IngestResult IngestService::AddTemperatures(const std::string& machine_name,
   if (!unknown.empty()) return Rejected(unknown, Status::Unprocessable("unknown sensors"));
 
   IngestResult result;
-  std::vector<FieldError> conflicts;
+  FieldErrors conflicts;
   Transaction tx(db_);
   if (!tx.status().ok()) return Rejected({}, tx.status());
   SampleStore store(db_);
@@ -155,13 +155,16 @@ IngestResult IngestService::AddProbePoints(const std::string& machine_name,
   auto machine = MachineStore(db_).Find(machine_name);
   if (!machine) return Rejected({}, Status::NotFound("unknown machine '" + machine_name + "'"));
 
-  std::vector<FieldError> bad, unknown;
+  FieldErrors bad, unknown;
   std::map<std::string, int64_t> sensor_ids;
   for (const auto& s : machine->sensors) sensor_ids[s.name] = s.id;
   for (size_t i = 0; i < points.size(); ++i) {
     const auto& p = points[i];
     if (!ValidIdentifier(p.run)) bad.push_back({i, "run", "run must match [A-Za-z0-9_.-]{1,64}"});
-    if (p.k < 0) bad.push_back({i, "k", "k must be >= 0 (0 is the datum p0)"});
+    if (p.k < 0 || p.k > kMaxProbeK) {
+      bad.push_back(
+          {i, "k", "k must be within 0.." + std::to_string(kMaxProbeK) + " (0 is the datum p0)"});
+    }
     if (Status st = CheckTs(p.ts_ms); !st.ok()) bad.push_back({i, "ts", st.message()});
     bool any_deviation = false;
     for (const auto& [axis, v] : p.axes) {
@@ -195,7 +198,7 @@ IngestResult IngestService::AddProbePoints(const std::string& machine_name,
   if (!unknown.empty()) return Rejected(unknown, Status::Unprocessable("unknown axis or sensor"));
 
   IngestResult result;
-  std::vector<FieldError> conflicts;
+  FieldErrors conflicts;
   Transaction tx(db_);
   if (!tx.status().ok()) return Rejected({}, tx.status());
   ProbeStore store(db_);
@@ -222,7 +225,7 @@ IngestResult IngestService::AddProbePoints(const std::string& machine_name,
 }
 
 IngestResult IngestService::Commit(Transaction& tx, std::unique_lock<std::mutex>& lock,
-                                   IngestResult result, std::vector<FieldError> conflicts,
+                                   IngestResult result, FieldErrors conflicts,
                                    const std::string& conflict_message, const std::string& action,
                                    const std::string& machine, const std::string& actor,
                                    const std::function<void()>& after_commit) {

@@ -11,6 +11,7 @@
 
 #include "model/status.h"
 #include "server/clock.h"
+#include "server/field_errors.h"
 #include "server/probe_temperature_cache.h"
 #include "storage/database.h"
 #include "storage/records.h"
@@ -46,16 +47,9 @@ struct EventInput {
   std::string note;
 };
 
-// One rejected item of a batch: where, which field, why.
-struct FieldError {
-  size_t index = 0;
-  std::string field;
-  std::string message;
-};
-
 struct IngestResult {
   Status status;
-  std::vector<FieldError> errors;
+  FieldErrors errors;
   int accepted = 0;
   int duplicates = 0;
   int64_t id = 0;  // AddEvent: the stored event
@@ -63,16 +57,16 @@ struct IngestResult {
 
 // A refused batch: the status (malformed values 400 before unusable
 // references 422 before conflicts 409) and the items at fault.
-IngestResult Rejected(std::vector<FieldError> errors, Status status);
+IngestResult Rejected(FieldErrors errors, Status status);
 
 // Limits shared by every ingest path.
 constexpr double kMinTemperatureC = -40.0;
 constexpr double kMaxTemperatureC = 150.0;
-constexpr int64_t kEarliestTsMs = 946684800000;  // 2000-01-01T00:00:00Z
 constexpr int64_t kMaxFutureMs = 24 * 3600 * 1000;
 constexpr double kMaxAbsDeviationMm = 10.0;
 constexpr double kMaxAbsSignal = 1e9;
 constexpr size_t kMaxNoteLength = 1000;
+constexpr int kMaxProbeK = 1000000;  // a point index within a run
 
 bool ValidIdentifier(const std::string& id);  // [A-Za-z0-9_.-]{1,64}
 bool ValidAxisName(const std::string& axis);  // X Y Z A B C U V W
@@ -103,7 +97,7 @@ class IngestService {
   // else the audit row, the commit, `after_commit` (still under the lock),
   // and the listener once the lock is released.
   IngestResult Commit(Transaction& tx, std::unique_lock<std::mutex>& lock, IngestResult result,
-                      std::vector<FieldError> conflicts, const std::string& conflict_message,
+                      FieldErrors conflicts, const std::string& conflict_message,
                       const std::string& action, const std::string& machine,
                       const std::string& actor, const std::function<void()>& after_commit = {});
   Database& db_;

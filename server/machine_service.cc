@@ -19,8 +19,8 @@ static const std::set<std::string> kControllers = {"sinumerik", "beckhoff", "hei
                                                    "linuxcnc"};
 
 StatusOr<bool> MachineService::Register(const MachineRecord& m, const std::string& actor,
-                                        std::vector<FieldError>* errors) {
-  std::vector<FieldError> e;
+                                        FieldErrors* errors) {
+  FieldErrors e;
   if (!ValidIdentifier(m.name)) e.push_back({0, "machine", "must match [A-Za-z0-9_.-]{1,64}"});
   if (!kControllers.count(m.controller)) {
     e.push_back(

@@ -19,7 +19,7 @@ class MachineService {
 
   // Validates and stores; errors name the field. Returns true if created.
   StatusOr<bool> Register(const MachineRecord& machine, const std::string& actor,
-                          std::vector<FieldError>* errors);
+                          FieldErrors* errors);
   std::vector<MachineRecord> List();
   std::optional<MachineRecord> Find(const std::string& name);
   // Counts and times for GET /machines/{m}: samples, probe points, last sample.

@@ -62,7 +62,7 @@ Status SimulateIntoApp(App& app, const std::vector<std::string>& names, int days
                        int64_t end_ms, const std::set<HiddenEffect>& hidden) {
   const int64_t start = (end_ms / kDayMs - days) * kDayMs;
   for (size_t i = 0; i < names.size(); ++i) {
-    std::vector<FieldError> errors;
+    FieldErrors errors;
     auto created =
         app.machines().Register(VirtualMachine::Definition(names[i]), "simulate", &errors);
     if (!created.ok()) return created.status();

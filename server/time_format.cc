@@ -1,5 +1,6 @@
 #include "server/time_format.h"
 
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 
@@ -14,6 +15,15 @@ int64_t DaysFromCivil(int64_t y, unsigned m, unsigned d) {
   const unsigned doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
   const unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
   return era * 146097 + static_cast<int64_t>(doe) - 719468;
+}
+
+bool LeapYear(int y) {
+  return (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
+}
+
+int DaysInMonth(int y, int m) {
+  static const int kDays[] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+  return m == 2 && LeapYear(y) ? 29 : kDays[m - 1];
 }
 
 bool Digits(std::string_view s, size_t pos, size_t n, int& out) {
@@ -42,8 +52,7 @@ std::optional<int64_t> ParseRfc3339(std::string_view s) {
       !Digits(s, 17, 2, se)) {
     return std::nullopt;
   }
-  static const int kDays[] = {31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
-  if (mo < 1 || mo > 12 || d < 1 || d > kDays[mo - 1] || h > 23 || mi > 59 || se > 60) {
+  if (mo < 1 || mo > 12 || d < 1 || d > DaysInMonth(y, mo) || h > 23 || mi > 59 || se > 59) {
     return std::nullopt;
   }
   size_t pos = 19;
@@ -57,7 +66,7 @@ std::optional<int64_t> ParseRfc3339(std::string_view s) {
       scale /= 10;
       ++pos;
     }
-    if (pos == start) return std::nullopt;
+    if (pos == start || pos - start > 9) return std::nullopt;
   }
   int64_t offset_min = 0;
   if (pos < s.size() && (s[pos] == 'Z' || s[pos] == 'z')) {
@@ -65,7 +74,7 @@ std::optional<int64_t> ParseRfc3339(std::string_view s) {
   } else if (pos < s.size() && (s[pos] == '+' || s[pos] == '-')) {
     int oh, om;
     if (!Digits(s, pos + 1, 2, oh) || pos + 3 >= s.size() || s[pos + 3] != ':' ||
-        !Digits(s, pos + 4, 2, om)) {
+        !Digits(s, pos + 4, 2, om) || oh > 23 || om > 59) {
       return std::nullopt;
     }
     offset_min = (s[pos] == '+' ? 1 : -1) * (oh * 60 + om);
@@ -76,6 +85,20 @@ std::optional<int64_t> ParseRfc3339(std::string_view s) {
   if (pos != s.size()) return std::nullopt;
   int64_t days = DaysFromCivil(y, mo, d);
   return ((days * 24 + h) * 60 + mi - offset_min) * 60000 + int64_t{se} * 1000 + ms;
+}
+
+std::optional<int64_t> ParseTimestamp(std::string_view text) {
+  std::optional<int64_t> ms;
+  if (!text.empty() && text.size() <= 19 &&
+      text.find_first_not_of("-0123456789") == std::string_view::npos) {
+    int64_t v;
+    auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec == std::errc() && p == text.data() + text.size()) ms = v;
+  } else if (text.size() <= 40) {
+    ms = ParseRfc3339(text);
+  }
+  if (!ms || *ms < kEarliestTsMs || *ms >= kLatestTsMs) return std::nullopt;
+  return ms;
 }
 
 std::string FormatRfc3339(int64_t unix_ms) {

@@ -55,7 +55,7 @@ class AppFixture : public ::testing::Test {
   // the given undeclared effects. Returns the virtual machine for the truth.
   VirtualMachine Simulate(const std::string& name, int days, uint64_t seed = 3,
                           std::set<HiddenEffect> hidden = {}) {
-    std::vector<FieldError> errors;
+    FieldErrors errors;
     EXPECT_TRUE(app_->machines().Register(VirtualMachine::Definition(name), "test", &errors).ok());
     SimOptions o;
     o.machine = name;

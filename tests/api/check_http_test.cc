@@ -20,7 +20,7 @@ class CheckHttpTest : public testing::AppFixture {
     AppFixture::SetUp();
     StartHttp();
     client_ = std::make_unique<httplib::Client>("127.0.0.1", http_->port());
-    std::vector<FieldError> errors;
+    FieldErrors errors;
     ASSERT_TRUE(app_->machines().Register(VirtualMachine::Definition("m1"), "test", &errors).ok());
   }
   httplib::Result Post(const std::string& path, const json& body) {

@@ -1,4 +1,5 @@
 #include "api/ingest_parsers.h"
+#include "server/time_format.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +8,7 @@ namespace {
 
 TEST(IngestParsersTest, JsonSamplesWithBothTimeFormsAndExtraKeys) {
   std::vector<TemperatureInput> out;
-  std::vector<FieldError> errors;
+  FieldErrors errors;
   ASSERT_TRUE(ParseTemperaturesJson(
       R"({"source": "plc-3", "samples": [
            {"sensor": "Ty2", "ts": "2026-03-01T06:00:00.250Z", "value": 21.37, "quality": "good"},
@@ -23,7 +24,7 @@ TEST(IngestParsersTest, JsonSamplesWithBothTimeFormsAndExtraKeys) {
 
 TEST(IngestParsersTest, JsonErrorsNameTheItemAndField) {
   std::vector<TemperatureInput> out;
-  std::vector<FieldError> errors;
+  FieldErrors errors;
   EXPECT_FALSE(ParseTemperaturesJson(
       R"({"samples": [{"sensor": "T", "ts": 1772344800000, "value": 1},
                       {"sensor": "T", "value": 2}]})",
@@ -45,7 +46,7 @@ TEST(IngestParsersTest, JsonErrorsNameTheItemAndField) {
 
 TEST(IngestParsersTest, WideCsvSkipsEmptyCellsAndLongCsvReadsRows) {
   std::vector<TemperatureInput> out;
-  std::vector<FieldError> errors;
+  FieldErrors errors;
   ASSERT_TRUE(ParseTemperaturesCsv(
       "ts,T1,T2\r\n2026-03-01T06:00:00Z,21.5,\r\n2026-03-01T06:01:00Z,21.6,22\r\n", out, errors));
   ASSERT_EQ(out.size(), 3u);  // the empty cell is no reading
@@ -57,7 +58,7 @@ TEST(IngestParsersTest, WideCsvSkipsEmptyCellsAndLongCsvReadsRows) {
 
 TEST(IngestParsersTest, ProbeCsvSplitsPositionDeviationAndSnapshot) {
   std::vector<ProbePointInput> out;
-  std::vector<FieldError> errors;
+  FieldErrors errors;
   ASSERT_TRUE(ParseProbePointsCsv(
       "ts,run,k,pos_X,dev_Y,Ty2\n2026-03-01T06:00:00Z,E7,0,350,-0.0031,21.4\n", out, errors));
   ASSERT_EQ(out.size(), 1u);
@@ -68,11 +69,35 @@ TEST(IngestParsersTest, ProbeCsvSplitsPositionDeviationAndSnapshot) {
 }
 
 TEST(IngestParsersTest, TimestampForms) {
-  EXPECT_EQ(ParseTs("2026-03-01T07:00:00+01:00"), ParseTs("2026-03-01T06:00:00Z"));
-  EXPECT_EQ(ParseTs("1772344800000"), ParseTs("2026-03-01T06:00:00Z"));
-  EXPECT_FALSE(ParseTs("2026-02-30T00:00:00Z"));
-  EXPECT_FALSE(ParseTs("2026-03-01 06:00"));
-  EXPECT_FALSE(ParseTs("12abc"));
+  EXPECT_EQ(ParseTimestamp("2026-03-01T07:00:00+01:00"), ParseTimestamp("2026-03-01T06:00:00Z"));
+  EXPECT_EQ(ParseTimestamp("2026-03-01T05:30:00-00:30"), ParseTimestamp("2026-03-01T06:00:00Z"));
+  EXPECT_EQ(ParseTimestamp("1772344800000"), ParseTimestamp("2026-03-01T06:00:00Z"));
+  EXPECT_EQ(ParseTimestamp("2026-03-01T06:00:00.5Z"), 1772344800500);
+  EXPECT_FALSE(ParseTimestamp("2026-02-30T00:00:00Z"));
+  EXPECT_FALSE(ParseTimestamp("2026-03-01 06:00"));
+  EXPECT_FALSE(ParseTimestamp("12abc"));
+}
+
+TEST(IngestParsersTest, ImpossibleTimesAreRefusedNotShifted) {
+  // 29 February exists in leap years only (2000 and 2024 are, 2100 and 2025 not).
+  EXPECT_EQ(ParseTimestamp("2024-02-29T00:00:00Z"), 1709164800000);
+  EXPECT_EQ(ParseTimestamp("2000-02-29T00:00:00Z"), 951782400000);
+  EXPECT_FALSE(ParseTimestamp("2025-02-29T00:00:00Z"));
+  EXPECT_FALSE(ParseRfc3339("2100-02-29T00:00:00Z"));
+  EXPECT_FALSE(ParseTimestamp("2026-04-31T00:00:00Z"));
+  EXPECT_FALSE(ParseTimestamp("2026-03-01T24:00:00Z"));
+  EXPECT_FALSE(ParseTimestamp("2026-03-01T00:60:00Z"));
+  EXPECT_FALSE(ParseTimestamp("2026-03-01T00:00:60Z"));  // no leap seconds
+  EXPECT_FALSE(ParseTimestamp("2026-03-01T00:00:00+99:99"));
+  EXPECT_FALSE(ParseTimestamp("2026-03-01T00:00:00+24:00"));
+  EXPECT_FALSE(ParseTimestamp("2026-03-01T00:00:00+01:60"));
+  // Outside 2000..2099, in either form.
+  EXPECT_FALSE(ParseTimestamp("0"));
+  EXPECT_FALSE(ParseTimestamp("-1"));
+  EXPECT_FALSE(ParseTimestamp("9223372036854775807"));
+  EXPECT_FALSE(ParseTimestamp("1999-12-31T23:59:59Z"));
+  EXPECT_FALSE(ParseTimestamp("2100-01-01T00:00:00Z"));
+  EXPECT_TRUE(ParseTimestamp("2099-12-31T23:59:59.999Z"));
 }
 
 }  // namespace

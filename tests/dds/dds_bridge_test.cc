@@ -134,7 +134,7 @@ TEST_F(DdsBridgeTest, OpenCheckRequestsArePublishedAndWithdrawnWhenAnswered) {
   EXPECT_EQ(open[0].kind, "column_check");
 
   // The line runs the check: the request is answered and leaves the topic.
-  std::vector<FieldError> errors;
+  FieldErrors errors;
   json artifact =
       json::parse(R"({"points": [{"id": "KD", "nominal": {"x": 0, "y": 500, "z": 0}}]})");
   ASSERT_TRUE(app_->checks().PutArtifact("col-1", artifact, "t", &errors).ok());
