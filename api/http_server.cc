@@ -38,7 +38,46 @@ std::string HttpServer::Actor(const Req& req) const {
       .actor;
 }
 
-HttpServer::HttpServer(App& app) : app_(app), auth_(app.config().tokens) {
+namespace {
+
+ConnectionLimits LimitsOf(const Config& c) {
+  ConnectionLimits l;
+  l.workers = c.http_threads;
+  l.max_connections_per_client = c.max_connections_per_client;
+  l.header_timeout_s = c.header_timeout_s;
+  l.body_timeout_s = c.body_timeout_s;
+  l.keep_alive_timeout_s = c.keep_alive_timeout_s;
+  l.max_body_bytes = c.max_body_bytes;
+  return l;
+}
+
+// Framing a proxy and this server could read differently (request
+// smuggling) is refused before any body is read.
+std::string FramingError(const Req& req) {
+  if (req.get_header_value_count("Content-Length") > 1) {
+    return "more than one Content-Length header";
+  }
+  if (req.has_header("Transfer-Encoding")) {
+    if (req.has_header("Content-Length")) {
+      return "both Content-Length and Transfer-Encoding: send one of them";
+    }
+    if (req.get_header_value_count("Transfer-Encoding") > 1 ||
+        req.get_header_value("Transfer-Encoding") != "chunked") {
+      return "Transfer-Encoding must be chunked";
+    }
+  }
+  return "";
+}
+
+bool HasBody(const Req& req) {
+  return req.has_header("Transfer-Encoding") ||
+         (req.has_header("Content-Length") && req.get_header_value("Content-Length") != "0");
+}
+
+}  // namespace
+
+HttpServer::HttpServer(App& app)
+    : app_(app), auth_(app.config().tokens), server_(LimitsOf(app.config())) {
   Routes();
 }
 
@@ -47,17 +86,10 @@ HttpServer::~HttpServer() {
 }
 
 Status HttpServer::Start(const std::string& host, int port) {
-  const Config& c = app_.config();
-  // Every keep-alive connection holds a worker: size the pool for the line.
-  const int threads = c.http_threads;
-  server_.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+  // GuardedServer sizes its pool and bounds connections (api/guarded_server.h).
   server_.set_tcp_nodelay(true);
-  server_.set_payload_max_length(c.max_body_bytes);
   server_.set_keep_alive_max_count(100000);
-  server_.set_keep_alive_timeout(60);
-  port_ =
-      port == 0 ? server_.bind_to_any_port(host) : (server_.bind_to_port(host, port) ? port : -1);
-  if (port_ < 0)
+  if (!server_.Listen(host, port, &port_))
     return Status::Unavailable("cannot listen on " + host + ":" + std::to_string(port));
   thread_ = std::thread([this] { server_.listen_after_bind(); });
   while (!server_.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -65,7 +97,7 @@ Status HttpServer::Start(const std::string& host, int port) {
 }
 
 void HttpServer::Stop() {
-  server_.stop();
+  server_.Shutdown();
   if (thread_.joinable()) thread_.join();
 }
 
@@ -86,13 +118,36 @@ std::string HttpServer::CompensationBody(const std::string& machine,
 void HttpServer::Routes() {
   CheckRoutes();
   auto& s = server_;
-  s.set_pre_routing_handler([this](const Req& req, Res& res) {
+  const size_t max_body = app_.config().max_body_bytes;
+  s.set_pre_routing_handler([this, max_body](const Req& req, Res& res) {
     t_request_start = std::chrono::steady_clock::now();
+    // Answered before the body is read: the connection closes after the
+    // response, so the unread body is never taken for the next request.
+    auto refuse = [&](int status, const std::string& detail, FieldErrors errors = {}) {
+      if (HasBody(req)) {
+        GuardedServer::CloseAfterResponse();
+        res.set_header("Connection", "close");
+      }
+      WriteProblem(res, status, detail, errors);
+      return httplib::Server::HandlerResponse::Handled;
+    };
+    if (std::string framing = FramingError(req); !framing.empty()) {
+      return refuse(400, "malformed HTTP framing: " + framing,
+                    {{0, "Content-Length / Transfer-Encoding", framing}});
+    }
+    const std::string length = req.get_header_value("Content-Length");
+    if (length.size() > 18 || length.find_first_not_of("0123456789") != std::string::npos) {
+      return refuse(400, "malformed HTTP framing: Content-Length must be a number of bytes",
+                    {{0, "Content-Length", "must be a number of bytes"}});
+    }
+    if (!length.empty() && std::stoull(length) > max_body) {
+      return refuse(413, "request body larger than server.max_body_bytes (" +
+                             std::to_string(max_body) + " bytes)");
+    }
     AuthDecision d =
         auth_.Decide(req.method, req.path, req.remote_addr, req.get_header_value("Authorization"));
     if (d.status == 200) return httplib::Server::HandlerResponse::Unhandled;
-    WriteProblem(res, d.status, d.reason);
-    return httplib::Server::HandlerResponse::Handled;
+    return refuse(d.status, d.reason);
   });
   s.set_logger([this](const Req& req, const Res& res) {
     double secs =
@@ -101,18 +156,34 @@ void HttpServer::Routes() {
     if (res.status >= 500)
       log::Error("request failed", "method=" + req.method + " path=" + req.path);
   });
-  s.set_error_handler([](const Req& req, Res& res) {
+  s.set_error_handler([max_body](const Req& req, Res& res) {
     if (!res.body.empty()) return;
-    switch (res.status) {
-      case 404:
-        return WriteProblem(res, 404, "no such resource: " + req.method + " " + req.path);
-      case 413:
-        return WriteProblem(res, 413, "request body too large");
-      case 400:
-        return WriteProblem(
-            res, 400, "malformed HTTP request (a POST needs Content-Length, e.g. curl -d '')");
-      default:
-        return WriteProblem(res, res.status, "request failed");
+    // It runs outside the handlers' exception handling: it must not throw.
+    try {
+      if (GuardedServer::BodyTooLarge() || res.status == 413) {
+        res.set_header("Connection", "close");
+        return WriteProblem(res, 413,
+                            "request body larger than server.max_body_bytes (" +
+                                std::to_string(max_body) + " bytes, chunked framing included)");
+      }
+      if (GuardedServer::TimedOut()) {
+        res.set_header("Connection", "close");
+        return WriteProblem(res, 408, "the request was not sent completely in time");
+      }
+      switch (res.status) {
+        case 404:
+          return WriteProblem(res, 404, "no such resource: " + req.method + " " + req.path);
+        case 414:
+          return WriteProblem(res, 414, "request line longer than 8192 bytes");
+        case 400:
+          return WriteProblem(
+              res, 400, "malformed HTTP request (a POST needs Content-Length, e.g. curl -d '')");
+        default:
+          return WriteProblem(res, res.status, "request failed");
+      }
+    } catch (...) {
+      res.status = 500;
+      res.body.clear();
     }
   });
   s.set_exception_handler([](const Req&, Res& res, std::exception_ptr ep) {

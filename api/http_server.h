@@ -15,6 +15,7 @@
 #include <httplib.h>
 
 #include "api/auth.h"
+#include "api/guarded_server.h"
 
 namespace thermocomp::api {
 
@@ -40,7 +41,7 @@ class HttpServer {
   std::shared_mutex rendered_mutex_;
   std::map<std::string, std::pair<std::shared_ptr<const MachineCompensation>, std::string>>
       rendered_;
-  httplib::Server server_;
+  GuardedServer server_;
   std::thread thread_;
   int port_ = 0;
 };

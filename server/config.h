@@ -25,8 +25,12 @@ struct Config {
   // [server]
   std::string listen_host = "127.0.0.1";
   int listen_port = 8080;
-  int http_threads = 64;  // >= concurrent keep-alive clients (each holds a worker)
+  int http_threads = 64;  // workers; each open connection holds one while it is open
   size_t max_body_bytes = 16 * 1024 * 1024;
+  int max_connections_per_client = 48;  // beyond: idle ones are closed, else 503
+  int header_timeout_s = 10;            // a request head must arrive within this
+  int body_timeout_s = 120;             // and its body within this
+  int keep_alive_timeout_s = 60;        // an idle keep-alive connection is closed after this
   // [database]
   std::string db_path = "var/thermocomp.db";
   std::string synchronous = "full";

@@ -69,15 +69,19 @@ class RawConnection {
     in_.erase(0, out.size());
     return out;
   }
-  // Whether the peer closed the connection within `timeout`.
+  // Whether the peer closed the connection within `timeout` (what it sent
+  // before closing is read and dropped).
   bool ClosedWithin(std::chrono::milliseconds timeout) {
-    if (closed_) return true;
-    pollfd p{fd_, POLLIN, 0};
-    if (poll(&p, 1, static_cast<int>(timeout.count())) <= 0) return false;
-    char buf[4096];
-    ssize_t n = recv(fd_, buf, sizeof buf, 0);
-    if (n <= 0) closed_ = true;
-    return closed_;
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (!closed_) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+          deadline - std::chrono::steady_clock::now());
+      pollfd p{fd_, POLLIN, 0};
+      if (left.count() <= 0 || poll(&p, 1, static_cast<int>(left.count())) <= 0) return false;
+      char buf[4096];
+      if (recv(fd_, buf, sizeof buf, 0) <= 0) closed_ = true;
+    }
+    return true;
   }
 
   // The status code of a response text, or 0.

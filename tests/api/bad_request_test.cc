@@ -114,7 +114,7 @@ TEST_F(BadRequestTest, EachIsRejectedClearlyAndStoresNothing) {
       {"wrong media type", "POST", temps.c_str(), "application/xml", "<samples/>", 415,
        "Content-Type"},
       {"body too large", "POST", temps.c_str(), "text/csv",
-       "ts,sensor,value\n" + std::string(8000, '1'), 413, "too large"},
+       "ts,sensor,value\n" + std::string(8000, '1'), 413, "larger than server.max_body_bytes"},
       {"probe malformed", "POST", probes.c_str(), "application/json", "{", 400, "malformed JSON"},
       {"probe missing k", "POST", probes.c_str(), "application/json",
        Points(R"({"run": "E2", )" + ts + R"(, "deviation": {"Y": 0.001}})"), 400, "k"},

@@ -331,5 +331,30 @@ TEST_F(HostileInputTest, ImpossibleTimesAreRefused) {
   EXPECT_EQ(r->status, 200) << r->body;
 }
 
+TEST_F(HostileInputTest, SloppyFramingIsRefused) {
+  const std::string m = "/api/v1/machines/m1";
+  auto sample = [](const std::string& ts) {
+    return R"({"samples": [{"sensor": "Tcb", "ts": ")" + ts + R"(", "value": 21}]})";
+  };
+  const std::vector<Hostile> cases = {
+      {"jsonx",
+       Request("POST", m + "/temperatures", "application/jsonx", sample("2026-03-15T00:00:00Z")),
+       415, "Content-Type"},
+      {"two content lengths",
+       "POST " + m +
+           "/temperatures HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+           "Content-Length: 2\r\nContent-Length: 60\r\nConnection: close\r\n\r\n{}",
+       400, "Content-Length"},
+      {"length and chunked",
+       "POST " + m +
+           "/temperatures HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+           "Content-Length: 2\r\nTransfer-Encoding: chunked\r\nConnection: close\r\n\r\n{}",
+       400, "Transfer-Encoding"},
+      {"uri too long", Request("GET", m + "?" + std::string(9000, 'a'), "", ""), 414,
+       "URI Too Long"},
+  };
+  for (const auto& c : cases) ExpectAnswered(c);
+}
+
 }  // namespace
 }  // namespace thermocomp
