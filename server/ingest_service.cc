@@ -20,6 +20,32 @@ std::string Num(double v) {
   return buf;
 }
 
+// Rows read per step of a filter replay.
+constexpr int kReplayChunk = 256;
+
+Status ReplayFilter(SampleStore& store, const SensorRecord& sensor, int64_t late_from,
+                    int64_t latest_late, std::optional<FilterState>& state) {
+  // A late sample changes the filtered series from its time on. After the
+  // last late sample the change decays by (1 - alpha) per sample (the
+  // filter is linear), so the replay stops where it fell below the
+  // tolerance instead of rewriting every newer row of the sensor.
+  auto prev = store.Before(sensor.id, late_from);
+  EwmaFilter replay(sensor.ewma_alpha, prev ? std::optional(prev->filtered) : std::nullopt);
+  for (int64_t from = late_from;;) {
+    const std::vector<SampleRow> rows = store.From(sensor.id, from, kReplayChunk);
+    for (const SampleRow& row : rows) {
+      const double f = replay.Update(row.value);
+      if (row.ts_ms > latest_late && std::fabs(f - row.filtered) <= kReplayToleranceC) {
+        return Status::Ok();
+      }
+      if (Status st = store.UpdateFiltered(sensor.id, row.ts_ms, f); !st.ok()) return st;
+      if (state && row.ts_ms >= state->last_ts_ms) state = FilterState{row.ts_ms, row.value, f};
+    }
+    if (static_cast<int>(rows.size()) < kReplayChunk) return Status::Ok();
+    from = rows.back().ts_ms + 1;
+  }
+}
+
 }  // namespace
 
 IngestResult Rejected(FieldErrors errors, Status status) {
@@ -87,6 +113,7 @@ IngestResult IngestService::AddTemperatures(const std::string& machine_name,
     std::optional<FilterState> state = store.LoadFilterState(sensor->id);
     EwmaFilter filter(sensor->ewma_alpha, state ? std::optional(state->state) : std::nullopt);
     std::optional<int64_t> late_from;
+    int64_t latest_late = INT64_MIN;
     for (size_t n = 0; n < idx.size(); ++n) {
       const TemperatureInput& s = samples[idx[n]];
       if (n > 0 && samples[idx[n - 1]].ts_ms == s.ts_ms) {  // repeated within the batch
@@ -114,6 +141,7 @@ IngestResult IngestService::AddTemperatures(const std::string& machine_name,
           return Rejected({}, st);
         }
         late_from = std::min(late_from.value_or(s.ts_ms), s.ts_ms);
+        latest_late = std::max(latest_late, s.ts_ms);
       } else {
         double f = filter.Update(s.value);
         if (Status st = store.Insert(sensor->id, {s.ts_ms, s.value, f}); !st.ok()) {
@@ -124,15 +152,8 @@ IngestResult IngestService::AddTemperatures(const std::string& machine_name,
       ++result.accepted;
     }
     if (late_from) {
-      // A late sample changes the filtered series from its time on: replay.
-      auto prev = store.Before(sensor->id, *late_from);
-      EwmaFilter replay(sensor->ewma_alpha, prev ? std::optional(prev->filtered) : std::nullopt);
-      for (const SampleRow& row : store.Range(sensor->id, *late_from, INT64_MAX)) {
-        double f = replay.Update(row.value);
-        if (Status st = store.UpdateFiltered(sensor->id, row.ts_ms, f); !st.ok()) {
-          return Rejected({}, st);
-        }
-        state = FilterState{row.ts_ms, row.value, f};
+      if (Status st = ReplayFilter(store, *sensor, *late_from, latest_late, state); !st.ok()) {
+        return Rejected({}, st);
       }
     }
     if (state) {

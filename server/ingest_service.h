@@ -67,6 +67,10 @@ constexpr double kMaxAbsDeviationMm = 10.0;
 constexpr double kMaxAbsSignal = 1e9;
 constexpr size_t kMaxNoteLength = 1000;
 constexpr int kMaxProbeK = 1000000;  // a point index within a run
+// A late sample's replay of the filter stops where the change to the
+// stored filtered values falls below this (degC): far below any sensor's
+// resolution, and a bounded number of rows (ln(tol/change) / ln(1-alpha)).
+constexpr double kReplayToleranceC = 1e-9;
 
 bool ValidIdentifier(const std::string& id);  // [A-Za-z0-9_.-]{1,64}
 bool ValidAxisName(const std::string& axis);  // X Y Z A B C U V W

@@ -55,6 +55,16 @@ std::vector<SampleRow> SampleStore::Range(int64_t sensor_id, int64_t from_ms, in
   return out;
 }
 
+std::vector<SampleRow> SampleStore::From(int64_t sensor_id, int64_t from_ms, int limit) {
+  Statement q(db_,
+              "SELECT ts_ms, value, filtered FROM samples WHERE sensor_id = ? AND ts_ms >= ?"
+              " ORDER BY ts_ms LIMIT ?");
+  q.Bind(1, sensor_id).Bind(2, from_ms).Bind(3, int64_t{limit});
+  std::vector<SampleRow> out;
+  while (q.Step()) out.push_back({q.Int(0), q.Double(1), q.Double(2)});
+  return out;
+}
+
 void SampleStore::ScanRaw(int64_t sensor_id, int64_t from_ms, int64_t to_ms,
                           const std::function<void(int64_t, double)>& fn) {
   Statement q(db_,

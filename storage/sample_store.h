@@ -27,6 +27,9 @@ class SampleStore {
   std::optional<SampleRow> AtOrBefore(int64_t sensor_id, int64_t ts_ms);
   // Samples with from <= ts <= to, ascending.
   std::vector<SampleRow> Range(int64_t sensor_id, int64_t from_ms, int64_t to_ms);
+  // At most `limit` samples from `from_ms` on, ascending: a cursor that
+  // does not hold a statement open while the caller updates the rows.
+  std::vector<SampleRow> From(int64_t sensor_id, int64_t from_ms, int limit);
   // Calls fn(ts, raw value) for from <= ts <= to, ascending, without
   // materialising the rows (a year of one sensor is half a million).
   void ScanRaw(int64_t sensor_id, int64_t from_ms, int64_t to_ms,

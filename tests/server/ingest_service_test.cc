@@ -1,5 +1,7 @@
 #include "server/ingest_service.h"
 
+#include <cmath>
+
 #include "model/ewma_filter.h"
 #include "storage/sample_store.h"
 #include "tests/app_fixture.h"
@@ -49,6 +51,38 @@ TEST_F(IngestServiceTest, LateSampleReplaysTheFilterFromItsTime) {
   ASSERT_TRUE(state);
   EXPECT_DOUBLE_EQ(state->state, rows.back().filtered);
   EXPECT_EQ(state->last_ts_ms, t + 120000);
+}
+
+TEST_F(IngestServiceTest, ALateSampleRewritesOnlyTheRowsItChangesMeasurably) {
+  // 20 000 archived minutes, then a late batch near their start: the replay
+  // ends where the change fell below 1e-9 degC (alpha 0.5: ~40 rows), not
+  // at the newest sample, and every stored value stays within that of an
+  // in-order filter.
+  const int64_t t = testing::kT0 - 30LL * 86400000;
+  std::vector<TemperatureInput> archive;
+  for (int i = 0; i < 20000; ++i) {
+    if (i >= 100 && i < 160) continue;  // the hour that arrives late
+    archive.push_back({"T", t + i * 60000LL, 20.0 + (i % 7) * 0.1});
+  }
+  ASSERT_TRUE(app_->ingest().AddTemperatures("m1", archive, "test").status.ok());
+  std::vector<TemperatureInput> late;
+  for (int i = 100; i < 160; ++i) late.push_back({"T", t + i * 60000LL, 25.0});
+  const int before = sqlite3_total_changes(app_->db().handle());
+  ASSERT_TRUE(app_->ingest().AddTemperatures("m1", late, "test").status.ok());
+  const int changed = sqlite3_total_changes(app_->db().handle()) - before;
+  // 60 inserted, the same 60 re-filtered, ~32 after them (5 degC halving to
+  // 1e-9), the filter state and the audit row; the old replay rewrote 19 900.
+  EXPECT_LT(changed, 60 + 60 + 40 + 5);
+  EwmaFilter exact(0.5);
+  auto rows = Rows();
+  ASSERT_EQ(rows.size(), 20000u);
+  double worst = 0;
+  for (const auto& row : rows)
+    worst = std::max(worst, std::fabs(row.filtered - exact.Update(row.value)));
+  EXPECT_LE(worst, kReplayToleranceC);
+  std::lock_guard<std::mutex> lock(app_->db().mutex());
+  auto state = SampleStore(app_->db()).LoadFilterState(1);
+  EXPECT_NEAR(state->state, rows.back().filtered, kReplayToleranceC);
 }
 
 TEST_F(IngestServiceTest, FilterStateSurvivesReopen) {
