@@ -1,5 +1,6 @@
 #include "api/controller_formats.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -11,10 +12,16 @@ long TenthsOfMicron(double mm) {
   return std::lround(mm * 1e4);
 }
 
-int FanucAxisNumber(const std::string& axis) {
-  static const std::string order = "XYZABC";
-  auto pos = order.find(axis);
-  return pos == std::string::npos ? 0 : static_cast<int>(pos) + 1;
+// The axis' number on the control (1-based), 0 when the control has no such axis.
+int ControlAxisNumber(const MachineCompensation& c, const std::string& axis) {
+  auto it = std::find(c.control_axes.begin(), c.control_axes.end(), axis);
+  return it == c.control_axes.end() ? 0 : static_cast<int>(it - c.control_axes.begin()) + 1;
+}
+
+std::string Join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += x;
+  return s;
 }
 
 std::string Lower(std::string s) {
@@ -23,6 +30,10 @@ std::string Lower(std::string s) {
 }
 
 }  // namespace
+
+double SinumerikSlope(double slope_um_per_m) {
+  return slope_um_per_m * 1e-6;
+}
 
 bool KnownControllerFormat(const std::string& f) {
   return f == "sinumerik" || f == "beckhoff" || f == "heidenhain" || f == "fanuc" ||
@@ -41,10 +52,10 @@ std::string RenderForController(const MachineCompensation& c, const std::string&
     }
     if (format == "sinumerik") {
       std::snprintf(line, sizeof line,
-                    "$SA_TEMP_COMP_ABS_VALUE[%s]=%.6f\n$SA_TEMP_COMP_SLOPE[%s]=%.3f\n"
+                    "$SA_TEMP_COMP_ABS_VALUE[%s]=%.6f\n$SA_TEMP_COMP_SLOPE[%s]=%.12f\n"
                     "$SA_TEMP_COMP_REF_POSITION[%s]=%.3f\n",
-                    a.axis.c_str(), a.offset_mm, a.axis.c_str(), a.slope_um_per_m, a.axis.c_str(),
-                    a.reference_position_mm);
+                    a.axis.c_str(), a.offset_mm, a.axis.c_str(), SinumerikSlope(a.slope_um_per_m),
+                    a.axis.c_str(), a.reference_position_mm);
     } else if (format == "beckhoff") {
       std::snprintf(line, sizeof line,
                     "%s.temp_comp_offset_0=%ld\n%s.temp_comp_position_0=%ld\n"
@@ -56,12 +67,12 @@ std::string RenderForController(const MachineCompensation& c, const std::string&
       double mm = std::fmax(-3.0, std::fmin(3.0, a.offset_at_probe_mm));
       std::snprintf(line, sizeof line, "%s=%ld\n", a.axis.c_str(), TenthsOfMicron(mm));
     } else if (format == "fanuc") {
-      int n = FanucAxisNumber(a.axis);
+      const int n = ControlAxisNumber(c, a.axis);
       if (n == 0) {
-        std::snprintf(line, sizeof line, "(%s has no external work offset variable)\n",
-                      a.axis.c_str());
+        std::snprintf(line, sizeof line, "(%s is not in the control's axes %s)\n", a.axis.c_str(),
+                      Join(c.control_axes).c_str());
       } else {
-        std::snprintf(line, sizeof line, "#520%d=%.4f\n", n, a.offset_at_probe_mm);
+        std::snprintf(line, sizeof line, "#%d=%.4f\n", 5200 + n, a.offset_at_probe_mm);
       }
     } else {  // linuxcnc
       std::string ax = Lower(a.axis);

@@ -250,8 +250,12 @@ bool ConnectionRegistry::EvictOne(const std::string& client) {
 bool ConnectionRegistry::EvictLocked(const std::string& client) {
   const auto now = Clock::now();
   auto victim = open_.end();
-  auto rank = [&](const Entry& e) {  // lower is a better victim; -1 not at all
-    if (e.state == State::kHead && now - e.since >= kSlowHead) return 0;
+  // Lower is a better victim; -1 not at all. Nothing is closed within
+  // kSlowHead of its last change: a connection just accepted, or idle
+  // between two requests of a client that is still talking, is spared.
+  auto rank = [&](const Entry& e) {
+    if (now - e.since < kSlowHead) return -1;
+    if (e.state == State::kHead) return 0;
     if (e.state == State::kIdle) return 1;
     return -1;
   };

@@ -226,7 +226,7 @@ void HttpServer::Routes() {
   s.Put(m, [this](const Req& req, Res& res) {
     if (!CheckMediaType(req, res, false)) return;
     FieldErrors errors;
-    auto record = MachineFromJson(req.matches[1], req.body, errors);
+    auto record = MachineFromJson(req.matches[1], req.body, errors);  // a MachineDefinition
     if (!record)
       return WriteProblem(res, Status::InvalidArgument("invalid machine definition"), errors);
     auto created = app_.machines().Register(*record, Actor(req), &errors);
@@ -368,13 +368,23 @@ void HttpServer::Routes() {
   s.Get(m + "/compensation", [this](const Req& req, Res& res) {
     auto c = app_.compensation().Get(req.matches[1]);
     if (!c.ok()) return WriteProblem(res, c.status());
-    const std::string format = req.get_param_value("format");
+    std::string format = req.get_param_value("format");
     if (format.empty() || format == "json") {
       return res.set_content(CompensationBody(req.matches[1], *c), "application/json");
     }
+    if (format == "native") {
+      if (!KnownControllerFormat((*c)->controller)) {
+        return WriteProblem(res, 400,
+                            "format: native: the machine's control '" + (*c)->controller +
+                                "' has no native format; use json",
+                            {{0, "format", "no native format for '" + (*c)->controller + "'"}});
+      }
+      format = (*c)->controller;
+    }
     if (!KnownControllerFormat(format)) {
       return WriteProblem(
-          res, 400, "format: must be json, sinumerik, beckhoff, heidenhain, fanuc or linuxcnc",
+          res, 400,
+          "format: must be json, native, sinumerik, beckhoff, heidenhain, fanuc or linuxcnc",
           {{0, "format", "unknown format '" + format + "'"}});
     }
     res.set_content(RenderForController(**c, format), "text/plain");

@@ -25,24 +25,33 @@ json MachineToJson(const MachineRecord& m) {
   return {{"machine", m.name},
           {"name", m.display_name},
           {"controller", m.controller},
+          {"native_format", KnownController(m.controller) ? json(m.controller) : json(nullptr)},
+          {"control_axes", m.ControlAxes()},
+          {"automatic_column_checks", m.automatic_checks},
           {"sensors", sensors},
           {"axes", axes}};
 }
 
 std::string MachineToJsonText(const MachineRecord& m) {
-  return MachineToJson(m).dump(2);
+  json j = MachineToJson(m);
+  j.erase("machine");
+  j.erase("native_format");
+  if (m.control_axes.empty()) j.erase("control_axes");  // the default order stays implicit
+  return JsonText(j, 2);
 }
 
-std::optional<MachineRecord> MachineFromJson(const std::string& name, const std::string& body,
-                                             FieldErrors& errors) {
+std::optional<MachineDefinition> MachineFromJson(const std::string& name, const std::string& body,
+                                                 FieldErrors& errors) {
   auto j = ParseJsonBody(body, errors);
   if (!j) return std::nullopt;
   JsonFields f(*j, errors);
   if (!f.IsObject()) return std::nullopt;
-  MachineRecord m;
+  MachineDefinition m;
   m.name = name;
-  m.display_name = f.String("name", JsonFields::kOptional, 200).value_or("");
-  m.controller = f.String("controller", JsonFields::kOptional, 64).value_or("sinumerik");
+  m.display_name = f.String("name", JsonFields::kOptional, 200);
+  m.controller = f.String("controller", JsonFields::kOptional, 64);
+  m.control_axes = f.Strings("control_axes", JsonFields::kOptional, 9);
+  m.automatic_checks = f.Bool("automatic_column_checks");
   if (const json* sensors = f.Array("sensors", JsonFields::kOptional)) {
     for (size_t i = 0; i < sensors->size(); ++i) {
       JsonFields s = f.Item((*sensors)[i], i, "sensors");

@@ -16,8 +16,8 @@ nlohmann::json MachineToJson(const MachineRecord& m);
 // The PUT body that registers `m` (for files the simulator writes).
 std::string MachineToJsonText(const MachineRecord& m);
 // The body of PUT /machines/{m}; nullopt with errors when malformed.
-std::optional<MachineRecord> MachineFromJson(const std::string& name, const std::string& body,
-                                             FieldErrors& errors);
+std::optional<MachineDefinition> MachineFromJson(const std::string& name, const std::string& body,
+                                                 FieldErrors& errors);
 // Analysis list entries, newest first: {"analyses": [{id, created_at, trigger, effects,
 // model_version}]}.
 nlohmann::json AnalysesToJson(const std::vector<AnalysisRecord>& list);

@@ -121,6 +121,7 @@ int CheckService::EnsurePeriodicRequests() {
   int made = 0;
   CheckStore store(db_);
   for (const auto& m : MachineStore(db_).List()) {
+    if (!m.automatic_checks) continue;  // opted in per machine
     auto latest = store.LatestRequestOrCheck(m.id);
     if (latest && now - *latest < period) continue;
     Transaction tx(db_);

@@ -38,6 +38,7 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
   MachineCompensation mc;
   mc.machine = name;
   mc.controller = machine->controller;
+  mc.control_axes = machine->ControlAxes();
   mc.computed_at_ms = clock_.NowMs();
   SampleStore samples(db_);
   ModelStore models(db_);
@@ -259,7 +260,9 @@ StatusOr<std::shared_ptr<const MachineCompensation>> CompensationService::Get(
     return a.oldest_input_ms && now - *a.oldest_input_ms > int64_t{config_.stale_after_s} * 1000;
   };
   if (std::none_of(cached->axes.begin(), cached->axes.end(), is_stale)) return cached;
+  // Staleness is decided now: what is served was computed now.
   auto out = std::make_shared<MachineCompensation>(*cached);
+  out->computed_at_ms = now;
   for (auto& a : out->axes) {
     if (is_stale(a)) {
       a.stale = true;

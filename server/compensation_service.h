@@ -52,6 +52,7 @@ struct AxisCompensation {
 struct MachineCompensation {
   std::string machine;
   std::string controller;
+  std::vector<std::string> control_axes;  // the control's axis order (MachineRecord::ControlAxes)
   int64_t computed_at_ms = 0;
   std::vector<AxisCompensation> axes;
 };

@@ -77,6 +77,7 @@ MachineRecord VirtualMachine::Definition(const std::string& name) {
   m.name = name;
   m.display_name = "Simulated HMC " + name;
   m.controller = "sinumerik";
+  m.automatic_checks = true;  // the simulated line has a reference column
   m.sensors = {
       {0, "Tsp", "spindle housing", 0.40},       {0, "Tco", "spindle-cooling glycol", 0.40},
       {0, "Tcu", "Y column, upper", 0.30},       {0, "Tcb", "Y column, base", 0.20},

@@ -33,20 +33,24 @@ StatusOr<bool> MachineStore::Upsert(const MachineRecord& m, int64_t now_ms) {
   }
   if (id == 0) {
     Statement ins(db_,
-                  "INSERT INTO machines(name, display_name, controller, created_ms, updated_ms)"
-                  " VALUES (?, ?, ?, ?, ?)");
+                  "INSERT INTO machines(name, display_name, controller, created_ms, updated_ms,"
+                  " control_axes, automatic_checks) VALUES (?, ?, ?, ?, ?, ?, ?)");
     ins.Bind(1, m.name)
         .Bind(2, m.display_name)
         .Bind(3, m.controller)
         .Bind(4, now_ms)
-        .Bind(5, now_ms);
+        .Bind(5, now_ms)
+        .Bind(6, Join(m.control_axes))
+        .Bind(7, int64_t{m.automatic_checks});
     if (Status s = ins.Run(); !s.ok()) return s;
     id = db_.LastInsertId();
     created = true;
   } else {
-    Statement up(
-        db_, "UPDATE machines SET display_name = ?, controller = ?, updated_ms = ? WHERE id = ?");
-    up.Bind(1, m.display_name).Bind(2, m.controller).Bind(3, now_ms).Bind(4, id);
+    Statement up(db_,
+                 "UPDATE machines SET display_name = ?, controller = ?, updated_ms = ?,"
+                 " control_axes = ?, automatic_checks = ? WHERE id = ?");
+    up.Bind(1, m.display_name).Bind(2, m.controller).Bind(3, now_ms);
+    up.Bind(4, Join(m.control_axes)).Bind(5, int64_t{m.automatic_checks}).Bind(6, id);
     if (Status s = up.Run(); !s.ok()) return s;
   }
   Statement sensor(db_,
@@ -78,13 +82,17 @@ StatusOr<bool> MachineStore::Upsert(const MachineRecord& m, int64_t now_ms) {
 std::optional<MachineRecord> MachineStore::Find(const std::string& name) {
   MachineRecord m;
   {
-    Statement q(db_, "SELECT id, display_name, controller FROM machines WHERE name = ?");
+    Statement q(db_,
+                "SELECT id, display_name, controller, control_axes, automatic_checks FROM machines"
+                " WHERE name = ?");
     q.Bind(1, name);
     if (!q.Step()) return std::nullopt;
     m.id = q.Int(0);
     m.name = name;
     m.display_name = q.Text(1);
     m.controller = q.Text(2);
+    m.control_axes = Split(q.Text(3));
+    m.automatic_checks = q.Int(4) != 0;
   }
   Statement s(
       db_, "SELECT id, name, location, ewma_alpha FROM sensors WHERE machine_id = ? ORDER BY id");

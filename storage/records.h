@@ -29,9 +29,28 @@ struct MachineRecord {
   int64_t id = 0;
   std::string name;
   std::string display_name;
-  std::string controller = "sinumerik";
+  // The control: sinumerik, beckhoff, heidenhain, fanuc, linuxcnc (native
+  // output formats exist), or any other name ("okuma", "pc"); "none" when
+  // not given.
+  std::string controller = "none";
   std::vector<SensorRecord> sensors;
   std::vector<AxisRecord> axes;
+  // The control's axis order as configured on it; empty: the default of
+  // ControlAxes().
+  std::vector<std::string> control_axes;
+  bool automatic_checks = false;  // weekly column-check requests
+
+  // The control's axes in its order: control_axes if given, else X, Y, Z
+  // and the machine's other axes in the order U V W A B C.
+  std::vector<std::string> ControlAxes() const {
+    if (!control_axes.empty()) return control_axes;
+    std::vector<std::string> out;
+    for (const char* a : {"X", "Y", "Z", "U", "V", "W", "A", "B", "C"}) {
+      const bool linear = a[0] == 'X' || a[0] == 'Y' || a[0] == 'Z';
+      if (linear || FindAxis(a)) out.push_back(a);
+    }
+    return out;
+  }
 
   const SensorRecord* FindSensor(const std::string& n) const {
     for (const auto& s : sensors)

@@ -147,7 +147,8 @@ TEST_F(AnalysisHttpTest, PositionDependentExpansionIsServedAsSlopeAndAtTheProbe)
   auto sinumerik = client_->Get("/api/v1/machines/m1/compensation?format=sinumerik");
   ASSERT_TRUE(sinumerik);
   char expected[64];
-  std::snprintf(expected, sizeof expected, "$SA_TEMP_COMP_SLOPE[Y]=%.3f", slope);
+  // SD43910 is tan(beta), mm per mm: the slope in um/m times 1e-6.
+  std::snprintf(expected, sizeof expected, "$SA_TEMP_COMP_SLOPE[Y]=%.12f", slope * 1e-6);
   EXPECT_NE(sinumerik->body.find(expected), std::string::npos) << sinumerik->body;
   auto linuxcnc = client_->Get("/api/v1/machines/m1/compensation?format=linuxcnc");
   ASSERT_TRUE(linuxcnc);

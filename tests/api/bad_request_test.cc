@@ -147,7 +147,7 @@ TEST_F(BadRequestTest, EachIsRejectedClearlyAndStoresNothing) {
       {"probe csv bad k", "POST", probes.c_str(), "text/csv",
        "ts,run,k,dev_Y\n2026-03-02T00:01:00Z,E2,one,0.001\n", 400, "not an integer"},
       {"machine bad controller", "PUT", "/api/v1/machines/m9", "application/json",
-       R"({"controller": "abacus"})", 422, "controller"},
+       R"({"controller": "Siemens 840D!"})", 422, "controller"},
       {"machine bad alpha", "PUT", "/api/v1/machines/m9", "application/json",
        R"({"sensors": [{"id": "T1", "ewma_alpha": 1.5}]})", 422, "ewma_alpha"},
       {"machine input unknown", "PUT", "/api/v1/machines/m9", "application/json",

@@ -141,7 +141,13 @@ TEST_F(CheckHttpTest, UnansweredRequestBecomesOverdueOnTheClock) {
   Get("/api/v1/machines/m1/column-checks/requests?state=late", 400);
 }
 
-TEST_F(CheckHttpTest, EveryMachineGetsAWeeklyRequest) {
+TEST_F(CheckHttpTest, MachinesThatOptInGetAWeeklyRequest) {
+  // m2 did not opt in (no reference artifact on its line): never requested.
+  auto r =
+      client_->Put("/api/v1/machines/m2", R"({"sensors": [{"id": "T1"}]})", "application/json");
+  ASSERT_EQ(r->status, 201) << r->body;
+  EXPECT_FALSE(Get("/api/v1/machines/m2")["automatic_column_checks"].get<bool>());
+  EXPECT_TRUE(Get("/api/v1/machines/m1")["automatic_column_checks"].get<bool>());
   EXPECT_EQ(app_->checks().EnsurePeriodicRequests(), 1);
   EXPECT_EQ(app_->checks().EnsurePeriodicRequests(), 0);
   clock_.Advance(6 * 86400000LL);
@@ -151,6 +157,14 @@ TEST_F(CheckHttpTest, EveryMachineGetsAWeeklyRequest) {
   json all = Get("/api/v1/machines/m1/column-checks/requests");
   ASSERT_EQ(all["requests"].size(), 2u);
   EXPECT_TRUE(all["requests"][0]["automatic"].get<bool>());
+  EXPECT_TRUE(Get("/api/v1/machines/m2/column-checks/requests")["requests"].empty());
+  // Opting out by an update stops them; the other fields stay as they were.
+  r = client_->Put("/api/v1/machines/m1", R"({"automatic_column_checks": false})",
+                   "application/json");
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(json::parse(r->body)["controller"], "sinumerik");
+  clock_.Advance(8 * 86400000LL);
+  EXPECT_EQ(app_->checks().EnsurePeriodicRequests(), 0);
 }
 
 TEST_F(CheckHttpTest, MachineZeroMovingBeyondToleranceIsAnEventAndInTheHistory) {

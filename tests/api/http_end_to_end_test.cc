@@ -115,6 +115,8 @@ TEST_F(HttpEndToEndTest, RegisterPostFitCompensateHistory) {
   // Compensation becomes stale without new temperatures.
   clock_.Advance(10 * 60000);
   json stale = GetJson(base + "/compensation");
+  // The value served now was decided now: computed_at moves with staleness.
+  EXPECT_EQ(stale["computed_at"], FormatRfc3339(clock_.NowMs()));
   for (const auto& a : stale["axes"]) {
     if (a["axis"] == "Y") {
       EXPECT_TRUE(a["stale"].get<bool>());
@@ -139,6 +141,41 @@ TEST_F(HttpEndToEndTest, RegisterPostFitCompensateHistory) {
   EXPECT_NE(metrics->body.find("thermocomp_model_age_seconds{machine=\"m2\",axis=\"Y\"}"),
             std::string::npos);
   EXPECT_EQ(GetJson("/readyz")["status"], "ready");
+}
+
+TEST_F(HttpEndToEndTest, AnyControlCanBeRegisteredAndFormatsFollowIt) {
+  auto put = [&](const std::string& m, const std::string& body) {
+    return client_->Put(("/api/v1/machines/" + m).c_str(), body, "application/json");
+  };
+  // An unknown control, and none at all: both registrable for logging,
+  // fits and checks; JSON is their format.
+  auto r = put("okuma-1", R"({"controller": "okuma", "sensors": [{"id": "T1"}],
+                             "axes": [{"id": "Y", "model": {"inputs": ["T1"]}}]})");
+  ASSERT_EQ(r->status, 201) << r->body;
+  json okuma = json::parse(r->body);
+  EXPECT_EQ(okuma["controller"], "okuma");
+  EXPECT_TRUE(okuma["native_format"].is_null());
+  r = put("bare", R"({"sensors": [{"id": "T1"}]})");
+  ASSERT_EQ(r->status, 201) << r->body;
+  EXPECT_EQ(json::parse(r->body)["controller"], "none");
+  EXPECT_EQ(client_->Get("/api/v1/machines/okuma-1/compensation?format=native")->status, 400);
+  EXPECT_EQ(client_->Get("/api/v1/machines/okuma-1/compensation?format=json")->status, 200);
+  // A FANUC machine with a B table: its control's axis order numbers B 4.
+  r = put("hmc", R"({"controller": "fanuc", "control_axes": ["X", "Y", "Z", "B"],
+                    "sensors": [{"id": "T1"}], "axes": [{"id": "B"}, {"id": "Y"}]})");
+  ASSERT_EQ(r->status, 201) << r->body;
+  auto native = client_->Get("/api/v1/machines/hmc/compensation?format=native");
+  ASSERT_EQ(native->status, 200);
+  EXPECT_NE(native->body.find("#5204=0.0000"), std::string::npos) << native->body;
+  EXPECT_NE(native->body.find("#5202=0.0000"), std::string::npos) << native->body;
+  // Without control_axes the order is X Y Z then the others: B is 4 too.
+  r = put("hmc2", R"({"controller": "fanuc", "axes": [{"id": "B"}]})");
+  EXPECT_EQ(json::parse(r->body)["control_axes"], json({"X", "Y", "Z", "B"}));
+  // control_axes must name every axis of the machine, each once.
+  r = put("hmc", R"({"control_axes": ["X", "Y", "Z"]})");
+  EXPECT_EQ(r->status, 422) << r->body;
+  r = put("hmc", R"({"control_axes": ["X", "Y", "Y", "B"]})");
+  EXPECT_EQ(r->status, 422) << r->body;
 }
 
 TEST_F(HttpEndToEndTest, RejectedRefitKeepsActiveModelAndRollbackWorks) {
