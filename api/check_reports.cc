@@ -100,7 +100,8 @@ std::string ColumnCheckMarkdown(const json& r) {
         F(r["circle"]["radius_mm"].get<double>(), "%.4f") + " mm, residual " +
         F(r["circle"]["residual_um"].get<double>()) +
         " um.\n\n## Straightness (um)\n\n"
-        "| scheme | straightness | points (relative to the reference) |\n|---|---|---|\n";
+        "| scheme | straightness | points (deviation from the least-squares line, ISO 230-1) "
+        "|\n|---|---|---|\n";
   for (const auto& [scheme, value] : r["straightness_um"].items()) {
     std::string points;
     for (const auto& [id, v] : r["straightness_points_um"][scheme].items()) {
@@ -135,9 +136,14 @@ std::string PositioningMarkdown(const json& r) {
              ? "; air " + F(in["air_temperature_c"].get<double>(), "%.1f") + " degC"
              : "") +
         ".\n\n## ISO 230-2 (um, expanded uncertainty k = 2)\n\n| | value | U |\n|---|---|---|\n";
+  // Without an uncertainty budget nothing is claimed about the uncertainty.
+  const bool stated = u.value("stated", true);
+  auto uncertainty = [&](const char* ukey) {
+    return !ukey ? std::string("-") : stated ? F(u[ukey].get<double>()) : "not stated";
+  };
   auto row = [&](const char* name, const char* key, const char* ukey) {
-    md += std::string("| ") + name + " | " + F(iso[key].get<double>()) + " | " +
-          (ukey ? F(u[ukey].get<double>()) : std::string("-")) + " |\n";
+    md += std::string("| ") + name + " | " + F(iso[key].get<double>()) + " | " + uncertainty(ukey) +
+          " |\n";
   };
   row("A (accuracy)", "A_um", "A");
   md += "| A up / down | " + F(iso["A_up_um"].get<double>()) + " / " +
@@ -146,9 +152,14 @@ std::string PositioningMarkdown(const json& r) {
   row("M (mean bidirectional)", "M_um", "M");
   row("R (repeatability)", "R_um", "R");
   md += "| R up / down | " + F(iso["R_up_um"].get<double>()) + " / " +
-        F(iso["R_down_um"].get<double>()) + " | " + F(u["R_up_down"].get<double>()) + " |\n";
+        F(iso["R_down_um"].get<double>()) + " | " + uncertainty("R_up_down") + " |\n";
   row("B (reversal)", "B_um", "B");
   row("B mean", "B_mean_um", nullptr);
+  if (!stated) {
+    md +=
+        "\nExpanded uncertainties are not stated: the check came without an uncertainty "
+        "budget (device, misalignment, temperatures, E_VE).\n";
+  }
   md +=
       "\n## VDI/DGQ 3441 (um)\n\n| P | Pa | Ps max | U max | U mean |\n|---|---|---|---|---|\n| " +
       F(vdi["P_um"].get<double>()) + " | " + F(vdi["Pa_um"].get<double>()) + " | " +

@@ -89,14 +89,13 @@ void HttpServer::CheckRoutes() {
     if (IsCsv(req)) {
       // Laser-software export; what the CSV does not carry comes as parameters.
       input.emplace();
-      input->axis = req.get_param_value("axis");
-      if (input->axis.empty()) errors.push_back({0, "axis", "query parameter axis required"});
-      auto ts = ParseTimestamp(req.get_param_value("ts"));
-      if (!ts) errors.push_back({0, "ts", "query parameter ts required (RFC 3339 or Unix ms)"});
-      input->ts_ms = ts.value_or(0);
-      input->compensation_active = req.get_param_value("compensation_active") == "true";
+      PositioningFromQuery(req.params, *input, errors);
       PositioningFromCsv(req.body, input->data, errors);
     } else {
+      if (!req.params.empty()) {
+        return WriteProblem(res, 400, "query parameters are for text/csv uploads",
+                            {{0, req.params.begin()->first, "give it in the JSON body"}});
+      }
       Status status;
       auto body = ParseJsonBody(req.body, errors, &status);
       if (!body) return WriteProblem(res, status, errors);

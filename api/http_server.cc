@@ -1,6 +1,8 @@
 #include "api/http_server.h"
 
 #include <chrono>
+#include <regex>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
@@ -65,6 +67,36 @@ std::string FramingError(const Req& req) {
         req.get_header_value("Transfer-Encoding") != "chunked") {
       return "Transfer-Encoding must be chunked";
     }
+  }
+  return "";
+}
+
+// The query parameters each route takes (by path, after /api/v1); any other
+// is refused, so a typo (?fromat=html) is not silently ignored.
+const std::vector<std::pair<std::regex, std::set<std::string>>>& RouteParams() {
+  static const std::string m = "/api/v1/machines/[^/]+";
+  static const std::vector<std::pair<std::regex, std::set<std::string>>> table = {
+      {std::regex(m + "/compensation"), {"format"}},
+      {std::regex(m + "/drift"), {"axis", "from", "to", "max_points"}},
+      {std::regex(m + "/column-checks/requests"), {"state"}},
+      {std::regex(m + "/column-checks/[0-9]+"), {"format"}},
+      {std::regex(m + "/axes/[^/]+/analysis/[0-9]+"), {"format"}},
+      {std::regex(m + "/positioning-checks/[0-9]+"), {"format"}},
+      {std::regex(m + "/positioning-checks/[0-9]+/pitch-table"), {"format", "per_direction"}},
+      {std::regex(m + "/positioning-checks"), PositioningQueryParameters()},
+  };
+  return table;
+}
+
+// The first query parameter the route does not take, or empty.
+std::string UnknownParameter(const Req& req) {
+  if (req.params.empty()) return "";
+  const std::set<std::string>* allowed = nullptr;
+  for (const auto& [path, names] : RouteParams()) {
+    if (std::regex_match(req.path, path)) allowed = &names;
+  }
+  for (const auto& [name, value] : req.params) {
+    if (!allowed || !allowed->count(name)) return name;
   }
   return "";
 }
@@ -146,8 +178,12 @@ void HttpServer::Routes() {
     }
     AuthDecision d =
         auth_.Decide(req.method, req.path, req.remote_addr, req.get_header_value("Authorization"));
-    if (d.status == 200) return httplib::Server::HandlerResponse::Unhandled;
-    return refuse(d.status, d.reason);
+    if (d.status != 200) return refuse(d.status, d.reason);
+    if (std::string name = UnknownParameter(req); !name.empty()) {
+      return refuse(400, "unknown query parameter '" + name + "'",
+                    {{0, name, "not a parameter of " + req.method + " " + req.path}});
+    }
+    return httplib::Server::HandlerResponse::Unhandled;
   });
   s.set_logger([this](const Req& req, const Res& res) {
     double secs =

@@ -102,7 +102,9 @@ StatusOr<ColumnCheckResult> EvaluateColumnCheck(const Artifact& art, double t,
   for (const auto& scheme : art.schemes) {
     SchemeResult sr;
     sr.scheme = scheme.id;
-    std::map<std::string, double> deviation;  // corrected measured minus nominal, mm
+    // Per point: position along the travel axis (nominal) and the corrected
+    // deviation across it, mm.
+    std::map<std::string, std::pair<double, double>> along;
     for (const auto& p : points) {
       if (p.scheme != scheme.id) continue;
       auto it = art.points.find(p.point);
@@ -110,23 +112,36 @@ StatusOr<ColumnCheckResult> EvaluateColumnCheck(const Artifact& art, double t,
         return Status::InvalidArgument("points: '" + p.point + "' is not a point of the artifact");
       }
       const Vec3 corrected = Minus(p.position, it->second.expansion.At(t));
-      deviation[p.point] = Coord(corrected, scheme.deviation_axis) -
-                           Coord(it->second.nominal, scheme.deviation_axis);
+      along[p.point] = {Coord(it->second.nominal, scheme.travel_axis),
+                        Coord(corrected, scheme.deviation_axis) -
+                            Coord(it->second.nominal, scheme.deviation_axis)};
     }
-    if (deviation.empty()) continue;
-    auto ref = deviation.find(scheme.reference_point);
-    if (ref == deviation.end()) {
+    if (along.empty()) continue;
+    if (!along.count(scheme.reference_point)) {
       return Status::InvalidArgument("points: scheme " + scheme.id + " lacks its reference point " +
                                      scheme.reference_point);
     }
+    // ISO 230-1: deviations from the least-squares reference straight line
+    // through the points, so the slope (an angular error, not straightness)
+    // is taken out; the value is their peak to valley.
+    double mt = 0, md = 0;
+    const double n = static_cast<double>(along.size());
+    for (const auto& [id, td] : along) mt += td.first / n, md += td.second / n;
+    double stt = 0, std_ = 0;
+    for (const auto& [id, td] : along) {
+      stt += (td.first - mt) * (td.first - mt);
+      std_ += (td.first - mt) * (td.second - md);
+    }
+    const double slope = stt > 0 ? std_ / stt : 0.0;
     double lo = INFINITY, hi = -INFINITY;
-    for (const auto& [id, d] : deviation) {
-      const double rel = (d - ref->second) * 1000.0;
-      sr.relative_um[id] = rel;
-      lo = std::min(lo, rel);
-      hi = std::max(hi, rel);
+    for (const auto& [id, td] : along) {
+      const double residual = (td.second - (md + slope * (td.first - mt))) * 1000.0;
+      sr.relative_um[id] = residual;
+      lo = std::min(lo, residual);
+      hi = std::max(hi, residual);
     }
     sr.straightness_um = hi - lo;
+    sr.slope_um_per_m = slope * 1e6;
     out.straightness.push_back(sr);
   }
   return out;

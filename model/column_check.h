@@ -3,7 +3,8 @@
 // direction; machine zero is the centre of the circle through the sphere
 // positions probed at several B angles (XZ plane; exact for three, least
 // squares for more) and the corrected mean sphere Y; straightness per scheme
-// relative to its reference point; spindle-to-Z parallelism.
+// against the ISO 230-1 least-squares reference line; spindle-to-Z
+// parallelism.
 #pragma once
 
 #include <map>
@@ -31,7 +32,8 @@ struct ArtifactPoint {
 };
 
 // A straightness scheme: points along `travel_axis`, deviations read along
-// `deviation_axis`, relative to `reference_point`.
+// `deviation_axis`; `reference_point` must be among them (the artifact's
+// PR, kept for the definition; the value does not depend on it).
 struct StraightnessScheme {
   std::string id;
   char travel_axis = 'Y', deviation_axis = 'X';
@@ -63,10 +65,14 @@ struct ParallelismProbe {
   double height_mm = 100.0;
 };
 
+// Straightness of one scheme by ISO 230-1 with the least-squares reference
+// straight line: each point's deviation from the line fitted through all
+// of them (the line's slope is reported apart: it is an angular error).
 struct SchemeResult {
   std::string scheme;
-  double straightness_um = 0;                 // peak to valley of the relative deviations
-  std::map<std::string, double> relative_um;  // per point: deviation minus the reference's
+  double straightness_um = 0;                 // peak to valley of the deviations from the line
+  std::map<std::string, double> relative_um;  // per point: deviation from the line
+  double slope_um_per_m = 0;                  // of the reference line
 };
 
 struct ColumnCheckResult {

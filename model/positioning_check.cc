@@ -125,6 +125,7 @@ StatusOr<PositioningEvaluation> EvaluatePositioning(const PositioningData& d,
 
   // Expanded uncertainties (k = 2); L in m, results in um.
   PositioningUncertainty& U = out.uncertainty;
+  U.stated = u.stated;
   U.length_m = (d.targets_mm.back() - d.targets_mm.front()) / 1000.0;
   const double L = U.length_m;
   U.device_um = 0.6 * u.device_um_per_m * L;

@@ -62,6 +62,7 @@ struct Vdi3441Result {
 };
 
 struct PositioningUncertainty {
+  bool stated = false;  // a budget was given; without one the values below are not stated
   double length_m = 0;
   double device_um = 0, misalignment_um = 0, machine_m_um = 0, machine_e_um = 0, eve_um = 0;
   double A_um = 0, E_um = 0, M_um = 0, R_um = 0, R_up_down_um = 0, B_um = 0;

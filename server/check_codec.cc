@@ -1,6 +1,7 @@
 #include "server/check_codec.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <map>
 #include <set>
@@ -8,6 +9,7 @@
 #include <tuple>
 
 #include "server/json_fields.h"
+#include "server/json_text.h"
 #include "server/time_format.h"
 
 namespace thermocomp {
@@ -261,6 +263,74 @@ bool PositioningFromCsv(const std::string& body, PositioningData& out, FieldErro
   return errors.empty();
 }
 
+const std::set<std::string>& PositioningQueryParameters() {
+  static const std::set<std::string> names = {"axis",
+                                              "ts",
+                                              "compensation_active",
+                                              "machine_temperature_c",
+                                              "air_temperature_c",
+                                              "note",
+                                              "device_um_per_m",
+                                              "misalignment_mm",
+                                              "alpha_um_per_m_c",
+                                              "temperature_range_c",
+                                              "delta_t_c",
+                                              "alpha_range_um_per_m_c",
+                                              "e_ve_um"};
+  return names;
+}
+
+void PositioningFromQuery(const std::multimap<std::string, std::string>& params,
+                          PositioningInput& in, FieldErrors& errors) {
+  // The same rules as the JSON body: each parameter as the JSON value it
+  // stands for, read by the same field readers.
+  json j = json::object();
+  std::set<std::string> seen;
+  for (const auto& [name, value] : params) {
+    if (!PositioningQueryParameters().count(name)) {
+      errors.push_back({0, name, "unknown query parameter"});
+      continue;
+    }
+    if (!seen.insert(name).second) {
+      errors.push_back({0, name, "given more than once"});
+      continue;
+    }
+    if (name == "axis" || name == "note" || name == "ts") {
+      if (!ValidUtf8(value)) {
+        errors.push_back({0, name, "must be UTF-8 text"});
+        continue;
+      }
+      j[name] = value;
+    } else if (name == "compensation_active") {
+      if (value != "true" && value != "false") {
+        errors.push_back({0, name, "must be true or false"});
+        continue;
+      }
+      j[name] = value == "true";
+    } else {
+      double v = 0;
+      auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+      if (ec != std::errc() || end != value.data() + value.size() || value.empty()) {
+        errors.push_back({0, name, "must be a number"});
+        continue;
+      }
+      (name == "machine_temperature_c" || name == "air_temperature_c" ? j
+                                                                      : j["uncertainty"])[name] = v;
+    }
+  }
+  JsonFields f(j, errors);
+  in.axis = f.String("axis", JsonFields::kRequired, 1).value_or("");
+  in.ts_ms = f.Timestamp("ts").value_or(0);
+  in.compensation_active = f.Bool("compensation_active").value_or(false);
+  in.machine_temperature_c = f.Number("machine_temperature_c", JsonFields::kOptional, -40, 150);
+  in.air_temperature_c = f.Number("air_temperature_c", JsonFields::kOptional, -40, 150);
+  in.note = f.String("note", JsonFields::kOptional).value_or("");
+  if (j.contains("uncertainty")) {
+    JsonFields uf(j["uncertainty"], errors);
+    UncertaintyFromFields(uf, in.uncertainty);
+  }
+}
+
 json PositioningInputToJson(const PositioningInput& in) {
   json runs = json::array();
   for (const auto& r : in.data.runs) {
@@ -272,15 +342,16 @@ json PositioningInputToJson(const PositioningInput& in) {
             {"ts", FormatRfc3339(in.ts_ms)},
             {"targets_mm", in.data.targets_mm},
             {"runs", runs},
-            {"compensation_active", in.compensation_active},
-            {"uncertainty",
-             {{"device_um_per_m", u.device_um_per_m},
-              {"misalignment_mm", u.misalignment_mm},
-              {"alpha_um_per_m_c", u.alpha_um_per_m_c},
-              {"temperature_range_c", u.temperature_range_c},
-              {"delta_t_c", u.delta_t_c},
-              {"alpha_range_um_per_m_c", u.alpha_range_um_per_m_c},
-              {"e_ve_um", u.e_ve_um}}}};
+            {"compensation_active", in.compensation_active}};
+  if (u.stated) {
+    j["uncertainty"] = {{"device_um_per_m", u.device_um_per_m},
+                        {"misalignment_mm", u.misalignment_mm},
+                        {"alpha_um_per_m_c", u.alpha_um_per_m_c},
+                        {"temperature_range_c", u.temperature_range_c},
+                        {"delta_t_c", u.delta_t_c},
+                        {"alpha_range_um_per_m_c", u.alpha_range_um_per_m_c},
+                        {"e_ve_um", u.e_ve_um}};
+  }
   if (in.machine_temperature_c) j["machine_temperature_c"] = *in.machine_temperature_c;
   if (in.air_temperature_c) j["air_temperature_c"] = *in.air_temperature_c;
   if (!in.note.empty()) j["note"] = in.note;
@@ -327,7 +398,8 @@ json EvaluationToJson(const PositioningEvaluation& e) {
             {"U_max_um", e.vdi.U_max_um},
             {"U_mean_um", e.vdi.U_mean_um}}},
           {"uncertainty_um",
-           {{"A", U.A_um},
+           {{"stated", U.stated},
+            {"A", U.A_um},
             {"E", U.E_um},
             {"M", U.M_um},
             {"R", U.R_um},
@@ -345,16 +417,20 @@ json EvaluationToJson(const PositioningEvaluation& e) {
 json ColumnResultToJson(const ColumnCheckResult& r) {
   json straightness = json::object();
   json details = json::object();
+  json slopes = json::object();
   for (const auto& s : r.straightness) {
     straightness[s.scheme] = s.straightness_um;
     details[s.scheme] = s.relative_um;
+    slopes[s.scheme] = s.slope_um_per_m;
   }
   json out = {
       {"machine_zero_mm",
        {{"X", r.machine_zero_mm.x}, {"Y", r.machine_zero_mm.y}, {"Z", r.machine_zero_mm.z}}},
       {"circle", {{"radius_mm", r.circle_radius_mm}, {"residual_um", r.circle_residual_um}}},
       {"straightness_um", straightness},
-      {"straightness_points_um", details}};
+      {"straightness_reference", "least-squares straight line (ISO 230-1)"},
+      {"straightness_points_um", details},
+      {"straightness_line_slope_um_per_m", slopes}};
   if (r.parallelism_um_per_100mm) {
     out["spindle_z_parallelism_um_per_100mm"] = {{"X", r.parallelism_um_per_100mm->first},
                                                  {"Y", r.parallelism_um_per_100mm->second}};

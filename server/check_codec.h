@@ -3,7 +3,9 @@
 // only; content rules are CheckService's.
 #pragma once
 
+#include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -49,6 +51,13 @@ std::optional<PositioningInput> PositioningFromJson(const nlohmann::json& j, Fie
 // "target_mm,run,direction,deviation_um", direction + or -; runs in the order
 // they first appear, targets sorted. Axis, time and the rest come separately.
 bool PositioningFromCsv(const std::string& body, PositioningData& out, FieldErrors& errors);
+// The query parameters a laser CSV upload takes for what its file cannot
+// carry: axis and ts (required), compensation_active, machine_temperature_c,
+// air_temperature_c, note, and the uncertainty budget's keys.
+const std::set<std::string>& PositioningQueryParameters();
+// Reads them (name -> value as sent) into `in`; errors name the parameter.
+void PositioningFromQuery(const std::multimap<std::string, std::string>& params,
+                          PositioningInput& in, FieldErrors& errors);
 nlohmann::json PositioningInputToJson(const PositioningInput& in);
 nlohmann::json EvaluationToJson(const PositioningEvaluation& e);
 nlohmann::json ColumnResultToJson(const ColumnCheckResult& r);

@@ -244,12 +244,17 @@ StatusOr<nlohmann::json> CheckService::ColumnChecks(const std::string& machine_n
                           {"Y_um_per_week", PerWeek(checks, &ColumnCheckRecord::zero_y_mm)},
                           {"Z_um_per_week", PerWeek(checks, &ColumnCheckRecord::zero_z_mm)}};
   if (!checks.empty()) {
-    const auto& a = checks.front();
-    const auto& b = checks.back();
-    trend["range_um"] = {{"X", (b.zero_x_mm - a.zero_x_mm) * 1000},
-                         {"Y", (b.zero_y_mm - a.zero_y_mm) * 1000},
-                         {"Z", (b.zero_z_mm - a.zero_z_mm) * 1000}};
-    trend["latest"] = ZeroJson(b);
+    // How far machine zero wandered: the largest minus the smallest value.
+    auto range = [&](double ColumnCheckRecord::*v) {
+      auto [lo, hi] = std::minmax_element(
+          checks.begin(), checks.end(),
+          [v](const ColumnCheckRecord& a, const ColumnCheckRecord& b) { return a.*v < b.*v; });
+      return ((*hi).*v - (*lo).*v) * 1000;
+    };
+    trend["range_um"] = {{"X", range(&ColumnCheckRecord::zero_x_mm)},
+                         {"Y", range(&ColumnCheckRecord::zero_y_mm)},
+                         {"Z", range(&ColumnCheckRecord::zero_z_mm)}};
+    trend["latest"] = ZeroJson(checks.back());
   }
   return nlohmann::json{
       {"machine", machine_name}, {"checks", history}, {"machine_zero_trend", trend}};

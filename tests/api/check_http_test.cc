@@ -108,7 +108,10 @@ TEST_F(CheckHttpTest, RequestThenResultClosesTheRequest) {
   EXPECT_NEAR(result["machine_zero_mm"]["X"].get<double>(), 0.003, 1e-9);
   EXPECT_NEAR(result["machine_zero_mm"]["Y"].get<double>(), 0.004, 1e-9);
   EXPECT_NEAR(result["machine_zero_mm"]["Z"].get<double>(), -0.002, 1e-9);
-  EXPECT_NEAR(result["straightness_um"]["a"].get<double>(), 5.0, 1e-6);
+  // Two points lie on their least-squares line (ISO 230-1): the 5 um
+  // between them over 200 mm is the line's slope, not straightness.
+  EXPECT_NEAR(result["straightness_um"]["a"].get<double>(), 0.0, 1e-6);
+  EXPECT_NEAR(result["straightness_line_slope_um_per_m"]["a"].get<double>(), 25.0, 1e-6);
   EXPECT_NEAR(result["spindle_z_parallelism_um_per_100mm"]["X"].get<double>(), 2.0, 1e-6);
   json done = Get("/api/v1/machines/m1/column-checks/requests?state=done");
   ASSERT_EQ(done["requests"].size(), 1u);
@@ -188,9 +191,17 @@ TEST_F(CheckHttpTest, MachineZeroMovingBeyondToleranceIsAnEventAndInTheHistory) 
   ASSERT_EQ(history["checks"].size(), 3u);
   EXPECT_NEAR(history["machine_zero_trend"]["range_um"]["Y"].get<double>(), 30.0, 1e-6);
   EXPECT_NEAR(history["machine_zero_trend"]["Y_um_per_week"].get<double>(), 15.0, 1e-6);
+  // It comes back to 10 um: the range is largest minus smallest (30 um),
+  // not last minus first (10 um).
+  ASSERT_EQ(
+      Post("/api/v1/machines/m1/column-checks", ColumnCheck("2026-03-30T06:00:00Z", 0, 0.010, 0))
+          ->status,
+      201);
+  history = Get("/api/v1/machines/m1/column-checks");
+  EXPECT_NEAR(history["machine_zero_trend"]["range_um"]["Y"].get<double>(), 30.0, 1e-6);
   json drift =
       Get("/api/v1/machines/m1/drift?axis=Y&from=2026-03-01T00:00:00Z&to=2026-04-01T00:00:00Z");
-  EXPECT_EQ(drift["machine_zero"].size(), 3u);
+  EXPECT_EQ(drift["machine_zero"].size(), 4u);
 }
 
 TEST_F(CheckHttpTest, PositioningCheckIsEvaluatedReportedAndTurnedIntoPitchTables) {
@@ -232,6 +243,35 @@ TEST_F(CheckHttpTest, PositioningCheckIsEvaluatedReportedAndTurnedIntoPitchTable
   json ce = json::parse(c->body);
   EXPECT_EQ(ce["iso230_2"]["A_um"], e["iso230_2"]["A_um"]);
   EXPECT_EQ(ce["vdi3441"], e["vdi3441"]);
+  // Without a budget the uncertainty is not stated (not a perfect 0.00).
+  EXPECT_FALSE(ce["uncertainty_um"]["stated"].get<bool>());
+  auto cmd = client_->Get(
+      ("/api/v1/machines/m1/positioning-checks/" + ce["id"].dump() + "?format=markdown").c_str());
+  EXPECT_NE(cmd->body.find("| A (accuracy) | "), std::string::npos);
+  EXPECT_NE(cmd->body.find("not stated"), std::string::npos) << cmd->body;
+  // The CSV carries its budget and temperatures as query parameters, and
+  // gives the JSON check's uncertainties.
+  const std::string query =
+      "?axis=Y&ts=2026-03-12T08:00:00Z&device_um_per_m=0.5&misalignment_mm=2&alpha_um_per_m_c=11.7"
+      "&temperature_range_c=0.35&delta_t_c=3&alpha_range_um_per_m_c=1&e_ve_um=2"
+      "&machine_temperature_c=20.6&air_temperature_c=20.4&note=laser%20XL-80";
+  c = client_->Post(("/api/v1/machines/m1/positioning-checks" + query).c_str(), csv, "text/csv");
+  ASSERT_EQ(c->status, 201) << c->body;
+  ce = json::parse(c->body);
+  EXPECT_TRUE(ce["uncertainty_um"]["stated"].get<bool>());
+  EXPECT_EQ(ce["uncertainty_um"], e["uncertainty_um"]);
+  EXPECT_EQ(ce["input"]["machine_temperature_c"], 20.6);
+  EXPECT_EQ(ce["input"]["note"], "laser XL-80");
+  // An unknown or malformed parameter is a 400 naming it; nothing stored.
+  for (const char* bad : {"?axis=Y&ts=2026-03-13T08:00:00Z&devise_um_per_m=0.5",
+                          "?axis=Y&ts=2026-03-13T08:00:00Z&e_ve_um=two",
+                          "?axis=Y&ts=2026-03-13T08:00:00Z&compensation_active=yes",
+                          "?axis=Y&ts=2026-03-13T08:00:00Z&e_ve_um=1&e_ve_um=2"}) {
+    auto r2 = client_->Post(("/api/v1/machines/m1/positioning-checks" + std::string(bad)).c_str(),
+                            csv, "text/csv");
+    EXPECT_EQ(r2->status, 400) << bad << " " << r2->body;
+  }
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM positioning_checks"), 3);
 }
 
 TEST_F(CheckHttpTest, MalformedChecksAreRefusedAndStoreNothing) {

@@ -233,13 +233,15 @@ TEST(ColumnCheck, ArtifactExpansionIsCorrectedBeforeUse) {
   art.points["KD"] = {{0.0, 500.0, 0.0}, kd};
   art.points["P1"] = {{100.0, 400.0, 0.0}, {}};
   art.points["P2"] = {{100.0, 600.0, 0.0}, {}};
+  art.points["P3"] = {{100.0, 800.0, 0.0}, {}};
   art.schemes = {{"a", 'Y', 'X', "P1"}};
   // Spheres measured where the expanded sphere is: nominal Y + eps + 0.004 (zero shift).
   const double y = 500.0 + 0.00987 + 0.004;
   std::vector<SphereProbe> spheres = {
       {"KD", 0, {250.0, y, 0.0}}, {"KD", 90, {0.0, y, 250.0}}, {"KD", 180, {-250.0, y, 0.0}}};
   std::vector<SurfaceProbe> points = {{"P1", "a", {100.002, 400.0, 0.0}},
-                                      {"P2", "a", {100.007, 600.0, 0.0}}};
+                                      {"P2", "a", {100.004, 600.0, 0.0}},
+                                      {"P3", "a", {100.007, 800.0, 0.0}}};
   // The shank sees the sphere 3 um further in X and 1 um less in Y at 100 mm.
   ParallelismProbe par{{0.0, 500.0, 0.0}, {0.003, 499.999, 0.0}, 100.0};
   auto r = EvaluateColumnCheck(art, 21.3, spheres, points, par);
@@ -247,8 +249,15 @@ TEST(ColumnCheck, ArtifactExpansionIsCorrectedBeforeUse) {
   EXPECT_NEAR(r->machine_zero_mm.y, 0.004, 1e-9);
   EXPECT_NEAR(r->machine_zero_mm.x, 0.0, 1e-9);
   ASSERT_EQ(r->straightness.size(), 1u);
-  EXPECT_NEAR(r->straightness[0].relative_um["P2"], 5.0, 1e-6);
-  EXPECT_NEAR(r->straightness[0].straightness_um, 5.0, 1e-6);
+  // Deviations 0, 2, 5 um at 400, 600, 800 mm (relative to P1). By hand:
+  // the least-squares line has slope 5/400 um/mm = 12.5 um/m and passes
+  // 7/3 um at 600 mm; residuals +1/6, -1/3, +1/6 um; straightness 0.5 um
+  // (the old reading against P1 alone said 5 um: the slope).
+  EXPECT_NEAR(r->straightness[0].slope_um_per_m, 12.5, 1e-6);
+  EXPECT_NEAR(r->straightness[0].relative_um["P1"], 1.0 / 6, 1e-6);
+  EXPECT_NEAR(r->straightness[0].relative_um["P2"], -1.0 / 3, 1e-6);
+  EXPECT_NEAR(r->straightness[0].relative_um["P3"], 1.0 / 6, 1e-6);
+  EXPECT_NEAR(r->straightness[0].straightness_um, 0.5, 1e-6);
   ASSERT_TRUE(r->parallelism_um_per_100mm);
   EXPECT_NEAR(r->parallelism_um_per_100mm->first, 3.0, 1e-6);
   EXPECT_NEAR(r->parallelism_um_per_100mm->second, -1.0, 1e-6);
