@@ -75,6 +75,8 @@ int HttpStatus(const Status& s) {
       return 413;
     case Status::Code::kUnavailable:
       return 503;
+    case Status::Code::kInsufficientStorage:
+      return 507;
     case Status::Code::kInternal:
       return 500;
   }
@@ -97,6 +99,10 @@ void WriteProblem(httplib::Response& res, int http_status, const std::string& de
     if (errors.total() > errors.size()) p["errors_total"] = errors.total();
   }
   res.status = http_status;
+  // A busy database or a full disk passes: clients (a PLC, line software)
+  // should retry rather than give up.
+  if (http_status == 503) res.set_header("Retry-After", "1");
+  if (http_status == 507) res.set_header("Retry-After", "60");
   res.set_content(JsonText(p), "application/problem+json");
 }
 

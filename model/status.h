@@ -12,14 +12,15 @@ class Status {
  public:
   enum class Code {
     kOk = 0,
-    kInvalidArgument,     // malformed input (HTTP 400)
-    kNotFound,            // unknown machine, axis, model (404)
-    kConflict,            // same key, different value (409)
-    kUnprocessable,       // valid syntax, unusable content (422)
-    kTooLarge,            // body or batch too large (413)
-    kFailedPrecondition,  // state does not allow it (409)
-    kUnavailable,         // not ready (503)
-    kInternal,            // a bug or an I/O failure (500)
+    kInvalidArgument,      // malformed input (HTTP 400)
+    kNotFound,             // unknown machine, axis, model (404)
+    kConflict,             // same key, different value (409)
+    kUnprocessable,        // valid syntax, unusable content (422)
+    kTooLarge,             // body or batch too large (413)
+    kFailedPrecondition,   // state does not allow it (409)
+    kUnavailable,          // not ready, or busy: retry (503)
+    kInsufficientStorage,  // the disk is full (507)
+    kInternal,             // a bug or an I/O failure (500)
   };
 
   Status() = default;
@@ -33,6 +34,9 @@ class Status {
     return {Code::kFailedPrecondition, std::move(m)};
   }
   static Status Unavailable(std::string m) { return {Code::kUnavailable, std::move(m)}; }
+  static Status InsufficientStorage(std::string m) {
+    return {Code::kInsufficientStorage, std::move(m)};
+  }
   static Status Internal(std::string m) { return {Code::kInternal, std::move(m)}; }
 
   bool ok() const { return code_ == Code::kOk; }

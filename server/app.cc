@@ -10,6 +10,7 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
   std::unique_ptr<App> app(new App(config, clock));
   DatabaseOptions opt;
   opt.synchronous = config.synchronous;
+  opt.busy_timeout_ms = config.busy_timeout_ms;
   auto db = Database::Open(config.db_path, opt);
   if (!db.ok()) return db.status();
   app->db_ = std::move(db).value();

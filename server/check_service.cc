@@ -136,6 +136,9 @@ int CheckService::EnsurePeriodicRequests() {
 StatusOr<nlohmann::json> CheckService::AddColumnCheck(const std::string& machine_name,
                                                       const ColumnCheckInput& in,
                                                       const std::string& actor, bool* created) {
+  if (in.ts_ms > clock_.NowMs() + kDayMs) {
+    return Status::InvalidArgument("ts: more than a day in the future");
+  }
   std::lock_guard<std::mutex> lock(db_.mutex());
   auto machine = FindMachine(db_, machine_name);
   if (!machine.ok()) return machine.status();
@@ -286,6 +289,9 @@ StatusOr<nlohmann::json> CheckService::AddPositioningCheck(const std::string& ma
                                                            const PositioningInput& in,
                                                            const std::string& actor,
                                                            bool* created) {
+  if (in.ts_ms > clock_.NowMs() + kDayMs) {
+    return Status::InvalidArgument("ts: more than a day in the future");
+  }
   auto evaluation = EvaluatePositioning(in.data, in.uncertainty);
   if (!evaluation.ok()) return evaluation.status();
   std::lock_guard<std::mutex> lock(db_.mutex());

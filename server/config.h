@@ -34,6 +34,7 @@ struct Config {
   // [database]
   std::string db_path = "var/thermocomp.db";
   std::string synchronous = "full";
+  int busy_timeout_ms = 5000;  // a write waits this long for another writer, then 503
   // [compensation]
   int stale_after_s = 300;
   double plausible_min_c = -10.0;

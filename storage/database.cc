@@ -3,6 +3,28 @@
 #include "storage/migrator.h"
 
 namespace thermocomp {
+namespace {
+
+// What an SQLite result code means for the caller: a constraint is a
+// conflict of data; a lock held by another process (a long import) is a
+// reason to retry, not a failure; a full disk is its own condition.
+Status SqliteError(sqlite3* db, int rc, const std::string& context) {
+  const std::string message = context + sqlite3_errmsg(db);
+  switch (rc & 0xff) {
+    case SQLITE_CONSTRAINT:
+      return Status::Conflict(message);
+    case SQLITE_BUSY:
+    case SQLITE_LOCKED:
+      return Status::Unavailable("the database is busy (another writer holds it): retry; " +
+                                 message);
+    case SQLITE_FULL:
+      return Status::InsufficientStorage("the disk holding the database is full: " + message);
+    default:
+      return Status::Internal(message);
+  }
+}
+
+}  // namespace
 
 Statement::Statement(sqlite3* db, std::string_view sql) : db_(db) {
   if (sqlite3_prepare_v2(db, sql.data(), static_cast<int>(sql.size()), &stmt_, nullptr) !=
@@ -48,8 +70,8 @@ bool Statement::Step() {
   int rc = sqlite3_step(stmt_);
   if (rc == SQLITE_ROW) return true;
   if (rc != SQLITE_DONE) {
-    status_ = rc == SQLITE_CONSTRAINT ? Status::Conflict(sqlite3_errmsg(db_))
-                                      : Status::Internal(sqlite3_errmsg(db_));
+    status_ = SqliteError(db_, rc, "");
+    if (cache_) cache_->NoteResult(rc);
   }
   return false;
 }
@@ -84,6 +106,7 @@ StatusOr<std::unique_ptr<Database>> Database::Open(const std::string& path,
                                (db->db_ ? sqlite3_errmsg(db->db_) : "out of memory"));
   }
   sqlite3_busy_timeout(db->db_, options.busy_timeout_ms);
+  sqlite3_extended_result_codes(db->db_, 1);
   if (options.synchronous != "full" && options.synchronous != "normal") {
     return Status::InvalidArgument("database.synchronous must be \"full\" or \"normal\"");
   }
@@ -131,12 +154,21 @@ void Database::Release(const std::string& sql, sqlite3_stmt* stmt) {
 Status Database::Exec(std::string_view sql) {
   char* err = nullptr;
   std::string s(sql);
-  if (sqlite3_exec(db_, s.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
-    std::string m = err ? err : "unknown error";
-    sqlite3_free(err);
-    return Status::Internal("SQL failed: " + m);
-  }
+  const int rc = sqlite3_exec(db_, s.c_str(), nullptr, nullptr, &err);
+  sqlite3_free(err);
+  NoteResult(rc);
+  if (rc != SQLITE_OK) return SqliteError(db_, rc, "SQL failed: ");
   return Status::Ok();
+}
+
+void Database::NoteResult(int rc) {
+  if ((rc & 0xff) == SQLITE_FULL) storage_full_ = true;
+}
+
+Status Database::Commit() {
+  Status s = Exec("COMMIT");
+  if (s.ok()) storage_full_ = false;  // a write went through: there is room again
+  return s;
 }
 
 Status Database::Backup(const std::string& dest_path) {

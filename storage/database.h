@@ -4,6 +4,7 @@
 // unit of work, which also serialises writers as SQLite requires.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -23,6 +24,8 @@ struct DatabaseOptions {
   // "full": a commit survives power loss; "normal": it survives a crash of
   // the process (WAL), not of the machine.
   std::string synchronous = "full";
+  // How long a write waits for a lock held by another process (an import)
+  // before the request is answered 503 with Retry-After.
   int busy_timeout_ms = 5000;
   // Apply migrations up to this version only (tests of upgrades); 0 = all.
   int migrate_to = 0;
@@ -82,8 +85,13 @@ class Database {
   int schema_version() const { return schema_version_; }
 
   Status Exec(std::string_view sql);
+  // Whether the last write found the disk full (cleared by a successful
+  // one): the server then reports not ready.
+  bool storage_full() const { return storage_full_; }
+  // Records an SQLite result (a full disk, for storage_full()).
+  void NoteResult(int rc);
   Status Begin() { return Exec("BEGIN IMMEDIATE"); }
-  Status Commit() { return Exec("COMMIT"); }
+  Status Commit();
   void Rollback() { Exec("ROLLBACK"); }
   int64_t LastInsertId() { return sqlite3_last_insert_rowid(db_); }
   int Changes() { return sqlite3_changes(db_); }
@@ -102,6 +110,7 @@ class Database {
   sqlite3* db_ = nullptr;
   std::string path_;
   int schema_version_ = 0;
+  std::atomic<bool> storage_full_{false};
   std::mutex mutex_;
 };
 

@@ -304,10 +304,13 @@ void DdsBridge::PublishRejection(const std::string& machine, const char* topic,
   msg.item = Str(item);
   msg.field = Str(field);
   msg.message = Str(message);
-  msg.status = r.status.code() == Status::Code::kNotFound        ? 404
-               : r.status.code() == Status::Code::kUnprocessable ? 422
-               : r.status.code() == Status::Code::kConflict      ? 409
-                                                                 : 400;
+  msg.status = r.status.code() == Status::Code::kNotFound              ? 404
+               : r.status.code() == Status::Code::kUnprocessable       ? 422
+               : r.status.code() == Status::Code::kConflict            ? 409
+               : r.status.code() == Status::Code::kUnavailable         ? 503
+               : r.status.code() == Status::Code::kInsufficientStorage ? 507
+               : r.status.code() == Status::Code::kInternal            ? 500
+                                                                       : 400;
   msg.ts_ms = NowUnixMs();
   dds_write(e_->rejection_writer, &msg);
   log::Warn("dds ingest rejected",
