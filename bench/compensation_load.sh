@@ -10,7 +10,7 @@ command -v wrk > /dev/null || { echo "installing wrk"; apt-get install -y -qq wr
 export CYCLONEDDS_URI="file://$PWD/deploy/cyclonedds.xml"
 dir=$(mktemp -d)
 trap 'kill $server 2>/dev/null || true; rm -rf "$dir"' EXIT
-./build/thermocomp demo --db "$dir/load.db" --days 7 > /dev/null 2>&1
+./build/thermocomp demo --db "$dir/load.db" --create --days 7 > /dev/null 2>&1
 port=$((20000 + RANDOM % 20000))
 ./build/thermocomp serve --db "$dir/load.db" --listen "127.0.0.1:$port" > "$dir/serve.log" 2>&1 &
 server=$!

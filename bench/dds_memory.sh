@@ -9,7 +9,7 @@ export CYCLONEDDS_URI="file://$PWD/deploy/cyclonedds.xml"
 dir=$(mktemp -d)
 trap 'kill $server 2>/dev/null || true; rm -rf "$dir"' EXIT
 port=$((20000 + RANDOM % 20000))
-./build/thermocomp serve --db "$dir/load.db" --listen "127.0.0.1:$port" --dds > "$dir/serve.log" 2>&1 &
+./build/thermocomp serve --db "$dir/load.db" --listen "127.0.0.1:$port" --dds --create > "$dir/serve.log" 2>&1 &
 server=$!
 for _ in $(seq 50); do curl -sf "http://127.0.0.1:$port/healthz" > /dev/null && break; sleep 0.1; done
 sensors=$(for k in $(seq 0 15); do printf '{"id":"T%d"},' "$k"; done)

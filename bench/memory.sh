@@ -10,7 +10,7 @@ dir=$(mktemp -d)
 trap 'kill $server 2>/dev/null || true; rm -rf "$dir"' EXIT
 machines=$(seq -s, -f "m%g" 1 10)
 /usr/bin/time -f "simulate+ingest: %e s, peak RSS %M kB" \
-  ./build/thermocomp simulate --db "$dir/mem.db" --machines "$machines" --days 100 2>&1 | grep -v "level="
+  ./build/thermocomp simulate --db "$dir/mem.db" --create --machines "$machines" --days 100 2>&1 | grep -v "level="
 echo "samples: $(sqlite3 "$dir/mem.db" 'SELECT COUNT(*) FROM samples'), file: $(du -h "$dir/mem.db" | cut -f1)"
 port=$((20000 + RANDOM % 20000))
 ./build/thermocomp serve --db "$dir/mem.db" --listen "127.0.0.1:$port" > "$dir/serve.log" 2>&1 &

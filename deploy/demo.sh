@@ -12,7 +12,7 @@ port="${THERMOCOMP_PORT:-8080}"
 db=var/demo.db
 mkdir -p var
 rm -f "$db" "$db-wal" "$db-shm"
-./build/thermocomp demo --db "$db" --config deploy/thermocomp.toml 2>/dev/null
+./build/thermocomp demo --db "$db" --create --config deploy/thermocomp.toml 2>/dev/null
 # The simulated machines are live DDS peers: they publish temperatures and
 # probe points, apply the compensation they receive, and print their error
 # with compensation on and off (var/simulator.log).

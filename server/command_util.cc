@@ -9,21 +9,37 @@
 
 namespace thermocomp::cli {
 
-Args Parse(const std::vector<std::string>& in) {
+StatusOr<Args> Parse(const CommandSpec& spec, const std::vector<std::string>& in) {
   Args a;
   for (size_t i = 0; i < in.size(); ++i) {
-    if (in[i].rfind("--", 0) == 0) {
-      std::string key = in[i].substr(2);
-      if (auto eq = key.find('='); eq != std::string::npos) {
-        a.opts[key.substr(0, eq)] = key.substr(eq + 1);
-      } else if (i + 1 < in.size() && in[i + 1].rfind("--", 0) != 0) {
-        a.opts[key] = in[++i];
-      } else {
-        a.opts[key] = "true";
+    if (in[i].rfind("--", 0) != 0) {
+      if (a.positional.size() >= spec.max_positional) {
+        return Status::InvalidArgument("unexpected argument '" + in[i] + "'");
       }
-    } else {
       a.positional.push_back(in[i]);
+      continue;
     }
+    std::string key = in[i].substr(2);
+    std::optional<std::string> value;
+    if (auto eq = key.find('='); eq != std::string::npos) {
+      value = key.substr(eq + 1);
+      key = key.substr(0, eq);
+    }
+    const OptionSpec* option = nullptr;
+    for (const auto& o : spec.options) {
+      if (key == o.name) option = &o;
+    }
+    if (!option) return Status::InvalidArgument("unknown option --" + key);
+    if (option->takes_value && !value) {
+      if (i + 1 >= in.size() || in[i + 1].rfind("--", 0) == 0) {
+        return Status::InvalidArgument("--" + key + " needs a value");
+      }
+      value = in[++i];
+    } else if (!option->takes_value && value) {
+      return Status::InvalidArgument("--" + key + " takes no value");
+    }
+    if (a.opts.count(key)) return Status::InvalidArgument("--" + key + " given twice");
+    a.opts[key] = value.value_or("true");
   }
   return a;
 }
@@ -42,15 +58,28 @@ StatusOr<Config> LoadWithOverrides(const Args& a) {
   }
   if (a.Has("dds-domain")) c->dds_domain = static_cast<uint32_t>(std::stoul(a.Get("dds-domain")));
   log::SetLevel(c->log_level);
-  std::filesystem::path dir = std::filesystem::path(c->db_path).parent_path();
-  if (!dir.empty()) std::filesystem::create_directories(dir);
   return c;
+}
+
+Status PrepareDatabasePath(const Args& a, const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(path, ec)) return Status::Ok();
+  if (!a.Has("create")) {
+    return Status::NotFound("database " + path +
+                            " does not exist (check the path; --create makes a new one)");
+  }
+  const fs::path dir = fs::path(path).parent_path();
+  if (!dir.empty()) fs::create_directories(dir, ec);
+  if (ec) return Status::Unavailable("cannot create " + dir.string() + ": " + ec.message());
+  return Status::Ok();
 }
 
 StatusOr<std::unique_ptr<App>> OpenApp(const Args& a) {
   static const SystemClock clock;
   auto config = LoadWithOverrides(a);
   if (!config.ok()) return config.status();
+  if (Status s = PrepareDatabasePath(a, config->db_path); !s.ok()) return s;
   return App::Open(*config, clock);
 }
 

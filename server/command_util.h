@@ -17,6 +17,19 @@ namespace thermocomp::cli {
 constexpr int64_t kMinuteMs = 60000;
 constexpr int64_t kDayMs = 24 * 60 * kMinuteMs;
 
+// What a command accepts: its options (with or without a value), how
+// many positional arguments, and its usage line.
+struct OptionSpec {
+  const char* name;
+  bool takes_value;
+};
+struct CommandSpec {
+  const char* name;
+  const char* usage;  // "thermocomp <name> ..." lines
+  std::vector<OptionSpec> options;
+  size_t max_positional = 0;
+};
+
 // --key value / --flag arguments.
 struct Args {
   std::map<std::string, std::string> opts;
@@ -28,13 +41,20 @@ struct Args {
   bool Has(const std::string& k) const { return opts.count(k) > 0; }
 };
 
-Args Parse(const std::vector<std::string>& in);
+// The arguments as the command takes them; InvalidArgument naming an
+// unknown option, a missing value or a stray argument.
+StatusOr<Args> Parse(const CommandSpec& spec, const std::vector<std::string>& in);
 // Prints "thermocomp: what" to stderr; returns the exit code 1.
 int Fail(const std::string& what);
 // Config from --config, then --db / --listen / --dds-domain overrides.
 StatusOr<Config> LoadWithOverrides(const Args& a);
 // The App of a command: the config with overrides, the database opened.
+// A database is created (with its directory) only with --create; without
+// it a missing file is an error, so a mistyped path creates nothing.
 StatusOr<std::unique_ptr<App>> OpenApp(const Args& a);
+// NotFound unless the database file exists or --create was given (then
+// its directory is made).
+Status PrepareDatabasePath(const Args& a, const std::string& path);
 std::string ReadFile(const std::string& path, bool& ok);
 // "n accepted, d duplicates", or the error with its first items.
 std::string Describe(const IngestResult& r);

@@ -224,7 +224,11 @@ int Backup(const Args& a) {
   if (a.positional.empty()) return Fail("usage: thermocomp backup <file> [--db PATH]");
   auto config = LoadWithOverrides(a);
   if (!config.ok()) return Fail(config.status().message());
-  auto db = Database::Open(config->db_path, {config->synchronous});
+  if (Status s = cli::PrepareDatabasePath(a, config->db_path); !s.ok()) return Fail(s.message());
+  DatabaseOptions options;
+  options.synchronous = config->synchronous;
+  options.create = false;
+  auto db = Database::Open(config->db_path, options);
   if (!db.ok()) return Fail(db.status().message());
   if (Status s = (*db)->Backup(a.positional[0]); !s.ok()) return Fail(s.message());
   std::printf("backed up %s to %s\n", config->db_path.c_str(), a.positional[0].c_str());
@@ -233,32 +237,132 @@ int Backup(const Args& a) {
 
 }  // namespace
 
+namespace {
+
+using cli::CommandSpec;
+
+const std::vector<CommandSpec>& Commands() {
+  static const std::vector<CommandSpec> commands = {
+      {"serve",
+       "  serve     [--config FILE] [--db PATH] [--create] [--listen HOST:PORT]\n"
+       "            [--dds [--dds-domain N]]                       run the server\n",
+       {{"config", true},
+        {"db", true},
+        {"create", false},
+        {"listen", true},
+        {"dds", false},
+        {"dds-domain", true}}},
+      {"import",
+       "  import    --machine M [--temperatures F] [--signals F] [--probe-points F]  (CSV or "
+       "JSON)\n"
+       "            --machine M --positioning laser.csv --axis Y --ts RFC3339 "
+       "[--compensation-active]\n"
+       "            --study fms_datum_drift.csv [--machine fms-study] [--start RFC3339]\n"
+       "            [--config FILE] [--db PATH] [--create]\n",
+       {{"config", true},
+        {"db", true},
+        {"create", false},
+        {"machine", true},
+        {"temperatures", true},
+        {"signals", true},
+        {"probe-points", true},
+        {"positioning", true},
+        {"axis", true},
+        {"ts", true},
+        {"compensation-active", false},
+        {"study", true},
+        {"start", true}}},
+      {"fit",
+       "  fit       --machine M --axis Y [--config FILE] [--db PATH]   fit a model version now\n",
+       {{"config", true}, {"db", true}, {"machine", true}, {"axis", true}}},
+      {"analyze",
+       "  analyze   --machine M --axis Y [--inputs T1,T2] [--holdout R1,R2]\n"
+       "            [--policy off|propose|activate] [--format markdown|json|html]\n"
+       "            [--config FILE] [--db PATH]        find effects the model lacks\n",
+       {{"config", true},
+        {"db", true},
+        {"machine", true},
+        {"axis", true},
+        {"inputs", true},
+        {"holdout", true},
+        {"policy", true},
+        {"format", true}}},
+      {"simulate",
+       "  simulate  [--machines a,b] [--days 14] [--seed 1]\n"
+       "            [--hidden sensor,lag,position,trend,step,signal]\n"
+       "            (--out DIR | --db PATH [--create] | --live [--post URL | --dds [--dds-domain "
+       "N]]\n"
+       "                                        [--speed X] [--minutes N])\n",
+       {{"config", true},
+        {"db", true},
+        {"create", false},
+        {"machines", true},
+        {"days", true},
+        {"seed", true},
+        {"hidden", true},
+        {"out", true},
+        {"live", false},
+        {"post", true},
+        {"dds", false},
+        {"dds-domain", true},
+        {"speed", true},
+        {"minutes", true}}},
+      {"demo",
+       "  demo      --db PATH [--create] [--days 14] [--seed 1] [--study CSV]\n"
+       "            simulated line + measured study data, fitted\n",
+       {{"config", true},
+        {"db", true},
+        {"create", false},
+        {"days", true},
+        {"seed", true},
+        {"study", true}}},
+      {"backup",
+       "  backup    FILE [--config FILE] [--db PATH]   online backup, safe while the server runs\n",
+       {{"config", true}, {"db", true}},
+       1},
+  };
+  return commands;
+}
+
+const CommandSpec* FindCommand(const std::string& name) {
+  for (const auto& c : Commands()) {
+    if (name == c.name) return &c;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 static int Dispatch(const std::string& name, const Args& a);
 
 std::string Usage() {
-  return R"(usage: thermocomp <command> [options]
-
-  serve     [--config FILE] [--db PATH] [--listen HOST:PORT] [--dds [--dds-domain N]]
-  import    --machine M [--temperatures F] [--signals F] [--probe-points F]  (CSV or JSON)
-            --machine M --positioning laser.csv --axis Y --ts RFC3339 [--compensation-active]
-            --study fms_datum_drift.csv [--machine fms-study] [--start RFC3339]
-  fit       --machine M --axis Y                                fit a model version now
-  analyze   --machine M --axis Y [--inputs T1,T2] [--holdout R1,R2]
-            [--policy off|propose|activate]
-            [--format markdown|json|html]     find effects the model lacks (methods.md §8)
-  simulate  [--machines a,b] [--days 14] [--seed 1] [--hidden sensor,lag,position,trend,step,signal]
-            (--out DIR | --db PATH | --live [--post URL | --dds [--dds-domain N]]
-                                    [--speed X] [--minutes N])
-  demo      [--db PATH]     simulated line + measured study data, fitted
-  backup    FILE [--db PATH]   online backup, safe while the server runs
-
-Common: --config FILE (TOML, see deploy/thermocomp.toml), --db PATH.
-)";
+  std::string out = "usage: thermocomp <command> [options]   (thermocomp <command> --help)\n\n";
+  for (const auto& c : Commands()) out += c.usage;
+  return out +
+         "\nCommon: --config FILE (TOML, see deploy/thermocomp.toml), --db PATH. Only serve,\n"
+         "import, simulate and demo create a database, and only with --create.\n";
 }
 
 int RunCommand(const std::string& name, const std::vector<std::string>& raw) {
+  const CommandSpec* spec = FindCommand(name);
+  if (!spec) {
+    std::fprintf(stderr, "thermocomp: unknown command '%s'\n%s", name.c_str(), Usage().c_str());
+    return 2;
+  }
+  for (const auto& arg : raw) {
+    if (arg == "--help" || arg == "-h") {
+      std::printf("usage:\n%s", spec->usage);
+      return 0;
+    }
+  }
+  auto args = cli::Parse(*spec, raw);
+  if (!args.ok()) {
+    std::fprintf(stderr, "thermocomp %s: %s\nusage:\n%s", name.c_str(),
+                 args.status().message().c_str(), spec->usage);
+    return 2;
+  }
   try {
-    return Dispatch(name, cli::Parse(raw));
+    return Dispatch(name, *args);
   } catch (const std::invalid_argument&) {
     return Fail("an option that takes a number got something else\n" + Usage());
   } catch (const std::out_of_range&) {
@@ -273,9 +377,7 @@ static int Dispatch(const std::string& name, const Args& a) {
   if (name == "analyze") return Analyze(a);
   if (name == "simulate") return cli::Simulate(a);
   if (name == "demo") return Demo(a);
-  if (name == "backup") return Backup(a);
-  std::fprintf(stderr, "thermocomp: unknown command '%s'\n%s", name.c_str(), Usage().c_str());
-  return 2;
+  return Backup(a);
 }
 
 }  // namespace thermocomp

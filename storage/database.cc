@@ -98,9 +98,10 @@ StatusOr<std::unique_ptr<Database>> Database::Open(const std::string& path,
                                                    const DatabaseOptions& options) {
   std::unique_ptr<Database> db(new Database());
   db->path_ = path;
-  int rc =
-      sqlite3_open_v2(path.c_str(), &db->db_,
-                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX, nullptr);
+  int rc = sqlite3_open_v2(
+      path.c_str(), &db->db_,
+      SQLITE_OPEN_READWRITE | (options.create ? SQLITE_OPEN_CREATE : 0) | SQLITE_OPEN_NOMUTEX,
+      nullptr);
   if (rc != SQLITE_OK) {
     return Status::Unavailable("cannot open database " + path + ": " +
                                (db->db_ ? sqlite3_errmsg(db->db_) : "out of memory"));

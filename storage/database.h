@@ -29,6 +29,8 @@ struct DatabaseOptions {
   int busy_timeout_ms = 5000;
   // Apply migrations up to this version only (tests of upgrades); 0 = all.
   int migrate_to = 0;
+  // Create the file when it does not exist; false: a missing file is an error.
+  bool create = true;
 };
 
 class Database;

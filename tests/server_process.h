@@ -38,7 +38,8 @@ inline pid_t StartServer(const std::string& db, int port, std::vector<std::strin
     freopen("/dev/null", "w", stdout);
     freopen("/dev/null", "w", stderr);
     std::vector<std::string> args = {"thermocomp", "serve",    "--db",
-                                     db,           "--listen", "127.0.0.1:" + std::to_string(port)};
+                                     db,           "--listen", "127.0.0.1:" + std::to_string(port),
+                                     "--create"};
     args.insert(args.end(), extra.begin(), extra.end());
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());

@@ -23,8 +23,9 @@ using nlohmann::json;
 
 // `thermocomp simulate --db` for one machine and `days`, as a separate process.
 void SimulateInto(const std::string& db, const std::string& machine, int days) {
-  const std::string cmd = std::string(THERMOCOMP_BINARY) + " simulate --db " + db + " --machines " +
-                          machine + " --days " + std::to_string(days) + " > /dev/null 2>&1";
+  const std::string cmd = std::string(THERMOCOMP_BINARY) + " simulate --db " + db +
+                          " --create --machines " + machine + " --days " + std::to_string(days) +
+                          " > /dev/null 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0);
 }
 

@@ -41,11 +41,49 @@ TEST(CliTest, UnknownCommandIsAUsageError) {
   EXPECT_NE(out.find("unknown command 'frobnicate'"), std::string::npos) << out;
 }
 
+TEST(CliTest, UnknownOptionsAndStrayArgumentsAreUsageErrors) {
+  auto [code, out] = RunThermocomp("serve --halp");
+  EXPECT_EQ(code, 2);
+  EXPECT_NE(out.find("unknown option --halp"), std::string::npos) << out;
+  std::tie(code, out) = RunThermocomp("fit --machine m1 extra");
+  EXPECT_EQ(code, 2);
+  EXPECT_NE(out.find("unexpected argument 'extra'"), std::string::npos) << out;
+  std::tie(code, out) = RunThermocomp("fit --machine");
+  EXPECT_EQ(code, 2);
+  EXPECT_NE(out.find("--machine needs a value"), std::string::npos) << out;
+  // --help explains the command and starts nothing.
+  std::tie(code, out) = RunThermocomp("serve --help");
+  EXPECT_EQ(code, 0);
+  EXPECT_NE(out.find("--listen"), std::string::npos) << out;
+}
+
+TEST(CliTest, AMistypedDatabasePathCreatesNothing) {
+  const std::string dir = "/tmp/thermocomp-cli-typo-" + std::to_string(getpid());
+  for (const std::string& cmd :
+       {"backup " + dir + "/copy.db --db " + dir + "/nonexist.db",
+        "fit --machine m1 --db " + dir + "/nonexist.db",
+        "analyze --machine m1 --db " + dir + "/nonexist.db",
+        "import --machine m1 --temperatures /dev/null --db " + dir + "/nonexist.db"}) {
+    auto [code, out] = RunThermocomp(cmd);
+    EXPECT_EQ(code, 1) << cmd;
+    EXPECT_NE(out.find("does not exist"), std::string::npos) << cmd << ": " << out;
+    EXPECT_NE(access(dir.c_str(), F_OK), 0) << cmd << " created " << dir;
+  }
+  // With --create it is made, directory and all.
+  auto [code, out] =
+      RunThermocomp("simulate --db " + dir + "/new.db --create --machines m1 --days 1");
+  EXPECT_EQ(code, 0) << out;
+  EXPECT_EQ(access((dir + "/new.db").c_str(), F_OK), 0);
+  std::system(("rm -rf " + dir).c_str());
+}
+
 TEST(CliTest, AnalyzeAndPositioningImportWorkOnADatabase) {
   const std::string dir = "/tmp/thermocomp-cli-" + std::to_string(getpid());
   const std::string db = dir + "/t.db";
   ASSERT_EQ(
-      RunThermocomp("simulate --db " + db + " --machines m1 --days 6 --hidden position").first, 0);
+      RunThermocomp("simulate --db " + db + " --create --machines m1 --days 6 --hidden position")
+          .first,
+      0);
   auto [code, out] =
       RunThermocomp("analyze --db " + db + " --machine m1 --axis Y --format markdown");
   EXPECT_EQ(code, 0) << out;

@@ -3,6 +3,7 @@
 #include <fstream>
 
 #include "tests/app_fixture.h"
+#include "tests/test_util.h"
 
 namespace thermocomp {
 namespace {
@@ -199,6 +200,41 @@ TEST(ConfigTest, ParsesTokensAndDailyTimeAndRejectsBadOnes) {
   auto bad = write("[server]\nlisten = \"localhost:http\"\n");
   EXPECT_FALSE(bad.ok());
   EXPECT_NE(bad.status().message().find("listen"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ConfigTest, UnknownKeysWrongTypesAndRangesStopTheStartNamingTheKey) {
+  auto dir = testing::TempDir();
+  auto message = [&](const std::string& text) {
+    std::ofstream((dir / "c.toml").string()) << text;
+    auto c = LoadConfig((dir / "c.toml").string());
+    return c.ok() ? std::string("accepted") : c.status().message();
+  };
+  EXPECT_NE(message("[server]\nthread = 8\n")
+                .find("unknown key server.thread (did you mean "
+                      "server.threads?)"),
+            std::string::npos);
+  EXPECT_NE(message("[sevrer]\nthreads = 8\n").find("unknown key sevrer.threads"),
+            std::string::npos);
+  EXPECT_NE(message("[compensation]\nstale_after_s = \"5m\"\n")
+                .find("compensation.stale_after_s must be an integer, not a string"),
+            std::string::npos);
+  EXPECT_NE(message("[fit]\nmin_r2 = \"0.9\"\n").find("fit.min_r2 must be a number"),
+            std::string::npos);
+  EXPECT_NE(message("[fit]\nmin_r2 = 1.5\n").find("fit.min_r2 must be within 0..1"),
+            std::string::npos);
+  EXPECT_NE(message("threads = 8\n").find("must be a [section]"), std::string::npos);
+  EXPECT_NE(message("[dds]\nenabled = \"yes\"\n").find("dds.enabled must be true or false"),
+            std::string::npos);
+  EXPECT_NE(
+      message("[compensation]\nplausible_min_c = 50.0\nplausible_max_c = 40.0\n").find("below"),
+      std::string::npos);
+  EXPECT_EQ(message("[fit]\nmin_r2 = 1\n[server]\nthreads = 8\n"), "accepted");
+  // The shipped file lists every key with its default: it loads as is.
+  auto shipped = LoadConfig(testing::SourcePath("deploy/thermocomp.toml"));
+  ASSERT_TRUE(shipped.ok()) << shipped.status().message();
+  EXPECT_EQ(shipped->http_threads, Config{}.http_threads);
+  EXPECT_EQ(shipped->busy_timeout_ms, Config{}.busy_timeout_ms);
   std::filesystem::remove_all(dir);
 }
 
