@@ -48,6 +48,13 @@ bool IsLoopback(const std::string& addr) {
   return addr.rfind("127.", 0) == 0 || addr == "::1" || addr.rfind("::ffff:127.", 0) == 0;
 }
 
+std::string ExposureWarning(const std::string& host, const std::vector<AccessToken>& tokens) {
+  if (!tokens.empty() || IsLoopback(host) || host == "localhost") return "";
+  return "listening on " + host +
+         " without [[auth.tokens]]: clients on other hosts get 403 Forbidden; only this host is "
+         "served. Give every client a token (docs/operations.md, Access).";
+}
+
 AuthDecision Authorizer::Decide(const std::string& method, const std::string& path,
                                 const std::string& remote_addr,
                                 const std::string& authorization) const {

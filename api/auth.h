@@ -1,10 +1,13 @@
-// Authorizer: who may do what (api.md, "Auth"). Without configured tokens
-// only loopback clients are served, without tokens. With tokens, every
-// request but /healthz and /readyz needs `Authorization: Bearer <token>`:
-//   machine      writes temperatures and probe points of its own machine,
-//                reads its own machine and compensation
+// Authorizer: who may do what (docs/api.md, "Authentication"). Without
+// configured tokens only loopback clients are served, without tokens. With
+// tokens, every request but /healthz and /readyz needs
+// `Authorization: Bearer <token>`:
+//   machine      of its own machine: posts temperatures, probe points,
+//                signals, events and column-check results; reads the
+//                machine, its compensation and its open check requests
 //   reader       reads everything
-//   maintenance  reads everything (and will request checks)
+//   maintenance  reads everything; posts events, check requests, column
+//                and positioning checks
 //   admin        everything
 #pragma once
 
@@ -32,5 +35,8 @@ class Authorizer {
 };
 
 bool IsLoopback(const std::string& addr);
+// What to tell the operator when the server listens beyond this host
+// without tokens (every remote client would get 403); empty otherwise.
+std::string ExposureWarning(const std::string& listen_host, const std::vector<AccessToken>& tokens);
 
 }  // namespace thermocomp::api

@@ -1,4 +1,4 @@
-// Acceptance rules for a fitted model (methods.md §2 steps 4-6). Every
+// Acceptance rules for a fitted model (docs/model.md §5). Every
 // threshold is configurable; the defaults are the study's.
 #pragma once
 

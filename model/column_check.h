@@ -1,4 +1,4 @@
-// Column check on the reference artifact (methods.md §3): the artifact's
+// Column check on the reference artifact (docs/model.md §11): the artifact's
 // own expansion is corrected per point, eps(T) = beta * T + b per
 // direction; machine zero is the centre of the circle through the sphere
 // positions probed at several B angles (XZ plane; exact for three, least

@@ -1,4 +1,4 @@
-// Cross-validation by whole runs (methods.md §2 step 6, §8 step 3): points of
+// Cross-validation by whole runs (docs/model.md §5, §9): points of
 // one run are correlated, so a run is held out as a whole, never a point.
 #pragma once
 

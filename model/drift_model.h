@@ -1,5 +1,5 @@
 // DriftModel: the served thermal-error model of one axis and the
-// compensation law of methods.md §2:
+// compensation law of docs/model.md §6:
 //   drift = b0 + sum(bi * (Tf_i - Tref_i)),  offset = -drift clamped to +-clamp.
 #pragma once
 

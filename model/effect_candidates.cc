@@ -1,5 +1,5 @@
 // The candidate effects of a round and the residual structure report
-// (methods.md §8 steps 2 and 5), apart from the search itself.
+// (docs/model.md §9), apart from the search itself.
 #include <algorithm>
 #include <map>
 #include <set>

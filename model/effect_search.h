@@ -1,4 +1,4 @@
-// Effect search (methods.md §8): starting from the declared model, find
+// Effect search (docs/model.md §9): starting from the declared model, find
 // the effect the residual points to, add it, refit, repeat.
 //
 // Each round generates candidates from everything archived (sensors not in

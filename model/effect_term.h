@@ -1,4 +1,4 @@
-// EffectTerm: one term of an extended drift model (methods.md §8). Every
+// EffectTerm: one term of an extended drift model (docs/model.md §9). Every
 // term is a value at a probe point pk minus its value at the run's datum
 // p0, so it can be fitted against datum-relative drift and evaluated live
 // from the same inputs. Units: temperatures degC, time constants minutes,

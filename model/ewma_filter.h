@@ -1,5 +1,5 @@
 // EwmaFilter: exponential smoothing of one temperature channel,
-//   y(n) = alpha * x(n) + (1 - alpha) * y(n-1), y(0) = x(0)   (methods.md §2).
+//   y(n) = alpha * x(n) + (1 - alpha) * y(n-1), y(0) = x(0)   (docs/model.md §1).
 // The state is a plain value so storage can persist it and restore it after
 // a restart without a jump in the filtered signal.
 #pragma once

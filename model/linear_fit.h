@@ -1,5 +1,5 @@
 // LinearFit: ordinary least squares y = b0 + sum(bi * xi) with the
-// diagnostics a regression report needs (methods.md §2, step 1).
+// diagnostics a regression report needs (docs/model.md §3).
 //
 // Columns that are exact (to 1e-7 relative) linear combinations of earlier
 // columns or of the intercept are reported as aliased and left out of the
@@ -32,7 +32,7 @@ struct LinearFit {
   double r2 = 0, adj_r2 = 0;
   double f = 0, f_p = 1;  // F(k, n-k-1) and its upper-tail p
   double sse = 0;
-  double rmse = 0;           // sqrt(SSE / n), as methods.md defines it
+  double rmse = 0;           // sqrt(SSE / n), as the study defines it (docs/model.md §3)
   double sigma = 0;          // sqrt(SSE / (n - k - 1))
   double durbin_watson = 0;  // in row order
   Eigen::VectorXd fitted;

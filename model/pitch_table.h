@@ -1,4 +1,4 @@
-// Pitch-error compensation from a positioning check (methods.md §5): the
+// Pitch-error compensation from a positioning check (docs/model.md §11): the
 // control takes the negated mean deviation per target, as one
 // bidirectional table, or one table per direction plus the backlash.
 #pragma once

@@ -1,5 +1,5 @@
 // Positioning accuracy of an axis by ISO 230-2 and VDI/DGQ 3441
-// (methods.md §5). Deviations in um (actual minus target), targets in mm.
+// (docs/model.md §11). Deviations in um (actual minus target), targets in mm.
 // Every per-position and per-axis value, and the expanded uncertainties
 // (k = 2) of the results from the inputs of the budget.
 #pragma once

@@ -1,4 +1,4 @@
-// Residual checks of methods.md §2 step 4: normality by moments (the study's
+// Residual checks of docs/model.md §3: normality by moments (the study's
 // rule |skewness| < 2 and excess kurtosis < 7) and homoscedasticity by the
 // Goldfeld-Quandt test ordered by fitted value (the middle 20 % left out,
 // as R's lmtest::gqtest(fraction = 0.2, order.by = fitted)).

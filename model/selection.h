@@ -1,4 +1,4 @@
-// Model selection as methods.md §2 describes it, automated:
+// Model selection as the study built its model (docs/model.md §4), automated:
 //  1. backward elimination: while any VIF >= vif_max, drop the collinear
 //     term with the largest p; else while any p >= p_max, drop the largest p;
 //  2. outlier removal: while any |standardized residual| > threshold, drop

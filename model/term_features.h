@@ -1,4 +1,4 @@
-// Term values (methods.md §8) computed from archived series, the same way
+// Term values (docs/model.md §9) computed from archived series, the same way
 // in a fit and live: a probe point's lag is the lag a live filter would have
 // had at its time, because both read the raw series the machine sent.
 #pragma once

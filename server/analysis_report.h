@@ -1,4 +1,4 @@
-// The effect-analysis report (methods.md §8) as JSON, and its readable
+// The effect-analysis report (docs/model.md §9) as JSON, and its readable
 // renderings in Markdown and HTML. The JSON is what is stored and served;
 // the renderings are made from it, so they never disagree.
 #pragma once

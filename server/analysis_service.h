@@ -1,4 +1,4 @@
-// AnalysisService: closes the loop (methods.md §8) for one axis. It builds
+// AnalysisService: closes the loop (docs/model.md §9) for one axis. It builds
 // the effect search's input from the archive (probe points, the raw
 // temperature and signal series, events), runs the search without holding
 // the database, stores the report, and, when effects were added, stores

@@ -1,5 +1,5 @@
 // CheckService: column checks on the reference artifact and ISO 230-2
-// positioning checks (methods.md §3, §5). Requests are made by maintenance
+// positioning checks (docs/model.md §11). Requests are made by maintenance
 // or weekly per machine; a column check answers one (named, or the oldest
 // open one), is corrected for the artifact's expansion and evaluated, and a
 // machine-zero change beyond the tolerance since the previous check is

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <thread>
 
+#include "api/auth.h"
 #include "api/dds/dds_bridge.h"
 #include "api/http_server.h"
 #include "api/ingest_parsers.h"
@@ -59,6 +60,11 @@ int Serve(const Args& a) {
   std::signal(SIGTERM, OnSignal);
   log::Info("listening", "url=http://" + config.listen_host + ":" + std::to_string(http.port()) +
                              " threads=" + std::to_string(config.http_threads));
+  if (const std::string warning = api::ExposureWarning(config.listen_host, config.tokens);
+      !warning.empty()) {
+    log::Warn("no access tokens on a network address", "listen=" + config.listen_host);
+    std::fprintf(stderr, "thermocomp: WARNING: %s\n", warning.c_str());
+  }
   std::printf("thermocomp serving on http://%s:%d (database %s)\n", config.listen_host.c_str(),
               http.port(), config.db_path.c_str());
   std::fflush(stdout);

@@ -1,5 +1,5 @@
 // DriftDataset: the probe points of one axis turned into datum-relative
-// rows (methods.md §2): drift = deviation(pk) - deviation(p0) of the same
+// rows (docs/model.md §1): drift = deviation(pk) - deviation(p0) of the same
 // run, dT_i = T_i(pk) - T_i(p0) with T the filtered temperature (the point's
 // snapshot if it has one, else the archive's filtered value at its time).
 #pragma once

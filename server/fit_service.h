@@ -1,5 +1,5 @@
 // FitService: fits a new model version of one axis from the archive, the
-// way methods.md §2 builds one: selection on the training runs, run-wise
+// way the study built one (docs/model.md §4-5): selection on the training runs, run-wise
 // cross-validation, validation on held-out runs, acceptance. A candidate
 // becomes active only if it passes and does no worse on the held-out runs
 // than the active model; otherwise it is stored as rejected with the

@@ -105,7 +105,7 @@ StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
                         {"served_offset_source", served_source},
                         {"served_offset_total", served.size()},
                         {"served_offset", Series(served_ts, served, q.max_points)}};
-  // The machine-zero trend from column checks (methods.md §3): the check
+  // The machine-zero trend from column checks (docs/model.md §11): the check
   // sees the drift when it runs, the model covers the time between.
   nlohmann::json zero = nlohmann::json::array();
   for (const auto& c : CheckStore(db_).ColumnChecks(machine->id)) {

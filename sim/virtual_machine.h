@@ -15,7 +15,7 @@
 // The datum hole is at Y = 120 mm; later points probe holes at 120, 270,
 // 420 and 570 mm in turn, so position-dependent errors can be seen.
 //
-// Hidden effects (methods.md §8) add to the Y deviation what the declared
+// Hidden effects (docs/model.md §9) add to the Y deviation what the declared
 // model (Tco, Tcb, Tbed) lacks; their parameters are drawn from the seed.
 #pragma once
 

@@ -1,4 +1,4 @@
-// AnalysisStore: effect-analysis reports per axis (methods.md §8).
+// AnalysisStore: effect-analysis reports per axis (docs/model.md §9).
 #pragma once
 
 #include <optional>

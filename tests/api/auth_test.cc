@@ -21,6 +21,15 @@ TEST(AuthorizerTest, WithoutTokensOnlyLoopbackIsServed) {
   EXPECT_EQ(none.Decide("GET", "/healthz", "192.0.2.7", "").status, 200);
 }
 
+TEST(AuthorizerTest, ANetworkAddressWithoutTokensIsWarnedAbout) {
+  EXPECT_EQ(api::ExposureWarning("127.0.0.1", {}), "");
+  EXPECT_EQ(api::ExposureWarning("::1", {}), "");
+  EXPECT_NE(api::ExposureWarning("0.0.0.0", {}).find("403"), std::string::npos);
+  EXPECT_NE(api::ExposureWarning("192.168.10.5", {}).find("without [[auth.tokens]]"),
+            std::string::npos);
+  EXPECT_EQ(api::ExposureWarning("0.0.0.0", {{"a", std::string(16, 'x'), "admin", ""}}), "");
+}
+
 TEST(AuthorizerTest, RolesLimitWhatATokenMayDo) {
   api::Authorizer a({{"admin", kAdmin, "admin", ""},
                      {"cell-1", kCell, "machine", "m1"},
@@ -41,6 +50,43 @@ TEST(AuthorizerTest, RolesLimitWhatATokenMayDo) {
   EXPECT_EQ(as(kAdmin, "PUT", "/api/v1/machines/m9"), 200);
   EXPECT_EQ(a.Decide("GET", "/api/v1/machines", "127.0.0.1", "Bearer " + kReader).actor,
             "token:dash");
+}
+
+// The roles table of docs/api.md, row by row.
+TEST(AuthorizerTest, TheRolesTableOfTheDocsIsWhatIsEnforced) {
+  const std::string maint(20, 'm');
+  api::Authorizer a({{"cell-1", kCell, "machine", "m1"}, {"fitter", maint, "maintenance", ""}});
+  auto as = [&](const std::string& token, const char* method, const std::string& path) {
+    return a.Decide(method, path, "10.0.0.9", "Bearer " + token).status;
+  };
+  const std::string m1 = "/api/v1/machines/m1";
+  // machine: writes its own machine's data and check results, reads what
+  // a control needs (its machine, compensation, open check requests).
+  for (const char* rest :
+       {"/temperatures", "/probe-points", "/signals", "/events", "/column-checks"}) {
+    EXPECT_EQ(as(kCell, "POST", m1 + rest), 200) << rest;
+  }
+  for (const char* rest : {"", "/compensation", "/column-checks/requests"}) {
+    EXPECT_EQ(as(kCell, "GET", m1 + rest), 200) << rest;
+  }
+  for (const char* rest : {"/positioning-checks", "/column-checks/requests", "/axes/Y/fit"}) {
+    EXPECT_EQ(as(kCell, "POST", m1 + rest), 403) << rest;
+  }
+  EXPECT_EQ(as(kCell, "GET", m1 + "/drift"), 403);
+  EXPECT_EQ(as(kCell, "PUT", m1), 403);
+  // maintenance: reads everything; requests, records and logs checks and
+  // events; neither feeds data nor changes models or definitions.
+  EXPECT_EQ(as(maint, "GET", m1 + "/drift"), 200);
+  for (const char* rest :
+       {"/events", "/column-checks/requests", "/column-checks", "/positioning-checks"}) {
+    EXPECT_EQ(as(maint, "POST", m1 + rest), 200) << rest;
+  }
+  for (const char* rest :
+       {"/temperatures", "/axes/Y/fit", "/axes/Y/models/1/activate", "/axes/Y/analysis"}) {
+    EXPECT_EQ(as(maint, "POST", m1 + rest), 403) << rest;
+  }
+  EXPECT_EQ(as(maint, "PUT", "/api/v1/artifacts/col-1"), 403);
+  EXPECT_EQ(as(maint, "PUT", m1), 403);
 }
 
 class AuthHttpTest : public testing::AppFixture {

@@ -1,5 +1,5 @@
 // The effect search on the virtual machine with undeclared effects
-// (methods.md §8): each hidden effect alone and in pairs, over several
+// (docs/model.md §9): each hidden effect alone and in pairs, over several
 // seeds, must be named (kind and sensor/axis, tau within a factor 1.5) and
 // bring the held-out RMSE within 1.3x the noise floor; with nothing hidden
 // the search must add nothing in at least 19 of 20 seeds.

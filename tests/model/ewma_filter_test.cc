@@ -14,7 +14,7 @@ TEST(EwmaFilterTest, HandComputedSequence) {
 }
 
 TEST(EwmaFilterTest, TimeConstantOfStudyAlpha) {
-  // methods.md §2: alpha = 0.1 at 60 s is tau ~ 9.5 min.
+  // docs/model.md §1: alpha = 0.1 at 60 s is tau ~ 9.5 min.
   EXPECT_NEAR(EwmaFilter::TimeConstant(0.1, 1.0), 9.4912, 1e-4);
 }
 

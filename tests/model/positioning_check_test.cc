@@ -1,4 +1,4 @@
-// ISO 230-2 and VDI/DGQ 3441 (methods.md §5) against a vector worked by
+// ISO 230-2 and VDI/DGQ 3441 (docs/model.md §11) against a vector worked by
 // hand and against an independent implementation written here from the
 // definitions; the circle through sphere positions; artifact correction.
 #include <algorithm>
@@ -224,7 +224,7 @@ TEST(ColumnCheck, CircleThroughThreeSpherePositionsIsExact) {
 }
 
 TEST(ColumnCheck, ArtifactExpansionIsCorrectedBeforeUse) {
-  // methods.md: KD in Y, eps = 0.0069 * TW - 0.1371 mm; at 21.3 degC 0.00987 mm.
+  // The study's KD sphere in Y (docs/model.md §11), eps = 0.0069 * TW - 0.1371 mm; at 21.3 degC 0.00987 mm.
   PointExpansion kd;
   kd.beta_y = 0.0069;
   kd.b_y = -0.1371;

@@ -17,7 +17,7 @@ double Ref(const std::map<std::string, std::string>& ref, const std::string& key
   return it == ref.end() ? NAN : std::stod(it->second);
 }
 
-// The whole procedure of methods.md §2 on the study data, against the same
+// The whole procedure of docs/model.md §4 on the study data, against the same
 // procedure written independently in R.
 TEST(SelectionTest, StudyProcedureMatchesR) {
   auto ref = testing::LoadReference();

@@ -1,4 +1,4 @@
-// Term values checked against hand-computed examples (methods.md §8 terms,
+// Term values checked against hand-computed examples (docs/model.md §9 terms,
 // first-order lag y_i = y_{i-1} + (1 - exp(-dt/tau)) (x_i - y_{i-1})).
 #include <cmath>
 

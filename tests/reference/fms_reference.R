@@ -1,5 +1,5 @@
 # Independent reference for the model tests: R's lm(), car::vif() and the
-# selection procedure of methods.md section 2, on the measured study data.
+# selection procedure of docs/model.md section 4, on the measured study data.
 # Regenerate with:  Rscript tests/reference/fms_reference.R shared/data/fms_datum_drift.csv > tests/reference/fms_reference.txt
 # (Debian packages r-base-core, r-cran-car, r-cran-lmtest). The C++ tests read the .txt only.
 args <- commandArgs(trailingOnly = TRUE)
@@ -114,7 +114,7 @@ full <- fit_terms(d, sensors, "dy_mm")
 dump_fit("full", full, sensors)
 out("full.loro_rmse", loro_rmse(d, sensors, "dy_mm"))
 
-# 2. The selection procedure of methods.md section 2 (Y axis).
+# 2. The selection procedure of docs/model.md section 4 (Y axis).
 sel <- select_model(d, "dy_mm")
 cat(sprintf("selected.terms %s\n", paste(sel$terms, collapse = ",")))
 out("selected.removed_outliers", sel$removed)
