@@ -3,7 +3,7 @@
 # and only those that are missing. Works on a minimal system (no compiler).
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config curl ca-certificates
+  build-essential cmake pkg-config curl ca-certificates python3 python3-jsonschema
   libsqlite3-dev sqlite3 libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev
   libboost-math-dev libtomlplusplus-dev
   libgtest-dev libbenchmark-dev cyclonedds-dev cyclonedds-tools

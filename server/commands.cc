@@ -159,7 +159,7 @@ Status DemoChecks(App& app, const std::string& machine) {
   p.ts_ms = now - kDayMs;
   p.machine_temperature_c = 20.6;
   p.air_temperature_c = 20.4;
-  p.uncertainty = {0.5, 2, 11.7, 0.35, 0.6, 1, 1.5};
+  p.uncertainty = {0.5, 2, 11.7, 0.35, 0.6, 1, 1.5, true};
   for (int i = 0; i <= 20; ++i) p.data.targets_mm.push_back(30.0 * i);
   std::mt19937_64 rng(5);
   std::normal_distribution<double> noise(0.0, 0.5);

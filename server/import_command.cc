@@ -25,6 +25,7 @@ StatusOr<std::pair<int, int>> ImportStudy(App& app, const std::string& machine,
     MachineRecord m;
     m.name = machine;
     m.display_name = "5-axis HMC, FMS study (SINUMERIK 840D sl)";
+    m.controller = "sinumerik";
     for (size_t i = 0; i < kSensors.size(); ++i)
       m.sensors.push_back({0, kSensors[i], "", kAlpha[i]});
     m.axes = {{0, "X", 0.0, kSensors, 0.03}, {0, "Y", 0.0, kSensors, 0.03}};
