@@ -12,6 +12,18 @@
 
 namespace thermocomp::testing {
 
+// Built with AddressSanitizer (the sanitizer build): memory is shadowed and
+// freed blocks are held in quarantine, so peak-memory bounds do not apply.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+inline constexpr bool kUnderSanitizer = true;
+#else
+inline constexpr bool kUnderSanitizer = false;
+#endif
+#else
+inline constexpr bool kUnderSanitizer = false;
+#endif
+
 inline std::string SourcePath(const std::string& rel) {
   return std::string(THERMOCOMP_SOURCE_DIR) + "/" + rel;
 }

@@ -16,9 +16,12 @@ namespace {
 
 constexpr int kTakeMax = 256;
 
+// IDL strings are char*; the message only borrows them for the write, so
+// the string must outlive the message (never a temporary).
 char* Str(const std::string& s) {
   return const_cast<char*>(s.c_str());
 }
+char* Str(std::string&&) = delete;
 
 // Ingest: reliable, keep-all within resource limits. Bounded, and when the
 // bound is reached a reliable writer waits instead of samples being
@@ -357,7 +360,7 @@ void DdsBridge::PublishCheckRequests() {
       thermocomp_CheckRequest msg{};
       msg.machine = Str(m.name);
       msg.request_id = r.record.id;
-      msg.kind = Str(r.state == "overdue" ? "column_check overdue" : "column_check");
+      msg.kind = const_cast<char*>(r.state == "overdue" ? "column_check overdue" : "column_check");
       msg.reason = Str(r.record.reason);
       msg.due_ms = r.record.due_ms;
       if (r.state == "done") {
