@@ -113,6 +113,13 @@ class GuardedServer : public httplib::Server {
   // About the request being handled on this thread (for handlers): whether
   // its body went beyond the limit or it was not sent in time, and a way to
   // close the connection after the response.
+  // Serves one request read from `stream` (an in-memory connection: the
+  // HTTP fuzzer) through the same handlers as a socket.
+  bool ServeOne(httplib::Stream& stream) {
+    bool closed = false;
+    return process_request(stream, true, closed, nullptr);
+  }
+
   static bool BodyTooLarge();
   static bool TimedOut();
   static void CloseAfterResponse();

@@ -28,6 +28,8 @@ class HttpServer {
   Status Start(const std::string& host, int port);
   void Stop();
   int port() const { return port_; }
+  // One request from an in-memory stream, without a socket (fuzzing).
+  bool ServeOne(httplib::Stream& stream) { return server_.ServeOne(stream); }
 
  private:
   // The JSON body of a compensation snapshot, rendered once per snapshot.
