@@ -1,9 +1,16 @@
 #!/usr/bin/env bash
-# The test command: installs what is missing, builds everything, runs every test.
+# The test command: installs what is missing, builds everything and runs
+# every test; then builds again with clang's AddressSanitizer and
+# UndefinedBehaviorSanitizer and runs every test there too, with each
+# libFuzzer harness for a few seconds (tests/fuzz; longer runs:
+# tests/fuzz/run_fuzzers.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash deploy/install-deps.sh
 export CYCLONEDDS_URI="file://$PWD/deploy/cyclonedds.xml"
 bash deploy/build.sh
-cd build
-ctest --output-on-failure -j 2
+(cd build && ctest --output-on-failure -j 2)
+CC=clang CXX=clang++ cmake -S . -B build-sanitize -DTHERMOCOMP_SANITIZE=ON -DTHERMOCOMP_BENCH=OFF \
+  -DTHERMOCOMP_FUZZ_SECONDS=10 -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
+cmake --build build-sanitize -j "$(nproc)"
+(cd build-sanitize && ctest --output-on-failure -j 2)
