@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <ctime>
 #include <mutex>
+#include <string>
 
 #include "server/time_format.h"
 
@@ -12,6 +13,17 @@ namespace {
 std::atomic<int> g_level{static_cast<int>(Level::kInfo)};
 std::mutex g_mutex;
 const char* kNames[] = {"debug", "info", "warn", "error"};
+
+// One line per entry whatever the fields echo (a name from a peer, a
+// message): control characters become '?', so no input can forge lines.
+std::string OneLine(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  }
+  return out;
+}
+
 }  // namespace
 
 void SetLevel(std::string_view level) {
@@ -26,11 +38,11 @@ bool Enabled(Level level) {
 
 void Write(Level level, std::string_view msg, std::string_view fields) {
   if (!Enabled(level)) return;
-  std::string ts = FormatRfc3339(NowUnixMs());
+  const std::string ts = FormatRfc3339(NowUnixMs());
+  const std::string m = OneLine(msg), f = OneLine(fields);
   std::lock_guard<std::mutex> lock(g_mutex);
-  std::fprintf(stderr, "ts=%s level=%s msg=\"%.*s\"%s%.*s\n", ts.c_str(),
-               kNames[static_cast<int>(level)], static_cast<int>(msg.size()), msg.data(),
-               fields.empty() ? "" : " ", static_cast<int>(fields.size()), fields.data());
+  std::fprintf(stderr, "ts=%s level=%s msg=\"%s\"%s%s\n", ts.c_str(),
+               kNames[static_cast<int>(level)], m.c_str(), f.empty() ? "" : " ", f.c_str());
 }
 
 }  // namespace thermocomp::log
