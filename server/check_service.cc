@@ -1,4 +1,5 @@
 #include "server/check_service.h"
+#include "model/time_units.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,9 +14,6 @@
 
 namespace thermocomp {
 namespace {
-
-constexpr int64_t kHourMs = 3600000;
-constexpr int64_t kDayMs = 24 * kHourMs;
 
 std::string StateOf(const CheckRequestRecord& r, int64_t now) {
   if (r.done_ms) return "done";

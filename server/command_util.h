@@ -9,13 +9,11 @@
 #include <string>
 #include <vector>
 
+#include "model/time_units.h"
 #include "server/app.h"
 #include "sim/virtual_machine.h"
 
 namespace thermocomp::cli {
-
-constexpr int64_t kMinuteMs = 60000;
-constexpr int64_t kDayMs = 24 * 60 * kMinuteMs;
 
 // What a command accepts: its options (with or without a value), how
 // many positional arguments, and its usage line.

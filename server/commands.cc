@@ -30,7 +30,6 @@ using cli::Args;
 using cli::Fail;
 using cli::g_stop;
 using cli::ImportStudy;
-using cli::kDayMs;
 using cli::LoadWithOverrides;
 using cli::MachineNames;
 using cli::OnSignal;

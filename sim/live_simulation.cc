@@ -1,4 +1,5 @@
 #include "sim/live_simulation.h"
+#include "model/time_units.h"
 
 #include <algorithm>
 #include <chrono>
@@ -16,9 +17,6 @@
 
 namespace thermocomp {
 namespace {
-
-constexpr int64_t kMinuteMs = 60000;
-constexpr int64_t kDayMs = 24 * 60 * kMinuteMs;
 
 nlohmann::json SamplesJson(const std::vector<TemperatureInput>& s) {
   nlohmann::json arr = nlohmann::json::array();
