@@ -1,17 +1,14 @@
 // The candidate effects of a round and the residual structure report
 // (docs/model.md §9), apart from the search itself.
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 
 #include "model/effect_search.h"
 
 namespace thermocomp {
-namespace {
-
-constexpr int64_t kDayMs = 86400000;
-
-}  // namespace
+namespace {}  // namespace
 
 std::vector<EffectTerm> GenerateCandidates(const EffectSearchInput& in,
                                            const EffectSearchOptions& opt) {
@@ -21,7 +18,21 @@ std::vector<EffectTerm> GenerateCandidates(const EffectSearchInput& in,
   auto add = [&](const EffectTerm& t) {
     if (!declared.count(t.Name())) out.push_back(t);
   };
-  const int axis = in.inputs.AxisIndex(in.axis);
+  // Position terms along every axis the probe points carry a position for:
+  // a Y error may grow with X as the bed under a travelling column warms.
+  std::vector<std::string> axes;
+  // Only axes along which the probed positions vary: on a constant one a
+  // position term is a scaled copy of another term, not a new explanation.
+  for (size_t a = 0; a < in.inputs.axes.size(); ++a) {
+    double lo = INFINITY, hi = -INFINITY;
+    for (const TermPoint& p : in.points) {
+      if (a < p.position_mm.size() && std::isfinite(p.position_mm[a])) {
+        lo = std::min(lo, p.position_mm[a]);
+        hi = std::max(hi, p.position_mm[a]);
+      }
+    }
+    if (hi - lo >= 1.0) axes.push_back(in.inputs.axes[a]);
+  }
   for (size_t s = 0; s < in.inputs.sensors.size(); ++s) {
     const std::string& name = in.inputs.sensors[s];
     add(EffectTerm::Sensor(name));
@@ -35,18 +46,13 @@ std::vector<EffectTerm> GenerateCandidates(const EffectSearchInput& in,
     EffectTerm square = EffectTerm::Sensor(name);
     square.kind = EffectKind::kSquare;
     add(square);
-    if (axis >= 0) {
-      EffectTerm pt = EffectTerm::Sensor(name);
-      pt.kind = EffectKind::kPositionXTemperature;
-      pt.axis = in.axis;
-      add(pt);
-    }
+    for (const auto& a : axes) add(EffectTerm::PositionTimesTemperature(a, name));
   }
-  if (axis >= 0) {
+  for (const auto& a : axes) {
     for (int power : {1, 2}) {
       EffectTerm p;
       p.kind = EffectKind::kPosition;
-      p.axis = in.axis;
+      p.axis = a;
       p.power = power;
       add(p);
     }
@@ -79,6 +85,12 @@ std::vector<EffectTerm> GenerateCandidates(const EffectSearchInput& in,
     step.ref_ms = ev.ts_ms;
     step.event_kind = ev.kind;
     add(step);
+    // The event may change how the machine responds to a declared sensor.
+    for (const auto& t : in.declared) {
+      if (t.kind == EffectKind::kSensor) {
+        add(EffectTerm::SensitivityChange(t.source, ev.ts_ms, ev.kind));
+      }
+    }
   }
   for (size_t s = 0; s < in.inputs.signals.size(); ++s) {
     EffectTerm sig;

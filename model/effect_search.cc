@@ -7,255 +7,257 @@
 
 #include <boost/math/distributions/fisher_f.hpp>
 
+#include "model/effect_design.h"
+#include "model/sensor_noise.h"
+
 namespace thermocomp {
 namespace {
 
-bool AllFinite(const Eigen::VectorXd& v) {
-  return v.allFinite();
+std::string Family(const EffectTerm& t) {
+  return std::string(EffectKindName(t.kind)) + "|" + t.source + "|" + t.axis + "|" +
+         std::to_string(t.power) + "|" + std::to_string(t.ref_ms);
 }
 
-Eigen::VectorXd Rows(const Eigen::VectorXd& full, const std::vector<int>& rows) {
-  Eigen::VectorXd out(rows.size());
-  for (size_t i = 0; i < rows.size(); ++i) out(i) = full(rows[i]);
-  return out;
+// A smoothing term: what noise filtering can imitate. A lag averages; a
+// rate of a sensor in the model turns it into a partial lag of itself.
+bool Smoothing(const Design& d, const EffectTerm& t) {
+  return t.kind == EffectKind::kLag ||
+         (t.kind == EffectKind::kRate && d.Has(EffectTerm::Sensor(t.source)));
 }
-
-// The columns of the current model on the training rows, with their terms.
-struct Design {
-  std::vector<EffectTerm> terms;
-  std::vector<Eigen::VectorXd> columns;
-
-  Eigen::MatrixXd Matrix(int n) const {
-    Eigen::MatrixXd x(n, columns.size());
-    for (size_t j = 0; j < columns.size(); ++j) x.col(j) = columns[j];
-    return x;
-  }
-  std::vector<std::string> Names() const {
-    std::vector<std::string> names;
-    for (const auto& t : terms) names.push_back(t.Name());
-    return names;
-  }
-  void Erase(size_t j) {
-    terms.erase(terms.begin() + j);
-    columns.erase(columns.begin() + j);
-  }
-  bool Has(const EffectTerm& t) const {
-    const std::string name = t.Name();
-    for (const auto& u : terms)
-      if (u.Name() == name) return true;
-    return false;
-  }
-};
-
-// Fitted parameters beyond the coefficient, roughly: a lag also fits tau.
-int Complexity(const EffectTerm& t) {
-  switch (t.kind) {
-    case EffectKind::kSensor:
-    case EffectKind::kElapsed:
-    case EffectKind::kTrend:
-    case EffectKind::kStep:
-      return 0;
-    case EffectKind::kSquare:
-    case EffectKind::kPosition:
-    case EffectKind::kPositionXTemperature:
-      return 1;
-    case EffectKind::kRate:  // with its sensor in the model, a rate is a 10-min lag
-    case EffectKind::kLag:
-      return 3;
-    case EffectKind::kSignal:
-      return t.tau_min > 0 ? 3 : 1;
-  }
-  return 3;
-}
-
-struct Scored {
-  EffectTerm term;
-  double gain = 0;  // fall of the SSE when added
-  double p = 1, p_adjusted = 1;
-  double residual_correlation = 0;
-  double cv_rmse = 0;
-};
 
 class Search {
  public:
   Search(const EffectSearchInput& in, const EffectSearchOptions& opt)
-      : in_(in), opt_(opt), features_(in.inputs, in.points) {}
-
+      : in_(in), opt_(opt), d_(in, opt) {}
   StatusOr<EffectSearchResult> Run();
 
  private:
-  const Eigen::VectorXd& Column(const EffectTerm& t) {
-    const std::string name = t.Name();
-    auto it = columns_.find(name);
-    if (it == columns_.end()) it = columns_.emplace(name, features_.Column(t)).first;
-    return it->second;
-  }
-  Observations Obs(const Design& d) const {
-    Observations o;
-    o.x = d.Matrix(static_cast<int>(train_.size()));
-    o.y = y_;
-    o.names = d.Names();
-    o.group = group_;
-    return o;
-  }
-  double CvRmse(const Design& d) const {
-    auto cv = LeaveOneRunOut(Obs(d));
-    return cv.ok() ? cv->rmse : INFINITY;
-  }
-  // Scores every candidate against the design's residual.
-  std::vector<Scored> Score(const Design& d, const LinearFit& fit,
-                            const std::vector<EffectTerm>& candidates, int* tried);
-  EffectTerm RefineTau(const Design& d, const LinearFit& fit, const EffectTerm& term);
-  // Candidates that pass the F-test, cross-validated, best first (with the
-  // parsimony rule applied).
-  std::vector<Scored> Shortlist(const Design& d, const LinearFit& fit,
-                                const std::vector<EffectTerm>& candidates, int* tried);
-  // The strongest candidates of the round that added nothing, scored, so a
-  // report can say how far they were from passing.
-  std::vector<ScoredCandidate> Closest(const Design& d, const LinearFit& fit,
-                                       const std::vector<EffectTerm>& candidates) {
-    int tried = 0;
-    std::vector<Scored> all = Score(d, fit, candidates, &tried);
-    std::stable_sort(all.begin(), all.end(),
-                     [](const Scored& a, const Scored& b) { return a.gain > b.gain; });
-    std::vector<ScoredCandidate> out;
-    for (size_t i = 0; i < all.size() && i < 5; ++i) {
-      Design with = d;
-      with.terms.push_back(all[i].term);
-      with.columns.push_back(Rows(Column(all[i].term), train_));
-      out.push_back({all[i].term, CvRmse(with), all[i].p_adjusted});
-    }
-    return out;
-  }
-  // Index into the shortlist of the candidate to add.
-  size_t Lookahead(const Design& d, const std::vector<Scored>& shortlist,
-                   const std::vector<EffectTerm>& candidates, double cv);
-  Status Refit(const Design& d, LinearFit* fit) const {
-    auto f = FitLinear(d.Matrix(static_cast<int>(train_.size())), y_, d.Names());
-    if (!f.ok()) return f.status();
-    *fit = std::move(f).value();
-    return Status::Ok();
-  }
+  // Whether `t` is a term of a declared sensor (a revision of its response).
+  bool Revises(const EffectTerm& t) const { return declared_sources_.count(t.source) > 0; }
+  Status FilterDeclaredSensors(Design& design, LinearFit& fit, EffectSearchResult& r);
+  // The qualified candidates of a round, best first; the others land in r.set_aside.
+  std::vector<ScoredCandidate> Qualify(const Design& design, const LinearFit& fit,
+                                       const BlockErrors& base,
+                                       const std::vector<EffectTerm>& candidates, int* tried,
+                                       EffectSearchResult* r);
+  // A candidate that overturns a declared coefficient: the declared term it
+  // can replace outright, "" when it may be added as it is, nullopt when it
+  // is refused (the reason in *why).
+  std::optional<std::string> Guard(const Design& design, const LinearFit& fit,
+                                   const ScoredCandidate& c, std::string* why);
+  // Guard and forward check together, memoised per round (nullopt: refused,
+  // the reason in r.set_aside).
+  std::optional<std::string> Passes(const Design& design, const LinearFit& fit,
+                                    const ScoredCandidate& c, EffectSearchResult& r);
+  // The candidate of this round (nullopt: none; ambiguous ones land in r).
+  std::optional<ScoredCandidate> Choose(const Design& design, const LinearFit& fit,
+                                        const std::vector<ScoredCandidate>& qualified,
+                                        std::string* replaces,
+                                        std::vector<ScoredCandidate>* alternatives,
+                                        EffectSearchResult& r);
+  // Whether `a` explains what `b` does: adding `b` after `a` gains nothing
+  // while adding `a` after `b` still does.
+  bool Adds(const Design& design, const EffectTerm& first, const EffectTerm& then);
+  std::map<std::string, std::optional<std::string>> passes_;  // this round's checks
+  std::map<std::string, double>
+      two_step_;  // this round's lookahead: error after the best follow-up
+  // The index into `qualified` of the candidate whose best follow-up leads
+  // clearly further than the greedy choice's (0: the greedy one).
+  size_t Lookahead(const Design& design, const std::vector<ScoredCandidate>& qualified,
+                   const std::vector<EffectTerm>& candidates);
+  // When nothing qualifies alone: the candidate that, with its best
+  // follow-up, qualifies together (two effects that mask each other, a
+  // step and a trend), carrying the pair's gain; nullopt when none does.
+  std::optional<ScoredCandidate> MaskedPair(const Design& design,
+                                            const std::vector<ScoredCandidate>& closest,
+                                            const std::vector<EffectTerm>& candidates,
+                                            std::string* partner);
+  std::map<std::string, EffectTerm> partners_;    // this round's masked pair: first -> follow-up
+  std::map<std::string, std::string> revisions_;  // candidate -> how it changes a declared term
+  // What the sensors' noise adds to the design's squared error.
+  double NoiseSse(const Design& design, const LinearFit& fit);
 
   const EffectSearchInput& in_;
   const EffectSearchOptions& opt_;
-  FeatureBuilder features_;
-  std::map<std::string, Eigen::VectorXd> columns_;
-  std::vector<int> train_;
-  std::vector<int> group_;
-  Eigen::VectorXd y_;
-  int not_evaluable_first_round_ = -1;
+  DesignContext d_;
+  std::set<std::string> declared_sources_;
+  std::map<std::string, double> noise_c_, interval_min_;
 };
 
-std::vector<Scored> Search::Score(const Design& d, const LinearFit& fit,
-                                  const std::vector<EffectTerm>& candidates, int* tried) {
-  const int n = static_cast<int>(train_.size());
-  const int p = static_cast<int>(d.columns.size()) + 1;
-  Eigen::MatrixXd a(n, p);
-  a.col(0).setOnes();
-  if (p > 1) a.rightCols(p - 1) = d.Matrix(n);
-  Eigen::HouseholderQR<Eigen::MatrixXd> qr(a);
-  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n, p);
-  const Eigen::VectorXd& e = fit.residuals;
-  const double sse0 = e.squaredNorm();
-  const int df = n - fit.k - 2;
-  std::vector<Scored> out;
-  int unknown = 0;
-  *tried = 0;
-  for (const EffectTerm& term : candidates) {
-    if (d.Has(term)) continue;
-    Eigen::VectorXd c = Rows(Column(term), train_);
-    if (!AllFinite(c)) {
-      ++unknown;
+double Search::NoiseSse(const Design& design, const LinearFit& fit) {
+  return d_.NoiseSse(design, fit, [&](const EffectTerm& t) {
+    auto sigma = noise_c_.find(t.source);
+    if (sigma == noise_c_.end()) return 0.0;
+    const double dt = interval_min_.at(t.source);
+    switch (t.kind) {
+      case EffectKind::kLag:
+        return FilteredNoiseVariance(sigma->second, AlphaFor(t.tau_min, dt));
+      case EffectKind::kRate:
+        return sigma->second * sigma->second;
+      default:
+        return FilteredNoiseVariance(sigma->second, d_.SensorAlpha(t.source));
+    }
+  });
+}
+
+Status Search::FilterDeclaredSensors(Design& design, LinearFit& fit, EffectSearchResult& r) {
+  for (size_t j = 0; j < design.terms.size(); ++j) {
+    const EffectTerm declared = design.terms[j];
+    if (!design.declared[j] || declared.kind != EffectKind::kSensor ||
+        !noise_c_.count(declared.source)) {
       continue;
     }
-    c.array() -= c.mean();
-    const double sst_c = c.squaredNorm();
-    if (!(sst_c > 1e-24 * n)) continue;  // constant on the training points
-    const Eigen::VectorXd c_res = c - q * (q.transpose() * c);
-    const double ss_res = c_res.squaredNorm();
-    if (ss_res < sst_c / opt_.vif_max) continue;  // collinear with the model
-    ++*tried;
-    const double ec = e.dot(c_res);
-    Scored s;
-    s.term = term;
-    s.gain = ec * ec / ss_res;
-    s.residual_correlation = sse0 > 0 ? ec / std::sqrt(ss_res * sse0) : 0.0;
-    const double sse1 = std::max(sse0 - s.gain, 1e-300);
-    const double f = s.gain / (sse1 / df);
-    s.p = df > 0 ? boost::math::cdf(boost::math::complement(
-                       boost::math::fisher_f_distribution<double>(1, df), f))
-                 : 1.0;
-    out.push_back(s);
+    const double sigma = noise_c_.at(declared.source), dt = interval_min_.at(declared.source);
+    const double alpha = d_.SensorAlpha(declared.source);
+    const TermStats* beta = fit.Find(declared.Name());
+    if (!beta || sigma <= 0) continue;
+    FilterRecommendation best;
+    Design best_design;
+    for (double tau : opt_.filter_tau_grid_min) {
+      if (tau <= TauFor(alpha, dt) * 1.2) continue;  // no longer than it is already
+      const Design trial = d_.Replaced(design, j, EffectTerm::Lag(declared.source, tau));
+      auto g = d_.Gain(design, trial);
+      if (!g.ok()) continue;
+      if (g->gain > best.validated.gain) {
+        best.validated = *g;
+        best.recommended_tau_min = tau;
+        best_design = trial;
+      }
+    }
+    if (!(best.validated.t >= opt_.min_t && best.validated.relative >= opt_.min_gain)) continue;
+    best.sensor = declared.source;
+    best.noise_c = sigma;
+    best.interval_min = dt;
+    best.current_alpha = alpha;
+    best.current_tau_min = TauFor(alpha, dt);
+    best.recommended_alpha = AlphaFor(best.recommended_tau_min, dt);
+    best.expected_gain_mm2 = beta->estimate * beta->estimate * 2 *
+                             (FilteredNoiseVariance(sigma, alpha) -
+                              FilteredNoiseVariance(sigma, best.recommended_alpha)) *
+                             design.n();
+    // More than removing the noise can give is physics (the sensor acts
+    // through a lag): left to the effect search, which names it.
+    if (best.validated.gain > opt_.noise_margin * best.expected_gain_mm2 + 2 * best.validated.se) {
+      continue;
+    }
+    best.applied = true;
+    design = best_design;
+    design.declared[j] = true;
+    if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
+    r.filters.push_back(best);
   }
-  if (not_evaluable_first_round_ < 0) not_evaluable_first_round_ = unknown;
-  for (auto& s : out) s.p_adjusted = std::min(1.0, s.p * *tried);
+  return Status::Ok();
+}
+
+std::optional<std::string> Search::Guard(const Design& design, const LinearFit& fit,
+                                         const ScoredCandidate& candidate, std::string* why) {
+  const EffectTerm& c = candidate.term;
+  const Design added = d_.With(design, c);
+  LinearFit after;
+  if (!d_.Refit(added, &after).ok()) {
+    *why = "cannot be fitted with the model";
+    return std::nullopt;
+  }
+  for (size_t j = 0; j < design.terms.size(); ++j) {
+    const EffectTerm& t = design.terms[j];
+    if (!design.declared[j] || t.source == c.source) continue;  // a revision may re-partition
+    const TermStats* b = fit.Find(t.Name());
+    const TermStats* a = after.Find(t.Name());
+    if (!b || !a) continue;
+    const bool flips = b->estimate * a->estimate < 0 && b->p < opt_.p_keep;
+    const bool moves =
+        std::fabs(a->estimate - b->estimate) > opt_.max_coefficient_change * std::fabs(b->estimate);
+    if (!flips && !moves) continue;
+    // Replacing the declared term outright is allowed when it explains as well.
+    const Design replaced = d_.Replaced(design, j, c);
+    auto vs_added = d_.Gain(added, replaced);
+    auto vs_design = d_.Gain(design, replaced);
+    if (vs_added.ok() && vs_design.ok() && vs_added->t > -opt_.equivalent_t &&
+        vs_design->t >= opt_.min_t) {
+      return t.Name();
+    }
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "%s the declared %s coefficient (%+.2f -> %+.2f um/unit)",
+                  flips ? "flips" : "changes", t.Name().c_str(), b->estimate * 1e3,
+                  a->estimate * 1e3);
+    // Overwhelming evidence may revise what was declared (the declared
+    // sensor stood in for the left-out one); small gains may not (a proxy).
+    if (candidate.gain.relative >= opt_.guard_override_gain) {
+      revisions_[c.Name()] = buf;
+      continue;
+    }
+    *why = std::string("would say it ") + buf;
+    return std::nullopt;
+  }
+  return std::string();
+}
+
+std::vector<ScoredCandidate> Search::Qualify(const Design& design, const LinearFit& fit,
+                                             const BlockErrors& base,
+                                             const std::vector<EffectTerm>& candidates, int* tried,
+                                             EffectSearchResult* sink) {
+  EffectSearchResult scratch;
+  EffectSearchResult& r = sink ? *sink : scratch;
+  std::vector<ScoredCandidate> out;
+  const double noise_sse = NoiseSse(design, fit);
+  for (Screened& s : d_.Shortlist(design, fit, candidates, tried)) {
+    auto g = d_.Gain(design, d_.With(design, s.term));
+    if (!g.ok()) continue;
+    // The error it would leave, on the scale of the current model's.
+    const double cv = base.Rmse() * std::sqrt(std::max(0.0, 1.0 - g->relative));
+    ScoredCandidate c{s.term, cv, s.p_adjusted, *g};
+    if (!(c.gain.t >= opt_.min_t && c.gain.relative >= opt_.min_gain)) {
+      r.closest.push_back(c);
+      continue;
+    }
+    const bool filter_like =
+        Smoothing(design, c.term) && c.gain.gain <= opt_.noise_margin * noise_sse + 2 * c.gain.se;
+    if (filter_like && !Revises(c.term)) {
+      r.set_aside.push_back({c, "no more than averaging the declared sensors' noise would give"});
+      continue;
+    }
+    if (filter_like && c.term.tau_min <= opt_.filter_tau_grid_min.back()) {
+      r.set_aside.push_back({c, "a filter of the declared sensor's noise, not an effect"});
+      continue;
+    }
+    out.push_back(c);
+  }
+  std::stable_sort(out.begin(), out.end(), [](const ScoredCandidate& a, const ScoredCandidate& b) {
+    return a.cv_rmse < b.cv_rmse;
+  });
+  // Parsimony: a simpler term that cross-validates almost as well first.
+  if (!out.empty()) {
+    const double tolerance = out[0].cv_rmse * (1.0 + opt_.simpler_within);
+    auto within = std::find_if(out.begin(), out.end(),
+                               [&](const ScoredCandidate& s) { return s.cv_rmse > tolerance; });
+    std::stable_sort(out.begin(), within, [](const ScoredCandidate& a, const ScoredCandidate& b) {
+      return Complexity(a.term) < Complexity(b.term);
+    });
+  }
   return out;
 }
 
-std::vector<Scored> Search::Shortlist(const Design& design, const LinearFit& fit,
-                                      const std::vector<EffectTerm>& candidates, int* tried) {
-  std::vector<Scored> shortlist;
-  for (const auto& s : Score(design, fit, candidates, tried)) {
-    if (s.p_adjusted < opt_.alpha) shortlist.push_back(s);
-  }
-  std::stable_sort(shortlist.begin(), shortlist.end(),
-                   [](const Scored& a, const Scored& b) { return a.gain > b.gain; });
-  // One entry per family (a sensor's lags are one family: refinement finds
-  // the tau), so one strong source cannot fill the shortlist with its grid.
-  std::set<std::string> families;
-  std::erase_if(shortlist, [&](const Scored& s) {
-    const std::string family = std::string(EffectKindName(s.term.kind)) + "|" + s.term.source +
-                               "|" + s.term.axis + "|" + std::to_string(s.term.power) + "|" +
-                               std::to_string(s.term.ref_ms);
-    return !families.insert(family).second;
-  });
-  if (static_cast<int>(shortlist.size()) > opt_.cv_shortlist) shortlist.resize(opt_.cv_shortlist);
-  for (auto& s : shortlist) {
-    // Refine a lag's tau before comparing: between grid points a short lag
-    // is otherwise mimicked by a rate and a long one by a trend.
-    if (s.term.tau_min > 0) s.term = RefineTau(design, fit, s.term);
-    Design d = design;
-    d.terms.push_back(s.term);
-    d.columns.push_back(Rows(Column(s.term), train_));
-    s.cv_rmse = CvRmse(d);
-  }
-  // Grid neighbours may refine to the same tau: keep one.
-  std::set<std::string> names;
-  std::erase_if(shortlist, [&](const Scored& s) { return !names.insert(s.term.Name()).second; });
-  std::stable_sort(shortlist.begin(), shortlist.end(),
-                   [](const Scored& a, const Scored& b) { return a.cv_rmse < b.cv_rmse; });
-  if (shortlist.empty()) return shortlist;
-  // Parsimony: a simpler term that cross-validates almost as well comes
-  // first (a sensor over its short lag).
-  const double tolerance = shortlist[0].cv_rmse * (1.0 + opt_.simpler_within);
-  auto within = std::find_if(shortlist.begin(), shortlist.end(),
-                             [&](const Scored& s) { return s.cv_rmse > tolerance; });
-  std::stable_sort(shortlist.begin(), within, [](const Scored& a, const Scored& b) {
-    return Complexity(a.term) < Complexity(b.term);
-  });
-  return shortlist;
-}
-
-size_t Search::Lookahead(const Design& design, const std::vector<Scored>& shortlist,
-                         const std::vector<EffectTerm>& candidates, double cv) {
+size_t Search::Lookahead(const Design& design, const std::vector<ScoredCandidate>& qualified,
+                         const std::vector<EffectTerm>& candidates) {
   // Two effects of correlated origin (a left-out sensor and a lag of another
   // driven by the same heat) can be stood in for by one term that is best
   // alone and a dead end after. Look one step ahead from the best few.
-  auto two_steps = [&](const Scored& first) {
-    Design d = design;
-    d.terms.push_back(first.term);
-    d.columns.push_back(Rows(Column(first.term), train_));
+  if (qualified.size() < 2) return 0;
+  auto two_steps = [&](const ScoredCandidate& first) {
+    const Design d = d_.With(design, first.term);
     LinearFit f;
-    if (!Refit(d, &f).ok()) return first.cv_rmse;
+    auto base = d_.Blocked(d);
+    if (!d_.Refit(d, &f).ok() || !base.ok()) return first.cv_rmse;
     int tried = 0;
-    auto next = Shortlist(d, f, candidates, &tried);
-    return next.empty() ? first.cv_rmse : std::min(first.cv_rmse, next[0].cv_rmse);
+    auto next = Qualify(d, f, *base, candidates, &tried, nullptr);
+    // On the first step's scale: its error less the follow-up's share.
+    return next.empty() ? first.cv_rmse
+                        : first.cv_rmse * std::sqrt(std::max(0.0, 1.0 - next[0].gain.relative));
   };
-  std::vector<double> value = {two_steps(shortlist[0])};
-  for (size_t i = 1; i < shortlist.size() && i < static_cast<size_t>(opt_.lookahead); ++i) {
-    if (!(shortlist[i].cv_rmse < cv * (1.0 - opt_.min_cv_gain))) break;
-    value.push_back(two_steps(shortlist[i]));
+  std::vector<double> value;
+  for (size_t i = 0; i < qualified.size() && i < static_cast<size_t>(opt_.lookahead); ++i) {
+    value.push_back(two_steps(qualified[i]));
+    two_step_[qualified[i].term.Name()] = value.back();
   }
   // The greedy choice stays unless another leads clearly further; among
   // those within the tolerance of the best, the simplest.
@@ -265,208 +267,283 @@ size_t Search::Lookahead(const Design& design, const std::vector<Scored>& shortl
   bool found = false;
   for (size_t i = 1; i < value.size(); ++i) {
     if (value[i] > best * (1.0 + opt_.simpler_within)) continue;
-    if (!found || Complexity(shortlist[i].term) < Complexity(shortlist[choice].term)) choice = i;
+    if (!found || Complexity(qualified[i].term) < Complexity(qualified[choice].term)) choice = i;
     found = true;
   }
   return choice;
 }
 
-EffectTerm Search::RefineTau(const Design& d, const LinearFit& fit, const EffectTerm& term) {
-  // Golden-section search of the SSE gain over log(tau) between the grid
-  // neighbours: the grid is a factor 2 apart, the truth anywhere between.
-  auto gain_at = [&](double log_tau) {
-    EffectTerm t = term;
-    t.tau_min = std::round(std::exp(log_tau) * 10.0) / 10.0;
-    int tried = 0;
-    auto s = Score(d, fit, {t}, &tried);
-    return std::make_pair(s.empty() ? -1.0 : s[0].gain, t);
-  };
-  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
-  const auto [grid_min, grid_max] =
-      std::minmax_element(opt_.tau_grid_min.begin(), opt_.tau_grid_min.end());
-  double lo = std::log(std::max(term.tau_min / 2.0, *grid_min));
-  double hi = std::log(std::min(term.tau_min * 2.0, *grid_max));
-  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
-  auto f1 = gain_at(x1), f2 = gain_at(x2);
-  for (int i = 0; i < 16; ++i) {
-    if (f1.first >= f2.first) {
-      hi = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = hi - g * (hi - lo);
-      f1 = gain_at(x1);
-    } else {
-      lo = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = lo + g * (hi - lo);
-      f2 = gain_at(x2);
+std::optional<std::string> Search::Passes(const Design& design, const LinearFit& fit,
+                                          const ScoredCandidate& c, EffectSearchResult& r) {
+  auto it = passes_.find(c.term.Name());
+  if (it != passes_.end()) return it->second;
+  std::string why;
+  std::optional<std::string> guard = Guard(design, fit, c, &why);
+  if (guard) {
+    // A masked pair is checked as the pair.
+    Design with = d_.With(design, c.term);
+    if (auto p = partners_.find(c.term.Name()); p != partners_.end())
+      with = d_.With(with, p->second);
+    auto forward_with = d_.Forward(d_.On(with, design.rows));
+    auto forward_without = d_.Forward(d_.On(design, with.rows));
+    if (forward_with.ok() && forward_without.ok() && *forward_with > *forward_without) {
+      why = "worse on the newest days, predicted from the past only";
+      guard.reset();
     }
   }
-  const auto& best = f1.first >= f2.first ? f1 : f2;
-  int tried = 0;
-  auto grid = Score(d, fit, {term}, &tried);
-  return !grid.empty() && best.first > grid[0].gain ? best.second : term;
+  if (!guard) r.set_aside.push_back({c, why});
+  return passes_[c.term.Name()] = guard;
+}
+
+std::optional<ScoredCandidate> Search::MaskedPair(const Design& design,
+                                                  const std::vector<ScoredCandidate>& closest,
+                                                  const std::vector<EffectTerm>& candidates,
+                                                  std::string* partner) {
+  auto base_errors = d_.Blocked(design);
+  if (!base_errors.ok()) return std::nullopt;
+  std::vector<ScoredCandidate> firsts;
+  for (const auto& c : closest) {
+    if (c.gain.relative > 0 && !Smoothing(design, c.term)) firsts.push_back(c);
+  }
+  std::stable_sort(firsts.begin(), firsts.end(),
+                   [](const auto& a, const auto& b) { return a.gain.relative > b.gain.relative; });
+  if (firsts.size() > static_cast<size_t>(opt_.lookahead)) firsts.resize(opt_.lookahead);
+  std::optional<ScoredCandidate> best;
+  for (const auto& first : firsts) {
+    const Design d = d_.With(design, first.term);
+    LinearFit f;
+    auto base = d_.Blocked(d);
+    if (!d_.Refit(d, &f).ok() || !base.ok()) continue;
+    int tried = 0;
+    auto next = Qualify(d, f, *base, candidates, &tried, nullptr);
+    if (next.empty() || Smoothing(d, next[0].term) ||
+        (!first.term.source.empty() && next[0].term.source == first.term.source)) {
+      continue;
+    }
+    auto joint = d_.Gain(design, d_.With(d, next[0].term));
+    // Effects that hide each other are large together; a pair has two
+    // chances to fit noise, so it must explain a real share of the error.
+    if (!joint.ok() || joint->t < opt_.min_t || joint->relative < opt_.masked_pair_gain) continue;
+    if (best && joint->gain <= best->gain.gain) continue;
+    best = first;
+    best->gain = *joint;
+    best->cv_rmse = base_errors->Rmse() * std::sqrt(std::max(0.0, 1.0 - joint->relative));
+    *partner = next[0].term.Name();
+    partners_.insert_or_assign(first.term.Name(), next[0].term);
+  }
+  return best;
+}
+
+bool Search::Adds(const Design& design, const EffectTerm& first, const EffectTerm& then) {
+  const Design with_first = d_.With(design, first);
+  auto g = d_.Gain(with_first, d_.With(with_first, then));
+  return g.ok() && g->t >= opt_.equivalent_t && g->relative >= opt_.min_gain / 2;
+}
+
+std::optional<ScoredCandidate> Search::Choose(const Design& design, const LinearFit& fit,
+                                              const std::vector<ScoredCandidate>& qualified,
+                                              std::string* replaces,
+                                              std::vector<ScoredCandidate>* alternatives,
+                                              EffectSearchResult& r) {
+  // In order of merit, the first that passes the guards, unless another
+  // explains the same: an explanation of another origin that neither adds
+  // to it nor is added to by it. When one of them encompasses the other
+  // (adds to it, and nothing is added after it) that one is taken; when
+  // they are equivalent, the one that revises a declared term, or none.
+  std::set<std::string> visited;
+  for (size_t i = 0; i < qualified.size(); ++i) {
+    ScoredCandidate c = qualified[i];
+    if (!Passes(design, fit, c, r)) continue;
+    std::vector<ScoredCandidate> equivalents;
+    for (size_t k = 0; k < qualified.size(); ++k) {
+      const ScoredCandidate& other = qualified[k];
+      if (other.term.Name() == c.term.Name() || other.term.source == c.term.source) continue;
+      if (Family(other.term) == Family(c.term)) continue;
+      auto g = d_.Gain(d_.With(design, other.term), d_.With(design, c.term));
+      if (!g.ok() || g->t >= opt_.equivalent_t) continue;  // c is clearly better
+      if (!Passes(design, fit, other, r)) continue;
+      const bool c_adds = Adds(design, other.term, c.term);
+      const bool other_adds = Adds(design, c.term, other.term);
+      if (c_adds && !other_adds) continue;  // c encompasses it
+      if (c_adds && other_adds) continue;   // two effects: the other may come next
+      // ... unless c leads clearly further with its follow-up (the other
+      // stands in for c and an effect c masks, which only c's path finds).
+      auto c_path = two_step_.find(c.term.Name()), other_path = two_step_.find(other.term.Name());
+      const bool c_leads = c_path != two_step_.end() && other_path != two_step_.end() &&
+                           c_path->second < other_path->second * (1.0 - opt_.simpler_within);
+      if (c_leads) continue;
+      if (other_adds && !c_adds && visited.insert(other.term.Name()).second) {
+        c = other;  // it encompasses c: start again from it
+        k = static_cast<size_t>(-1);
+        equivalents.clear();
+        continue;
+      }
+      equivalents.push_back(other);
+    }
+    std::vector<ScoredCandidate*> revising;
+    if (Revises(c.term)) revising.push_back(&c);
+    for (auto& e : equivalents) {
+      if (Revises(e.term)) revising.push_back(&e);
+    }
+    if (!equivalents.empty() && revising.size() != 1) {
+      r.ambiguous.push_back(c);
+      r.ambiguous.insert(r.ambiguous.end(), equivalents.begin(), equivalents.end());
+      return std::nullopt;
+    }
+    if (!equivalents.empty() && revising[0] != &c) std::swap(c, *revising[0]);
+    *replaces = *Passes(design, fit, c, r);
+    *alternatives = equivalents;
+    return c;
+  }
+  return std::nullopt;
 }
 
 StatusOr<EffectSearchResult> Search::Run() {
-  const int total = static_cast<int>(in_.points.size());
-  if (static_cast<int>(in_.drift_mm.size()) != total || static_cast<int>(in_.run.size()) != total ||
-      static_cast<int>(in_.holdout.size()) != total) {
-    return Status::Internal("effect search: per-point vectors differ in length");
+  if (Status s = d_.Prepare(); !s.ok()) return s;
+  EffectSearchResult r;
+  r.block_kind = d_.block_kind();
+  r.blocks = d_.blocks();
+  r.training_n = d_.n();
+  r.training_runs = d_.runs();
+  for (const auto& t : in_.declared) declared_sources_.insert(t.source);
+  for (size_t k = 0; k < in_.inputs.sensors.size() && k < in_.inputs.sensor_raw.size(); ++k) {
+    const TimeSeries& raw = in_.inputs.sensor_raw[k];
+    if (raw.value.size() < 22) continue;
+    noise_c_[in_.inputs.sensors[k]] = WhiteNoise(raw);
+    interval_min_[in_.inputs.sensors[k]] = SampleIntervalMin(raw);
+    r.sensor_noise_c.emplace_back(in_.inputs.sensors[k], noise_c_[in_.inputs.sensors[k]]);
   }
-  // Points usable for the declared model.
-  std::vector<bool> usable(total, true);
-  for (const auto& t : in_.declared) {
-    const Eigen::VectorXd& c = Column(t);
-    for (int i = 0; i < total; ++i) usable[i] = usable[i] && std::isfinite(c(i));
-  }
-  for (int i = 0; i < total; ++i) {
-    if (usable[i] && !in_.holdout[i]) train_.push_back(i);
-  }
-  std::set<int> runs;
-  for (int i : train_) runs.insert(in_.run[i]);
-  if (runs.size() < 3) return Status::Unprocessable("effect search needs at least 3 training runs");
-  y_.resize(train_.size());
-  for (size_t i = 0; i < train_.size(); ++i) {
-    y_(i) = in_.drift_mm[train_[i]];
-    group_.push_back(in_.run[train_[i]]);
-  }
-  const int n = static_cast<int>(train_.size());
 
-  Design design;
-  for (const auto& t : in_.declared) {
-    design.terms.push_back(t);
-    design.columns.push_back(Rows(Column(t), train_));
-  }
-  auto before = FitLinear(design.Matrix(n), y_, design.Names());
-  if (!before.ok()) return before.status();
-  EffectSearchResult result;
-  result.before = *before;
-  result.cv_before = LeaveOneRunOut(Obs(design)).value_or(CrossValidation{});
-  result.training_n = n;
-  result.training_runs = static_cast<int>(runs.size());
+  Design design = d_.Empty();
+  for (const auto& t : in_.declared) design = d_.With(design, t, true);
+  LinearFit fit;
+  if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
+  r.before = fit;
+  r.cv_before = d_.Loro(design);
+  const Design declared_design = design;
+  auto blocked_before = d_.Blocked(design);
+  if (!blocked_before.ok()) return blocked_before.status();
+  r.blocked_rmse_before_mm = blocked_before->Rmse();
+
+  if (Status s = FilterDeclaredSensors(design, fit, r); !s.ok()) return s;
 
   const std::vector<EffectTerm> candidates = GenerateCandidates(in_, opt_);
-  result.candidates = static_cast<int>(candidates.size());
-  LinearFit fit = *before;
-  double cv = result.cv_before.folds ? result.cv_before.rmse : CvRmse(design);
+  r.candidates = static_cast<int>(candidates.size());
   for (int round = 0; round < opt_.max_effects; ++round) {
+    auto base = d_.Blocked(design);
+    if (!base.ok()) return base.status();
     int tried = 0;
-    std::vector<Scored> shortlist = Shortlist(design, fit, candidates, &tried);
-    if (shortlist.empty() || !(shortlist[0].cv_rmse < cv * (1.0 - opt_.min_cv_gain))) {
-      result.closest = Closest(design, fit, candidates);
-      break;
+    r.closest.clear();
+    passes_.clear();
+    two_step_.clear();
+    partners_.clear();
+    std::vector<ScoredCandidate> qualified = Qualify(design, fit, *base, candidates, &tried, &r);
+    std::string partner;
+    if (qualified.empty()) {
+      if (auto pair = MaskedPair(design, r.closest, candidates, &partner))
+        qualified.push_back(*pair);
     }
-    const Scored& best = shortlist[Lookahead(design, shortlist, candidates, cv)];
+    if (const size_t first = Lookahead(design, qualified, candidates); first > 0) {
+      std::rotate(qualified.begin(), qualified.begin() + first, qualified.begin() + first + 1);
+    }
     AddedEffect added;
-    added.term = best.term;
-    added.p_adjusted = best.p_adjusted;
+    std::optional<ScoredCandidate> chosen =
+        Choose(design, fit, qualified, &added.replaces, &added.alternatives, r);
+    if (!chosen) break;
+    added.term = chosen->term;
+    added.p_adjusted = chosen->p_adjusted;
     added.candidates_tried = tried;
-    added.cv_rmse_before_mm = cv;
-    added.residual_correlation = best.residual_correlation;
-    for (size_t i = 1; i < shortlist.size() && added.runners_up.size() < 3; ++i) {
-      added.runners_up.push_back(
-          {shortlist[i].term, shortlist[i].cv_rmse, shortlist[i].p_adjusted});
+    added.cv_rmse_before_mm = base->Rmse();
+    added.confidence = chosen->gain;
+    if (!partner.empty()) added.together_with = partner;
+    if (auto it = revisions_.find(chosen->term.Name()); it != revisions_.end()) {
+      added.revises_declared = it->second;
+    }
+    for (const auto& q : qualified) {
+      if (q.term.Name() != chosen->term.Name() && added.runners_up.size() < 3) {
+        added.runners_up.push_back(q);
+      }
     }
     const LinearFit previous = fit;
-    design.terms.push_back(best.term);
-    design.columns.push_back(Rows(Column(best.term), train_));
-    if (Status s = Refit(design, &fit); !s.ok()) return s;
+    const Design previous_design = design;
+    if (!added.replaces.empty()) {
+      const int j = design.Find(added.replaces);
+      r.superseded.push_back(design.terms[j]);
+      design.Erase(j);
+      design = d_.Recomputed(design);
+    }
+    design = d_.With(design, chosen->term);
+    if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
+    added.residual_correlation = d_.ResidualCorrelation(previous_design, previous, chosen->term);
     // A term the new effect explains better stops being significant: drop it.
     for (size_t j = 0; j + 1 < design.terms.size();) {
       const std::string name = design.terms[j].Name();
       const TermStats* was = previous.Find(name);
       const TermStats* now = fit.Find(name);
       if (was && was->p < opt_.p_keep && (!now || now->p >= opt_.p_keep)) {
-        result.superseded.push_back(design.terms[j]);
+        r.superseded.push_back(design.terms[j]);
         design.Erase(j);
-        if (Status s = Refit(design, &fit); !s.ok()) return s;
+        design = d_.Recomputed(design);
+        if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
       } else {
         ++j;
       }
     }
-    cv = CvRmse(design);
-    added.cv_rmse_after_mm = cv;
-    result.effects.push_back(added);
+    auto after = d_.Blocked(design);
+    added.cv_rmse_after_mm = after.ok() ? after->Rmse() : INFINITY;
+    r.effects.push_back(added);
     // Greedy choices can be revised: with the new effect in, an earlier one
     // may have a simpler or better replacement (a lag that stood in for two
     // effects, say). Swap when the replacement cross-validates as well.
-    for (size_t e = 0; e + 1 < result.effects.size(); ++e) {
-      AddedEffect& earlier = result.effects[e];
+    for (size_t e = 0; e + 1 < r.effects.size(); ++e) {
+      AddedEffect& earlier = r.effects[e];
       const std::string name = earlier.term.Name();
-      auto names = design.Names();
-      auto at = std::find(names.begin(), names.end(), name);
-      if (at == names.end()) continue;
+      const int at = design.Find(name);
+      if (at < 0) continue;
       Design without = design;
-      without.Erase(at - names.begin());
+      without.Erase(at);
+      without = d_.Recomputed(without);
       LinearFit without_fit;
-      if (Status s = Refit(without, &without_fit); !s.ok()) return s;
+      auto without_blocked = d_.Blocked(without);
+      if (!d_.Refit(without, &without_fit).ok() || !without_blocked.ok()) continue;
       int swap_tried = 0;
-      auto alternatives = Shortlist(without, without_fit, candidates, &swap_tried);
-      if (alternatives.empty() || alternatives[0].term.Name() == name ||
-          alternatives[0].cv_rmse > cv * (1.0 + opt_.simpler_within)) {
-        continue;
-      }
-      earlier.runners_up.insert(earlier.runners_up.begin(), {earlier.term, cv, earlier.p_adjusted});
+      auto alternatives =
+          Qualify(without, without_fit, *without_blocked, candidates, &swap_tried, nullptr);
+      if (alternatives.empty() || alternatives[0].term.Name() == name) continue;
+      const Design swapped = d_.With(without, alternatives[0].term);
+      auto vs_now = d_.Gain(design, swapped);
+      if (!vs_now.ok() || vs_now->relative < -opt_.simpler_within) continue;
+      earlier.runners_up.insert(
+          earlier.runners_up.begin(),
+          {earlier.term, alternatives[0].cv_rmse, earlier.p_adjusted, earlier.confidence});
       earlier.term = alternatives[0].term;
       earlier.p_adjusted = alternatives[0].p_adjusted;
       earlier.revised = true;
-      design = without;
-      design.terms.push_back(alternatives[0].term);
-      design.columns.push_back(Rows(Column(alternatives[0].term), train_));
-      if (Status s = Refit(design, &fit); !s.ok()) return s;
-      cv = alternatives[0].cv_rmse;
+      design = swapped;
+      if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
     }
   }
 
-  result.terms = design.terms;
-  result.after = fit;
-  result.after_x = design.Matrix(n);
-  result.cv_after = LeaveOneRunOut(Obs(design)).value_or(CrossValidation{});
-  result.not_evaluable = std::max(not_evaluable_first_round_, 0);
-  for (auto& e : result.effects) {
+  r.terms = design.terms;
+  r.after = fit;
+  r.after_x = d_.X(design);
+  r.cv_after = d_.Loro(design);
+  auto blocked_after = d_.Blocked(design);
+  r.blocked_rmse_after_mm = blocked_after.ok() ? blocked_after->Rmse() : INFINITY;
+  r.not_evaluable = d_.not_evaluable();
+  for (auto& e : r.effects) {
     if (const TermStats* s = fit.Find(e.term.Name())) {
       e.coefficient_mm = s->estimate;
       e.p = s->p;
     }
   }
-  result.structure_before = DescribeResiduals(result.before.residuals, group_);
-  result.structure_after = DescribeResiduals(fit.residuals, group_);
-
-  // Held-out points where both models can be evaluated.
-  const std::vector<std::string> declared_names = [&] {
-    std::vector<std::string> v;
-    for (const auto& t : in_.declared) v.push_back(t.Name());
-    return v;
-  }();
-  const std::vector<std::string> final_names = design.Names();
-  double sse_before = 0, sse_after = 0, sum = 0, sum2 = 0;
-  for (int i = 0; i < total; ++i) {
-    if (!in_.holdout[i] || !usable[i]) continue;
-    Eigen::RowVectorXd xb(in_.declared.size()), xa(design.terms.size());
-    for (size_t j = 0; j < in_.declared.size(); ++j) xb(j) = Column(in_.declared[j])(i);
-    for (size_t j = 0; j < design.terms.size(); ++j) xa(j) = Column(design.terms[j])(i);
-    if (!xa.allFinite()) continue;
-    const double rb = in_.drift_mm[i] - result.before.Predict(xb, declared_names);
-    const double ra = in_.drift_mm[i] - fit.Predict(xa, final_names);
-    sse_before += rb * rb;
-    sse_after += ra * ra;
-    sum += in_.drift_mm[i];
-    sum2 += in_.drift_mm[i] * in_.drift_mm[i];
-    ++result.holdout_n;
-  }
-  if (result.holdout_n > 0) {
-    const double n_h = result.holdout_n;
-    result.holdout_rmse_before_mm = std::sqrt(sse_before / n_h);
-    result.holdout_rmse_after_mm = std::sqrt(sse_after / n_h);
-    const double sst = sum2 - sum * sum / n_h;
-    if (sst > 0) {
-      result.holdout_r2_before = 1.0 - sse_before / sst;
-      result.holdout_r2_after = 1.0 - sse_after / sst;
-    }
-  }
-  return result;
+  std::sort(r.closest.begin(), r.closest.end(),
+            [](const ScoredCandidate& a, const ScoredCandidate& b) { return a.gain.t > b.gain.t; });
+  if (r.closest.size() > 5) r.closest.resize(5);
+  r.structure_before = DescribeResiduals(r.before.residuals, d_.Groups(declared_design));
+  r.structure_after = DescribeResiduals(fit.residuals, d_.Groups(design));
+  d_.Describe(design, r);
+  return r;
 }
 
 }  // namespace

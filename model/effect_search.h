@@ -1,25 +1,38 @@
 // Effect search (docs/model.md §9): starting from the declared model, find
-// the effect the residual points to, add it, refit, repeat.
+// the effect the residual points to, add it, refit, repeat; and tell
+// physics apart from what only looks like it.
 //
-// Each round generates candidates from everything archived (sensors not in
-// the model, first-order lags on a tau grid, rates, squares, position and
-// position x temperature, time since the datum, a slow trend, steps at
-// events, auxiliary signals). A candidate qualifies when
-//   - its column is known on every training point and not collinear with
-//     the model (VIF < vif_max),
-//   - its partial F-test p, Bonferroni-corrected for the candidates tried in
-//     the round, is below alpha, and
-//   - leave-one-run-out cross-validation RMSE falls by at least min_cv_gain.
-// Lags are refined between grid points first; the qualifying candidate
-// with the lowest CV RMSE is added, unless a simpler one (a sensor rather
-// than its lag) is within 1 % of it; a term that was significant and stops
-// being so is dropped as superseded. Held-out runs are never seen by the
-// search; they only measure the result. Deterministic for the same data.
+// Validation does not leak time: candidates are judged by cross-validation
+// over whole days (or weeks) and compared with the current model block by
+// block; a gain must exceed its block-to-block uncertainty (t >= min_t),
+// be worth having (>= min_gain of the error), and hold when the newest
+// blocks are predicted from the past only (forward chaining).
+//
+// Sensor noise is handled as noise: each channel's white noise is estimated
+// from its raw series; a declared sensor read through a longer filter is
+// a filter recommendation, not an effect, and a smoothing term (a lag)
+// whose gain is no more than filtering that noise would give is not added.
+//
+// Guards a physicist would apply: no candidate that flips or changes a
+// declared coefficient by more than max_coefficient_change unless it is a
+// term of the same sensor (a revision of its response) or replaces the
+// declared term outright (and says so); a collinearity limit in line with
+// the selection's (VIF 10); two explanations equivalent within the
+// validation's uncertainty are reported as ambiguous and neither is added,
+// unless one of them revises a declared term.
+//
+// Candidates come from everything archived: sensors not in the model,
+// first-order lags on a tau grid, rates, squares, position and position x
+// temperature along every axis the probe points carry, time since the
+// datum, a slow trend, steps at events, a changed sensitivity of each
+// declared sensor from each event on, auxiliary signals. Held-out runs are
+// never seen by the search; they only measure the result. Deterministic.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "model/block_validation.h"
 #include "model/cross_validation.h"
 #include "model/effect_term.h"
 #include "model/linear_fit.h"
@@ -46,21 +59,40 @@ struct EffectSearchInput {
 
 struct EffectSearchOptions {
   std::vector<double> tau_grid_min = {7.5, 15, 30, 60, 120, 240, 480};
-  double alpha = 0.01;        // family-wise, per round
-  double min_cv_gain = 0.03;  // relative fall of the CV RMSE a new effect must bring
-  double vif_max = 500.0;     // collinearity guard: a short lag of a model sensor reaches 300
-  double p_keep = 0.05;       // a term above this after an addition is superseded
+  double alpha = 0.01;    // screening: partial F-test, Bonferroni per round
+  double vif_max = 10.0;  // collinearity limit of a new term, as the selection's
+  double p_keep = 0.05;   // a term above this after an addition is superseded
   int max_effects = 6;
-  double simpler_within = 0.01;  // a simpler term within 1 % of the best CV RMSE wins
-  int lookahead = 4;             // best candidates whose best follow-up is also tried
+  double simpler_within = 0.01;  // a simpler term within 1 % of the best error wins
+  int lookahead = 8;             // best candidates whose best follow-up is also tried
   int cv_shortlist = 8;          // best candidates by F that are cross-validated
-  int min_runs_per_side = 3;     // a step needs this many training runs before and after
+  double min_known_share = 0.8;  // a candidate unknown on more of the rows is not evaluable
+  int min_runs_per_side = 3;     // an event needs this many training runs before and after
+  // Two candidates that qualify only together must explain this share.
+  double masked_pair_gain = 0.1;
+  // Validation.
+  std::string cv_block = "day";  // day | week | run: what is held out together
+  int min_blocks = 5;            // with fewer day (week) blocks, runs are the blocks
+  double min_t = 2.5;            // a gain must exceed this many of its standard errors
+  double min_gain = 0.01;        // and this share of the cross-validated error
+  int forward_blocks = 3;        // newest training blocks predicted from the past only
+  double equivalent_t = 1.0;     // two explanations closer than this are equivalent
+  // Guards.
+  double max_coefficient_change = 1.0;  // of a declared coefficient, unless revised
+  // A candidate that explains at least this share of the error may revise
+  // a declared coefficient anyway (a left-out sensor the declared one
+  // stood in for); the report says so.
+  double guard_override_gain = 0.2;
+  // Noise.
+  double noise_margin = 1.5;  // a smoothing gain up to this x the noise it can remove is noise
+  std::vector<double> filter_tau_grid_min = {1, 2, 4, 8, 15, 30};
 };
 
 struct ScoredCandidate {
   EffectTerm term;
   double cv_rmse = 0;
   double p_adjusted = 1;
+  PairedGain gain;  // against the model it was tried on
 };
 
 struct AddedEffect {
@@ -69,10 +101,50 @@ struct AddedEffect {
   double p = 1;               // in the final model
   double p_adjusted = 1;      // when it was chosen: partial F, Bonferroni
   int candidates_tried = 0;
-  double cv_rmse_before_mm = 0, cv_rmse_after_mm = 0;
-  double residual_correlation = 0;  // of the term with the residual it explained
+  double cv_rmse_before_mm = 0, cv_rmse_after_mm = 0;  // blocked cross-validation
+  PairedGain confidence;                               // the validated gain when it was chosen
+  double residual_correlation = 0;
   std::vector<ScoredCandidate> runners_up;
+  std::vector<ScoredCandidate> alternatives;  // explain it equally (within equivalent_t)
+  std::string replaces;                       // a declared term it replaced outright
+  std::string revises_declared;               // how it changed a declared coefficient, when it did
   bool revised = false;  // replaced an earlier choice once a later effect was in
+  // Qualified only together with this next term (two effects that mask
+  // each other); the confidence is the pair's.
+  std::string together_with;
+};
+
+// A declared sensor better read through a longer filter: its white noise,
+// the filter it has and the one the validation chose.
+struct FilterRecommendation {
+  std::string sensor;
+  double noise_c = 0;
+  double interval_min = 0;
+  double current_alpha = 1, current_tau_min = 0;
+  double recommended_alpha = 1, recommended_tau_min = 0;
+  double expected_gain_mm2 = 0;  // what removing that noise should give (summed over points)
+  PairedGain validated;          // what the validation measured
+  bool applied = false;          // the extended model reads the sensor through it
+};
+
+// A candidate not added, and why.
+struct SetAside {
+  ScoredCandidate candidate;
+  std::string reason;
+};
+
+struct CoefficientChange {
+  std::string term;
+  double before_mm = 0, after_mm = 0;  // declared model alone, final model
+};
+
+// The declared model fitted on the runs before and after an event.
+struct EventComparison {
+  MachineEvent event;
+  int runs_before = 0, runs_after = 0;
+  std::vector<std::string> terms;
+  std::vector<double> before_mm, after_mm;  // per term
+  double rmse_before_mm = 0, rmse_after_mm = 0;
 };
 
 // How the residuals hang together: lag-1 autocorrelation within runs, the
@@ -84,22 +156,31 @@ struct ResidualStructure {
 };
 
 struct EffectSearchResult {
-  std::vector<EffectTerm> terms;       // final model terms, declared first
+  std::vector<EffectTerm> terms;       // final model terms, declared (filtered) first
   std::vector<EffectTerm> superseded;  // declared or added terms dropped on the way
   std::vector<AddedEffect> effects;
-  LinearFit before, after;  // on the training points
-  Eigen::MatrixXd after_x;  // training columns of the final terms
-  CrossValidation cv_before, cv_after;
+  std::vector<FilterRecommendation> filters;
+  std::vector<std::pair<std::string, double>> sensor_noise_c;  // per sensor with a raw series
+  std::vector<SetAside> set_aside;         // qualified but not added: noise, guards, forward check
+  std::vector<ScoredCandidate> ambiguous;  // equivalent explanations, none added
+  std::vector<CoefficientChange> coefficient_changes;
+  std::vector<EventComparison> event_comparisons;
+  LinearFit before, after;              // on the training points
+  Eigen::MatrixXd after_x;              // training columns of the final terms
+  CrossValidation cv_before, cv_after;  // leave-one-run-out, as the fit reports it
+  double blocked_rmse_before_mm = 0, blocked_rmse_after_mm = 0;
+  std::string block_kind;  // day | week | run
+  int blocks = 0;
   double holdout_rmse_before_mm = 0, holdout_rmse_after_mm = 0;
   double holdout_r2_before = 0, holdout_r2_after = 0;
   int holdout_n = 0, training_n = 0, training_runs = 0;
   ResidualStructure structure_before, structure_after;
-  std::vector<ScoredCandidate> closest;  // best by F of the last round, which added nothing
+  std::vector<ScoredCandidate> closest;  // best of the last round, which added nothing
   int candidates = 0;                    // generated in the first round
   int not_evaluable = 0;                 // of them, unknown on some training point
 };
 
-// The candidate effects for the input's axis (first round's list).
+// The candidate effects (first round's list).
 std::vector<EffectTerm> GenerateCandidates(const EffectSearchInput& input,
                                            const EffectSearchOptions& options);
 // Runs the search. Unprocessable when the declared model cannot be fitted

@@ -37,6 +37,24 @@ EffectTerm EffectTerm::Lag(std::string sensor, double tau_min) {
   return t;
 }
 
+EffectTerm EffectTerm::PositionTimesTemperature(std::string axis, std::string sensor) {
+  EffectTerm t;
+  t.kind = EffectKind::kPositionXTemperature;
+  t.axis = std::move(axis);
+  t.source = std::move(sensor);
+  return t;
+}
+
+EffectTerm EffectTerm::SensitivityChange(std::string sensor, int64_t event_ms,
+                                         std::string event_kind) {
+  EffectTerm t;
+  t.kind = EffectKind::kEventSensor;
+  t.source = std::move(sensor);
+  t.ref_ms = event_ms;
+  t.event_kind = std::move(event_kind);
+  return t;
+}
+
 std::string FormatUtcMinute(int64_t unix_ms) {
   using namespace std::chrono;
   const sys_time<milliseconds> t{milliseconds{unix_ms}};
@@ -73,12 +91,14 @@ const char* EffectKindName(EffectKind kind) {
       return "step";
     case EffectKind::kSignal:
       return "signal";
+    case EffectKind::kEventSensor:
+      return "event_sensor";
   }
   return "unknown";
 }
 
 std::optional<EffectKind> ParseEffectKind(const std::string& name) {
-  for (int k = 0; k <= static_cast<int>(EffectKind::kSignal); ++k) {
+  for (int k = 0; k <= static_cast<int>(EffectKind::kEventSensor); ++k) {
     if (name == EffectKindName(static_cast<EffectKind>(k))) return static_cast<EffectKind>(k);
   }
   return std::nullopt;
@@ -106,6 +126,8 @@ std::string EffectTerm::Name() const {
       return "step(" + event_kind + " " + FormatUtcMinute(ref_ms) + ")";
     case EffectKind::kSignal:
       return "signal(" + source + (tau_min > 0 ? "," + Minutes(tau_min) : "") + ")";
+    case EffectKind::kEventSensor:
+      return "change(" + source + "," + event_kind + " " + FormatUtcMinute(ref_ms) + ")";
   }
   return source;
 }
@@ -114,6 +136,7 @@ std::string EffectTerm::Unit() const {
   switch (kind) {
     case EffectKind::kSensor:
     case EffectKind::kLag:
+    case EffectKind::kEventSensor:
       return "degC";
     case EffectKind::kRate:
       return "degC/h";
@@ -135,19 +158,19 @@ std::string EffectTerm::Unit() const {
   return "";
 }
 
-std::string EffectTerm::Interpretation(double c) const {
+std::string EffectTerm::Interpretation(double c, const TermContext& context) const {
   const double um = c * 1000.0;  // coefficient in um per unit of the term
+  const std::string error = context.axis.empty() ? "the axis" : context.axis;
   switch (kind) {
     case EffectKind::kSensor:
-      return "Each degC that " + source + " rises after the datum moves the axis by " + Signed(um) +
-             " um; the sensor belongs in the model.";
+      return "Each degC that " + source + " rises after the datum moves " + error + " by " +
+             Signed(um) + " um; the sensor belongs in the model.";
     case EffectKind::kLag:
       return "Part of the structure follows " + source + " with a delay of about " +
-             Minutes(tau_min) +
-             " (first-order lag): each degC of the lagged temperature moves the axis by " +
-             Signed(um) + " um.";
+             Minutes(tau_min) + " (first-order lag): each degC of the lagged temperature moves " +
+             error + " by " + Signed(um) + " um.";
     case EffectKind::kRate:
-      return "While " + source + " is changing the axis moves by " + Signed(um) +
+      return "While " + source + " is changing " + error + " moves by " + Signed(um) +
              " um per degC/h of its rate: a thermal gradient during heating or cooling.";
     case EffectKind::kSquare:
       return "The response to " + source + " is not linear: " + Signed(um) +
@@ -158,11 +181,16 @@ std::string EffectTerm::Interpretation(double c) const {
                         : "A curved position error along " + axis + " of " + Signed(um) + " um/m^" +
                               std::to_string(power) + " (straightness or bending).";
     case EffectKind::kPositionXTemperature:
+      if (!context.axis.empty() && context.axis != axis) {
+        return context.axis + " error growing with " + axis + " position as " + source +
+               " warms: " + Signed(um) + " um per metre of " + axis + " per degC above 20 degC " +
+               "(straightness or squareness changing with temperature).";
+      }
       return "Position-dependent expansion along " + axis + ": " + Signed(um) +
              " um per metre per degC of " + source +
              " above 20 degC (free steel expands by 11.5 um/(m*degC)).";
     case EffectKind::kElapsed:
-      return "Drift grows by " + Signed(um) +
+      return error + " drifts by " + Signed(um) +
              " um per hour after the datum beyond what the logged temperatures explain.";
     case EffectKind::kTrend:
       return "Drift since the datum shifts by " + Signed(um) + " um per day since " +
@@ -172,9 +200,16 @@ std::string EffectTerm::Interpretation(double c) const {
              " every drift since the datum is " + Signed(um) +
              " um different: the event changed the machine.";
     case EffectKind::kSignal:
-      return "The logged signal " + source + " moves the axis by " + Number(c * 1000.0, "%+.3g") +
-             " um per unit" + (tau_min > 0 ? " seen through a lag of " + Minutes(tau_min) : "") +
+      return "The logged signal " + source + " moves " + error + " by " +
+             Number(c * 1000.0, "%+.3g") + " um per unit" +
+             (tau_min > 0 ? " seen through a lag of " + Minutes(tau_min) : "") +
              ": heat or load the temperature sensors do not see.";
+    case EffectKind::kEventSensor: {
+      const double base = context.base_coefficient_mm * 1000.0;
+      return "Since the " + event_kind + " on " + FormatUtcMinute(ref_ms) + ", " + source +
+             "'s sensitivity is " + Signed(base + um) + " um/degC instead of " + Signed(base) +
+             ": the event changed how the machine responds to it.";
+    }
   }
   return "";
 }

@@ -22,6 +22,16 @@ enum class EffectKind {
   kTrend,                 // days from a reference date to the run's datum (slow drift)
   kStep,                  // 1 for runs whose datum follows an event
   kSignal,                // an auxiliary signal's change, optionally through a lag tau
+  kEventSensor,           // dT of a sensor for runs whose datum follows an event: a changed
+                          // sensitivity from then on
+};
+
+// What an interpretation needs besides the term and its coefficient: the
+// axis whose error it is, and for a changed sensitivity the sensor's own
+// coefficient (mm per degC) in the same model.
+struct TermContext {
+  std::string axis;
+  double base_coefficient_mm = 0;
 };
 
 struct EffectTerm {
@@ -35,17 +45,20 @@ struct EffectTerm {
 
   static EffectTerm Sensor(std::string sensor);
   static EffectTerm Lag(std::string sensor, double tau_min);
+  static EffectTerm PositionTimesTemperature(std::string axis, std::string sensor);
+  static EffectTerm SensitivityChange(std::string sensor, int64_t event_ms, std::string event_kind);
 
   // Unique readable name, used as the column and coefficient name:
   // "Ty2", "lag(Ty2,60min)", "rate(Ty2)", "sq(Ty2)", "pos(Y)", "pos(Y)^2",
   // "pos(Y)*Ty2", "elapsed", "trend(since 2026-03-01)",
-  // "step(maintenance 2026-03-05T14:00Z)", "signal(rpm)", "signal(rpm,30min)".
+  // "step(maintenance 2026-03-05T14:00Z)", "signal(rpm)", "signal(rpm,30min)",
+  // "change(Ty2,maintenance 2026-03-05T14:00Z)".
   std::string Name() const;
   // Unit of the term's value, e.g. "degC", "m*degC", "h".
   std::string Unit() const;
   // One sentence a machine-tool engineer can check, for a coefficient in mm
   // per unit of the term.
-  std::string Interpretation(double coefficient_mm) const;
+  std::string Interpretation(double coefficient_mm, const TermContext& context = {}) const;
   // Whether evaluating it needs the raw archive of `source` (lags, rates, signals).
   bool NeedsRawSeries() const;
   // Longest span of raw history before a time that evaluating it reads, ms.

@@ -151,8 +151,56 @@ Eigen::VectorXd FeatureBuilder::Column(const EffectTerm& term) {
       col = s.first - s.second;
       break;
     }
+    case EffectKind::kEventSensor:
+      for (int i = 0; i < n; ++i) {
+        col(i) = points_[i].datum_ts_ms >= term.ref_ms
+                     ? At(points_[i].temperature, sensor) - At(points_[i].datum_temperature, sensor)
+                     : 0.0;
+      }
+      break;
   }
   return col;
+}
+
+bool FeatureBuilder::NoiseSlopes(const EffectTerm& term, Eigen::VectorXd* at_point,
+                                 Eigen::VectorXd* at_datum) {
+  const int n = size();
+  const int sensor = in_.SensorIndex(term.source);
+  if (sensor < 0) return false;
+  const int axis = in_.AxisIndex(term.axis);
+  const double pref = axis >= 0 ? in_.reference_position_mm[axis] : 0.0;
+  at_point->setConstant(n, 1.0);
+  at_datum->setConstant(n, 1.0);
+  switch (term.kind) {
+    case EffectKind::kSensor:
+    case EffectKind::kLag:
+      break;
+    case EffectKind::kRate:
+      at_point->setConstant(n, 60.0 / kRateTauMin);
+      at_datum->setConstant(n, 60.0 / kRateTauMin);
+      break;
+    case EffectKind::kSquare:
+      for (int i = 0; i < n; ++i) {
+        const double d =
+            At(points_[i].temperature, sensor) - At(points_[i].datum_temperature, sensor);
+        (*at_point)(i) = (*at_datum)(i) = 2 * d;
+      }
+      break;
+    case EffectKind::kPositionXTemperature:
+      for (int i = 0; i < n; ++i) {
+        (*at_point)(i) = (At(points_[i].position_mm, axis) - pref) / 1000.0;
+        (*at_datum)(i) = (At(points_[i].datum_position_mm, axis) - pref) / 1000.0;
+      }
+      break;
+    case EffectKind::kEventSensor:
+      for (int i = 0; i < n; ++i) {
+        (*at_point)(i) = (*at_datum)(i) = points_[i].datum_ts_ms >= term.ref_ms ? 1.0 : 0.0;
+      }
+      break;
+    default:
+      return false;
+  }
+  return true;
 }
 
 }  // namespace thermocomp

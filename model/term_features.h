@@ -34,6 +34,7 @@ double ValueAt(const TimeSeries& series, int64_t t, int64_t max_gap_ms);
 struct TermInputs {
   std::vector<std::string> sensors;
   std::vector<TimeSeries> sensor_raw;  // per sensor; only needed for lag and rate terms
+  std::vector<double> sensor_alpha;    // per sensor: the EWMA alpha its filtered values have
   std::vector<std::string> signals;
   std::vector<TimeSeries> signal_raw;  // per signal
   std::vector<std::string> axes;
@@ -62,6 +63,11 @@ class FeatureBuilder {
       : in_(inputs), points_(points) {}
   // The term's value at every point; NaN where an input is unknown.
   Eigen::VectorXd Column(const EffectTerm& term);
+  // How the term moves with the reading of its sensor at the point and at
+  // the datum (per degC): the way that reading's noise enters the term.
+  // False for terms that read no sensor. Lag terms read the lagged raw
+  // series, rate terms the raw value, the others the filtered value.
+  bool NoiseSlopes(const EffectTerm& term, Eigen::VectorXd* at_point, Eigen::VectorXd* at_datum);
   int size() const { return static_cast<int>(points_.size()); }
 
  private:

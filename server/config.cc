@@ -196,35 +196,71 @@ const std::map<std::string, Reader>& Keys() {
       {"analysis.policy", Text(&Config::analysis_policy, {"off", "propose", "activate"})},
       {"analysis.alpha", Number([](Config& c) -> double& { return c.analysis.alpha; }, 1e-12, 0.5)},
       {"analysis.min_cv_gain",
-       Number([](Config& c) -> double& { return c.analysis.min_cv_gain; }, 0, 0.9)},
+       Number([](Config& c) -> double& { return c.analysis.min_gain; }, 0, 0.9)},
+      {"analysis.min_t", Number([](Config& c) -> double& { return c.analysis.min_t; }, 0, 100)},
+      {"analysis.cv_block",
+       [](const toml::node& n, Config& c) -> std::string {
+         auto v = n.value_exact<std::string>();
+         if (!v || (*v != "day" && *v != "week" && *v != "run")) {
+           return "must be \"day\", \"week\" or \"run\"";
+         }
+         c.analysis.cv_block = *v;
+         return "";
+       }},
+      {"analysis.min_blocks",
+       [](const toml::node& n, Config& c) -> std::string {
+         auto v = n.value_exact<int64_t>();
+         if (!v || *v < 2 || *v > 1000) return "must be an integer within 2..1000";
+         c.analysis.min_blocks = static_cast<int>(*v);
+         return "";
+       }},
+      {"analysis.forward_blocks",
+       [](const toml::node& n, Config& c) -> std::string {
+         auto v = n.value_exact<int64_t>();
+         if (!v || *v < 0 || *v > 100) return "must be an integer within 0..100";
+         c.analysis.forward_blocks = static_cast<int>(*v);
+         return "";
+       }},
+      {"analysis.equivalent_t",
+       Number([](Config& c) -> double& { return c.analysis.equivalent_t; }, 0, 100)},
+      {"analysis.max_coefficient_change",
+       Number([](Config& c) -> double& { return c.analysis.max_coefficient_change; }, 0, 100)},
+      {"analysis.noise_margin",
+       Number([](Config& c) -> double& { return c.analysis.noise_margin; }, 0, 100)},
+      {"analysis.holdout_min_points", Int(&Config::holdout_min_points, 1, 100000)},
+      {"analysis.holdout_min_days", Number(&Config::holdout_min_days, 0, 365)},
       {"analysis.vif_max",
        Number([](Config& c) -> double& { return c.analysis.vif_max; }, 1.01, 1e9)},
       {"analysis.max_effects",
-       [](const toml::node& n, Config& c) -> std::string {
-         auto v = n.value_exact<int64_t>();
-         if (!v || *v < 0 || *v > 20) return "must be an integer within 0..20";
-         c.analysis.max_effects = static_cast<int>(*v);
-         return "";
-       }},
+       [](const toml::node& n, Config& c) -> std::
+                                              string {
+                                                auto v = n.value_exact<int64_t>();
+                                                if (!v || *v < 0 || *v > 20)
+                                                  return "must be an integer within 0..20";
+                                                c.analysis.max_effects = static_cast<int>(*v);
+                                                return "";
+                                              }},
       {"analysis.tau_grid_min",
-       [](const toml::node& n, Config& c) -> std::string {
-         const toml::array* a = n.as_array();
-         if (!a || a->empty() || a->size() > 32) {
-           return "must be an array of 1 to 32 time constants in minutes";
-         }
-         std::vector<double> grid;
-         for (const auto& item : *a) {
-           std::optional<double> tau = item.is_integer()
-                                           ? std::optional<double>(*item.value<int64_t>())
-                                           : item.value_exact<double>();
-           if (!tau || !(*tau >= 0.5 && *tau <= 10080)) {
-             return "time constants in minutes, within 0.5..10080";
-           }
-           grid.push_back(*tau);
-         }
-         c.analysis.tau_grid_min = grid;
-         return "";
-       }},
+       [](const toml::node& n,
+          Config& c) -> std::
+                         string {
+                           const toml::array* a = n.as_array();
+                           if (!a || a->empty() || a->size() > 32) {
+                             return "must be an array of 1 to 32 time constants in minutes";
+                           }
+                           std::vector<double> grid;
+                           for (const auto& item : *a) {
+                             std::optional<double> tau =
+                                 item.is_integer() ? std::optional<double>(*item.value<int64_t>())
+                                                   : item.value_exact<double>();
+                             if (!tau || !(*tau >= 0.5 && *tau <= 10080)) {
+                               return "time constants in minutes, within 0.5..10080";
+                             }
+                             grid.push_back(*tau);
+                           }
+                           c.analysis.tau_grid_min = grid;
+                           return "";
+                         }},
       {"auth.tokens", ReadTokens},
       {"log.level", Text(&Config::log_level, {"debug", "info", "warn", "error"})},
       {"dds.enabled", Bool(&Config::dds_enabled)},

@@ -56,6 +56,10 @@ struct Config {
   // extended model as a candidate) or "activate" (serve it when it passes)
   std::string analysis_policy = "propose";
   EffectSearchOptions analysis;
+  // The runs an analysis holds out by default: the newest until they hold
+  // this many points and span this many days (a fit keeps fit.holdout_runs).
+  int holdout_min_points = 40;
+  double holdout_min_days = 1.0;
   // [checks] column checks: a request per machine every `weekly_days`
   // (0: off), due `due_after_h` later; a machine-zero change beyond the
   // tolerance between checks is logged as an event.

@@ -42,6 +42,10 @@ nlohmann::json EffectTermToJson(const EffectTerm& t) {
       j["signal"] = t.source;
       if (t.tau_min > 0) j["tau_min"] = t.tau_min;
       break;
+    case EffectKind::kEventSensor:
+      j["sensor"] = t.source;
+      j["event"] = {{"ts", FormatRfc3339(t.ref_ms)}, {"kind", t.event_kind}};
+      break;
   }
   return j;
 }

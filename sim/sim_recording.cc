@@ -10,6 +10,9 @@ namespace {
 
 constexpr int64_t kMaxGapMs = 5 * 60000;
 constexpr double kGrossErrorMm = 0.1;
+// The server's defaults for the runs held out (analysis.holdout_min_*).
+constexpr int kHoldoutMinPoints = 40;
+constexpr double kHoldoutMinDays = 1.0;
 
 }  // namespace
 
@@ -19,6 +22,31 @@ SimRecording Record(const SimOptions& options, int days) {
   VirtualMachine vm(options);
   for (int m = 0; m < days * 1440; ++m) vm.Step(rec.samples, rec.points, &rec.extras);
   rec.truth = vm.hidden();
+  rec.sensor_noise_c = options.sensor_noise_c;
+  rec.declared_coefficients = {{"Tco", -0.0025}, {"Tcb", -0.0126}, {"Tbed", 0.0098}};
+  const HiddenTruth& t = rec.truth;
+  for (HiddenEffect e : options.hidden) {
+    switch (e) {
+      case HiddenEffect::kSensor:
+        rec.hidden.push_back({EffectKind::kSensor, t.sensor, "", 0, 0});
+        break;
+      case HiddenEffect::kLag:
+        rec.hidden.push_back({EffectKind::kLag, "Tco", "", t.lag_tau_min, 0});
+        break;
+      case HiddenEffect::kPosition:
+        rec.hidden.push_back({EffectKind::kPositionXTemperature, "Tcb", "Y", 0, 0});
+        break;
+      case HiddenEffect::kTrend:
+        rec.hidden.push_back({EffectKind::kTrend, "", "", 0, 0});
+        break;
+      case HiddenEffect::kStep:
+        rec.hidden.push_back({EffectKind::kStep, "", "", 0, t.step_ts_ms});
+        break;
+      case HiddenEffect::kSignal:
+        rec.hidden.push_back({EffectKind::kSignal, "spindle_rpm", "", t.signal_tau_min, 0});
+        break;
+    }
+  }
   return rec;
 }
 
@@ -34,7 +62,10 @@ EffectSearchInput ToSearchInput(const SimRecording& rec, const std::string& axis
     filtered.emplace_back();
   }
   std::vector<EwmaFilter> filters;
-  for (const auto& s : rec.machine.sensors) filters.emplace_back(s.ewma_alpha);
+  for (const auto& s : rec.machine.sensors) {
+    filters.emplace_back(s.ewma_alpha);
+    in.inputs.sensor_alpha.push_back(s.ewma_alpha);
+  }
   for (const auto& t : rec.samples) {
     const int j = in.inputs.SensorIndex(t.sensor);
     in.inputs.sensor_raw[j].Append(t.ts_ms, t.value);
@@ -54,6 +85,15 @@ EffectSearchInput ToSearchInput(const SimRecording& rec, const std::string& axis
     in.inputs.reference_position_mm.push_back(a.reference_position_mm);
     if (a.name == axis_name) {
       for (const auto& s : a.inputs) in.declared.push_back(EffectTerm::Sensor(s));
+    }
+  }
+  // Axes the probe points carry a position for, registered or not.
+  for (const auto& p : rec.points) {
+    for (const auto& [axis, v] : p.axes) {
+      if (v.position_mm && in.inputs.AxisIndex(axis) < 0) {
+        in.inputs.axes.push_back(axis);
+        in.inputs.reference_position_mm.push_back(0.0);
+      }
     }
   }
   for (const auto& e : rec.extras.events) in.events.push_back({e.ts_ms, e.kind});
@@ -101,7 +141,13 @@ EffectSearchInput ToSearchInput(const SimRecording& rec, const std::string& axis
     if (true_drift && axis_name == "Y") true_drift->push_back(rec.extras.true_drift_y[i]);
   }
   const int runs = static_cast<int>(run_index.size());
-  for (int r : in.run) in.holdout.push_back(r >= runs - holdout_runs);
+  if (holdout_runs > 0) {
+    for (int r : in.run) in.holdout.push_back(r >= runs - holdout_runs);
+  } else {
+    std::vector<int64_t> ts;
+    for (const auto& p : in.points) ts.push_back(p.ts_ms);
+    in.holdout = NewestRunsHeldOut(in.run, ts, kHoldoutMinPoints, kHoldoutMinDays);
+  }
   return in;
 }
 

@@ -4,6 +4,7 @@
 // Feeds the effect-search tests and benchmarks without a database.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -12,18 +13,36 @@
 
 namespace thermocomp {
 
+// A hidden effect as a search should name it, whatever the simulator:
+// the term kind, its sensor or signal, its axis, its time constant, its
+// event.
+struct TrueEffect {
+  EffectKind kind = EffectKind::kSensor;
+  std::string source;
+  std::string axis;
+  double tau_min = 0;
+  int64_t event_ms = 0;
+};
+
 struct SimRecording {
   MachineRecord machine;
   std::vector<TemperatureInput> samples;
   std::vector<ProbePointInput> points;
-  SimExtras extras;  // signals, events, and the true drift of each point
-  HiddenTruth truth;
+  SimExtras extras;   // signals, events, and the true drift of each point
+  HiddenTruth truth;  // VirtualMachine's own description of its hidden effects
+  std::vector<TrueEffect> hidden;
+  // The Y axis' declared model as the simulator has it (mm per degC of each
+  // sensor's true temperature) and the sensors' white noise: what the
+  // noise floor is made of besides the probe's.
+  std::map<std::string, double> declared_coefficients;
+  double sensor_noise_c = 0.02;
 };
 
 SimRecording Record(const SimOptions& options, int days);
 
 // The search input for `axis` with its declared inputs; the newest
-// `holdout_runs` runs are held out. `true_drift` (optional) receives the
+// `holdout_runs` runs are held out (0: the server's default, runs until 40
+// points and a day). `true_drift` (optional) receives the
 // noise-free drift of each row, for the noise floor.
 EffectSearchInput ToSearchInput(const SimRecording& rec, const std::string& axis, int holdout_runs,
                                 std::vector<double>* true_drift = nullptr);

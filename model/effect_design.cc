@@ -1,0 +1,512 @@
+#include "model/effect_design.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include <boost/math/distributions/fisher_f.hpp>
+
+namespace thermocomp {
+namespace {}  // namespace
+
+std::vector<std::string> Design::Names() const {
+  std::vector<std::string> names;
+  for (const auto& t : terms) names.push_back(t.Name());
+  return names;
+}
+
+bool Design::Has(const EffectTerm& t) const {
+  return Find(t.Name()) >= 0;
+}
+
+int Design::Find(const std::string& name) const {
+  for (size_t j = 0; j < terms.size(); ++j) {
+    if (terms[j].Name() == name) return static_cast<int>(j);
+  }
+  return -1;
+}
+
+int Complexity(const EffectTerm& t) {
+  switch (t.kind) {
+    case EffectKind::kSensor:
+    case EffectKind::kElapsed:
+    case EffectKind::kTrend:
+    case EffectKind::kStep:
+      return 0;
+    case EffectKind::kSquare:
+    case EffectKind::kPosition:
+    case EffectKind::kPositionXTemperature:
+    case EffectKind::kEventSensor:
+      return 1;
+    case EffectKind::kRate:  // with its sensor in the model, a rate is a 10-min lag
+    case EffectKind::kLag:
+      return 3;
+    case EffectKind::kSignal:
+      return t.tau_min > 0 ? 3 : 1;
+  }
+  return 3;
+}
+
+Status DesignContext::Prepare() {
+  const int total = static_cast<int>(in_.points.size());
+  if (static_cast<int>(in_.drift_mm.size()) != total || static_cast<int>(in_.run.size()) != total ||
+      static_cast<int>(in_.holdout.size()) != total) {
+    return Status::Internal("effect search: per-point vectors differ in length");
+  }
+  std::vector<bool> usable(total, true);
+  for (const auto& t : in_.declared) {
+    const Eigen::VectorXd& c = Column(t);
+    for (int i = 0; i < total; ++i) usable[i] = usable[i] && std::isfinite(c(i));
+  }
+  for (int i = 0; i < total; ++i) {
+    if (!usable[i]) continue;
+    usable_.push_back(i);
+    if (!in_.holdout[i]) train_.push_back(i);
+  }
+  std::set<int> runs;
+  for (int i : train_) runs.insert(in_.run[i]);
+  runs_ = static_cast<int>(runs.size());
+  if (runs_ < 3) return Status::Unprocessable("effect search needs at least 3 training runs");
+  y_.resize(train_.size());
+  std::vector<int64_t> datum_ts;
+  for (size_t i = 0; i < train_.size(); ++i) {
+    y_(i) = in_.drift_mm[train_[i]];
+    group_.push_back(in_.run[train_[i]]);
+    datum_ts.push_back(in_.points[train_[i]].datum_ts_ms);
+  }
+  // Whole days (or weeks) held out together; with too few of them, runs.
+  block_kind_ = opt_.cv_block;
+  if (block_kind_ != "run") {
+    block_ = TimeBlocks(datum_ts, block_kind_ == "week" ? 7 * kDayMs : kDayMs, &blocks_);
+  }
+  if (block_kind_ == "run" || blocks_ < opt_.min_blocks) {
+    block_kind_ = "run";
+    std::vector<int64_t> run_ids(group_.begin(), group_.end());
+    block_ = TimeBlocks(run_ids, 1, &blocks_);
+  }
+  return Status::Ok();
+}
+
+double DesignContext::SensorAlpha(const std::string& sensor) const {
+  const int k = in_.inputs.SensorIndex(sensor);
+  return k >= 0 && k < static_cast<int>(in_.inputs.sensor_alpha.size()) ? in_.inputs.sensor_alpha[k]
+                                                                        : 1.0;
+}
+
+const Eigen::VectorXd& DesignContext::Column(const EffectTerm& t) {
+  const std::string name = t.Name();
+  auto it = columns_.find(name);
+  if (it == columns_.end()) it = columns_.emplace(name, features_.Column(t)).first;
+  return it->second;
+}
+
+Design DesignContext::Empty() const {
+  Design d;
+  d.rows.resize(train_.size());
+  for (size_t i = 0; i < train_.size(); ++i) d.rows[i] = static_cast<int>(i);
+  return d;
+}
+
+Design DesignContext::With(const Design& d, const EffectTerm& t, bool declared) {
+  Design out = d;
+  out.Add(t, declared);
+  const Eigen::VectorXd& c = Column(t);
+  std::erase_if(out.rows, [&](int i) { return !std::isfinite(c(train_[i])); });
+  return out;
+}
+
+Design DesignContext::Replaced(const Design& d, size_t j, const EffectTerm& t) {
+  Design out = d;
+  out.Replace(j, t);
+  const Eigen::VectorXd& c = Column(t);
+  std::erase_if(out.rows, [&](int i) { return !std::isfinite(c(train_[i])); });
+  return out;
+}
+
+Design DesignContext::Recomputed(const Design& d) {
+  Design out = Empty();
+  out.terms = d.terms;
+  out.declared = d.declared;
+  for (const EffectTerm& t : d.terms) {
+    const Eigen::VectorXd& c = Column(t);
+    std::erase_if(out.rows, [&](int i) { return !std::isfinite(c(train_[i])); });
+  }
+  return out;
+}
+
+Design DesignContext::On(const Design& d, const std::vector<int>& rows) const {
+  Design out = d;
+  out.rows.clear();
+  std::set_intersection(d.rows.begin(), d.rows.end(), rows.begin(), rows.end(),
+                        std::back_inserter(out.rows));
+  return out;
+}
+
+double DesignContext::KnownShare(const Design& d, const EffectTerm& t) {
+  if (d.rows.empty()) return 0;
+  const Eigen::VectorXd& c = Column(t);
+  int known = 0;
+  for (int i : d.rows) known += std::isfinite(c(train_[i])) ? 1 : 0;
+  return static_cast<double>(known) / d.n();
+}
+
+std::vector<int> DesignContext::Groups(const Design& d) const {
+  std::vector<int> g;
+  g.reserve(d.rows.size());
+  for (int i : d.rows) g.push_back(group_[i]);
+  return g;
+}
+
+std::vector<int> DesignContext::Blocks(const Design& d) const {
+  std::vector<int> b;
+  b.reserve(d.rows.size());
+  for (int i : d.rows) b.push_back(block_[i]);
+  return b;
+}
+
+Eigen::VectorXd DesignContext::Y(const Design& d) const {
+  Eigen::VectorXd y(d.rows.size());
+  for (size_t i = 0; i < d.rows.size(); ++i) y(i) = y_(d.rows[i]);
+  return y;
+}
+
+Eigen::MatrixXd DesignContext::X(const Design& d) {
+  Eigen::MatrixXd x(d.rows.size(), d.terms.size());
+  for (size_t j = 0; j < d.terms.size(); ++j) {
+    const Eigen::VectorXd& c = Column(d.terms[j]);
+    for (size_t i = 0; i < d.rows.size(); ++i) x(i, j) = c(train_[d.rows[i]]);
+  }
+  return x;
+}
+
+Status DesignContext::Refit(const Design& d, LinearFit* fit) {
+  auto f = FitLinear(X(d), Y(d), d.Names());
+  if (!f.ok()) return f.status();
+  *fit = std::move(f).value();
+  return Status::Ok();
+}
+
+StatusOr<BlockErrors> DesignContext::Blocked(const Design& d) {
+  // The same model on the same rows is asked for often: by every
+  // comparison with the current design.
+  uint64_t fingerprint = 1469598103934665603ull ^ d.rows.size();  // FNV-1a over the rows
+  for (int i : d.rows) fingerprint = (fingerprint ^ static_cast<uint64_t>(i)) * 1099511628211ull;
+  auto key = std::make_pair(d.Names(), fingerprint);
+  if (auto it = blocked_.find(key); it != blocked_.end()) return it->second;
+  auto e = BlockCrossValidate(X(d), Y(d), Blocks(d), blocks_);
+  if (e.ok()) blocked_.emplace(std::move(key), *e);
+  return e;
+}
+
+StatusOr<PairedGain> DesignContext::Gain(const Design& base, const Design& candidate) {
+  const bool same_rows = base.rows == candidate.rows;
+  auto b = Blocked(same_rows ? base : On(base, candidate.rows));
+  if (!b.ok()) return b.status();
+  auto c = Blocked(same_rows ? candidate : On(candidate, base.rows));
+  if (!c.ok()) return c.status();
+  return CompareBlocks(*b, *c);
+}
+
+CrossValidation DesignContext::Loro(const Design& d) {
+  Observations o;
+  o.x = X(d);
+  o.y = Y(d);
+  o.names = d.Names();
+  o.group = Groups(d);
+  return LeaveOneRunOut(o).value_or(CrossValidation{});
+}
+
+StatusOr<double> DesignContext::Forward(const Design& d) {
+  return ForwardChainSse(X(d), Y(d), Blocks(d), blocks_, opt_.forward_blocks);
+}
+
+std::vector<Screened> DesignContext::Score(const Design& d, const LinearFit& fit,
+                                           const std::vector<EffectTerm>& candidates, int* tried) {
+  // The model's column space and residuals on a set of rows: the design's
+  // own, or the subset where a candidate is known (one per gap pattern).
+  struct Basis {
+    Eigen::MatrixXd q;
+    Eigen::VectorXd e;
+    int df = 0;
+  };
+  std::map<std::vector<int>, Basis> bases;
+  auto basis_on = [&](const Design& on) -> const Basis* {
+    auto it = bases.find(on.rows);
+    if (it != bases.end()) return &it->second;
+    Basis b;
+    const int rows = on.n(), p = static_cast<int>(on.terms.size()) + 1;
+    if (rows <= p + 2) return nullptr;
+    Eigen::MatrixXd a(rows, p);
+    a.col(0).setOnes();
+    if (p > 1) a.rightCols(p - 1) = X(on);
+    Eigen::HouseholderQR<Eigen::MatrixXd> qr(a);
+    b.q = qr.householderQ() * Eigen::MatrixXd::Identity(rows, p);
+    if (on.rows == d.rows) {
+      b.e = fit.residuals;
+    } else {
+      const Eigen::VectorXd y = Y(on);
+      b.e = y - b.q * (b.q.transpose() * y);
+    }
+    b.df = rows - p - 1;
+    return &bases.emplace(on.rows, std::move(b)).first->second;
+  };
+  std::vector<Screened> out;
+  int unknown = 0;
+  *tried = 0;
+  for (const EffectTerm& term : candidates) {
+    if (d.Has(term)) continue;
+    const Design on = On(d, With(d, term).rows);  // the model on the rows it is known
+    if (on.n() < d.n() && on.n() < opt_.min_known_share * d.n()) {
+      ++unknown;
+      continue;
+    }
+    const Basis* b = basis_on(on);
+    if (!b) continue;
+    const Eigen::VectorXd& full = Column(term);
+    Eigen::VectorXd c(on.n());
+    for (int i = 0; i < on.n(); ++i) c(i) = full(train_[on.rows[i]]);
+    c.array() -= c.mean();
+    double sst_c = c.squaredNorm();
+    if (!(sst_c > 1e-24 * on.n())) continue;  // constant on the training points
+    const Eigen::VectorXd c_res = c - b->q * (b->q.transpose() * c);
+    const double ss_res = c_res.squaredNorm();
+    // A lag of a sensor in the model is its delayed response: its
+    // collinearity is that of the delay (the lag less the sensor), not of
+    // the level both share.
+    if (term.kind == EffectKind::kLag && d.Has(EffectTerm::Sensor(term.source))) {
+      const Eigen::VectorXd& own = Column(EffectTerm::Sensor(term.source));
+      Eigen::VectorXd delay(on.n());
+      for (int i = 0; i < on.n(); ++i)
+        delay(i) = full(train_[on.rows[i]]) - own(train_[on.rows[i]]);
+      delay.array() -= delay.mean();
+      sst_c = delay.squaredNorm();
+    }
+    if (ss_res < sst_c / opt_.vif_max) continue;  // collinear with the model: VIF above the limit
+    ++*tried;
+    const double ec = b->e.dot(c_res);
+    Screened s;
+    s.term = term;
+    s.gain = ec * ec / ss_res;
+    const double sse1 = std::max(b->e.squaredNorm() - s.gain, 1e-300);
+    const double f = s.gain / (sse1 / b->df);
+    s.p = b->df > 0 ? boost::math::cdf(boost::math::complement(
+                          boost::math::fisher_f_distribution<double>(1, b->df), f))
+                    : 1.0;
+    // Gains on fewer rows are scaled to the design's, so they compare.
+    s.gain *= static_cast<double>(d.n()) / on.n();
+    out.push_back(s);
+  }
+  if (not_evaluable_ < 0) not_evaluable_ = unknown;
+  for (auto& s : out) s.p_adjusted = std::min(1.0, s.p * *tried);
+  return out;
+}
+
+std::vector<Screened> DesignContext::Shortlist(const Design& d, const LinearFit& fit,
+                                               const std::vector<EffectTerm>& candidates,
+                                               int* tried) {
+  std::vector<Screened> list;
+  for (const auto& s : Score(d, fit, candidates, tried)) {
+    if (s.p_adjusted < opt_.alpha) list.push_back(s);
+  }
+  std::stable_sort(list.begin(), list.end(),
+                   [](const Screened& a, const Screened& b) { return a.gain > b.gain; });
+  // One entry per family, so one strong source cannot fill the list with its grid.
+  std::set<std::string> families;
+  std::erase_if(list, [&](const Screened& s) {
+    const EffectTerm& t = s.term;
+    return !families
+                .insert(std::string(EffectKindName(t.kind)) + "|" + t.source + "|" + t.axis + "|" +
+                        std::to_string(t.power) + "|" + std::to_string(t.ref_ms))
+                .second;
+  });
+  if (static_cast<int>(list.size()) > opt_.cv_shortlist) list.resize(opt_.cv_shortlist);
+  for (auto& s : list) {
+    if (s.term.tau_min > 0) s.term = RefineTau(d, fit, s.term);
+  }
+  std::set<std::string> names;  // grid neighbours may refine to the same tau
+  std::erase_if(list, [&](const Screened& s) { return !names.insert(s.term.Name()).second; });
+  return list;
+}
+
+EffectTerm DesignContext::RefineTau(const Design& d, const LinearFit& fit, const EffectTerm& term) {
+  // Golden-section search of the SSE gain over log(tau) between the grid
+  // neighbours: the grid is a factor 2 apart, the truth anywhere between.
+  auto gain_at = [&](double log_tau) {
+    EffectTerm t = term;
+    t.tau_min = std::round(std::exp(log_tau) * 10.0) / 10.0;
+    int tried = 0;
+    auto s = Score(d, fit, {t}, &tried);
+    return std::make_pair(s.empty() ? -1.0 : s[0].gain, t);
+  };
+  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+  const auto [grid_min, grid_max] =
+      std::minmax_element(opt_.tau_grid_min.begin(), opt_.tau_grid_min.end());
+  double lo = std::log(std::max(term.tau_min / 2.0, *grid_min));
+  double hi = std::log(std::min(term.tau_min * 2.0, *grid_max));
+  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+  auto f1 = gain_at(x1), f2 = gain_at(x2);
+  for (int i = 0; i < 16; ++i) {
+    if (f1.first >= f2.first) {
+      hi = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = hi - g * (hi - lo);
+      f1 = gain_at(x1);
+    } else {
+      lo = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = lo + g * (hi - lo);
+      f2 = gain_at(x2);
+    }
+  }
+  const auto& best = f1.first >= f2.first ? f1 : f2;
+  int tried = 0;
+  auto grid = Score(d, fit, {term}, &tried);
+  return !grid.empty() && best.first > grid[0].gain ? best.second : term;
+}
+
+double DesignContext::ResidualCorrelation(const Design& d, const LinearFit& fit,
+                                          const EffectTerm& t) {
+  const Eigen::VectorXd& full = Column(t);
+  Eigen::VectorXd c(d.n()), e(d.n());
+  int k = 0;
+  for (int i = 0; i < d.n(); ++i) {
+    if (!std::isfinite(full(train_[d.rows[i]]))) continue;
+    c(k) = full(train_[d.rows[i]]);
+    e(k++) = fit.residuals(i);
+  }
+  c.conservativeResize(k);
+  e.conservativeResize(k);
+  if (k < 2) return 0.0;
+  c.array() -= c.mean();
+  e.array() -= e.mean();
+  const double denominator = std::sqrt(c.squaredNorm() * e.squaredNorm());
+  return denominator > 0 ? e.dot(c) / denominator : 0.0;
+}
+
+double DesignContext::NoiseSse(const Design& d, const LinearFit& fit,
+                               const std::function<double(const EffectTerm&)>& variance) {
+  struct Reading {
+    double variance = 0;
+    Eigen::VectorXd at_point, at_datum;  // summed coefficient x slope per row
+  };
+  std::map<std::string, Reading> readings;
+  Eigen::VectorXd point, datum;
+  for (const EffectTerm& t : d.terms) {
+    const TermStats* s = fit.Find(t.Name());
+    if (!s || !features_.NoiseSlopes(t, &point, &datum)) continue;
+    const double v = variance(t);
+    if (!(v > 0)) continue;
+    char key[96];
+    std::snprintf(key, sizeof key, "|%s|%g",
+                  t.kind == EffectKind::kLag    ? "lag"
+                  : t.kind == EffectKind::kRate ? "raw"
+                                                : "filtered",
+                  t.kind == EffectKind::kLag ? t.tau_min : 0.0);
+    Reading& r = readings[t.source + key];
+    if (r.at_point.size() == 0) {
+      r.variance = v;
+      r.at_point = r.at_datum = Eigen::VectorXd::Zero(d.n());
+    }
+    for (int i = 0; i < d.n(); ++i) {
+      r.at_point(i) += s->estimate * point(train_[d.rows[i]]);
+      r.at_datum(i) += s->estimate * datum(train_[d.rows[i]]);
+    }
+  }
+  double total = 0;
+  for (const auto& [key, r] : readings) {
+    total += r.variance * (r.at_point.squaredNorm() + r.at_datum.squaredNorm());
+  }
+  return total;
+}
+
+void DesignContext::Describe(const Design& final_design, EffectSearchResult& r) {
+  // Held-out points where both models can be evaluated.
+  std::vector<std::string> declared_names;
+  for (const auto& t : in_.declared) declared_names.push_back(t.Name());
+  const std::vector<std::string> final_names = final_design.Names();
+  double sse_before = 0, sse_after = 0, sum = 0, sum2 = 0;
+  for (int i : usable_) {
+    if (!in_.holdout[i]) continue;
+    Eigen::RowVectorXd xb(in_.declared.size()), xa(final_design.terms.size());
+    for (size_t j = 0; j < in_.declared.size(); ++j) xb(j) = Column(in_.declared[j])(i);
+    for (size_t j = 0; j < final_design.terms.size(); ++j) xa(j) = Column(final_design.terms[j])(i);
+    if (!xa.allFinite()) continue;
+    const double rb = in_.drift_mm[i] - r.before.Predict(xb, declared_names);
+    const double ra = in_.drift_mm[i] - r.after.Predict(xa, final_names);
+    sse_before += rb * rb;
+    sse_after += ra * ra;
+    sum += in_.drift_mm[i];
+    sum2 += in_.drift_mm[i] * in_.drift_mm[i];
+    ++r.holdout_n;
+  }
+  if (r.holdout_n > 0) {
+    const double n_h = r.holdout_n;
+    r.holdout_rmse_before_mm = std::sqrt(sse_before / n_h);
+    r.holdout_rmse_after_mm = std::sqrt(sse_after / n_h);
+    const double sst = sum2 - sum * sum / n_h;
+    if (sst > 0) {
+      r.holdout_r2_before = 1.0 - sse_before / sst;
+      r.holdout_r2_after = 1.0 - sse_after / sst;
+    }
+  }
+  // Each declared coefficient in the declared model and in the final one
+  // (the declared sensor's term, read through its filter when one applies).
+  for (const auto& t : in_.declared) {
+    CoefficientChange c;
+    c.term = t.Name();
+    if (const TermStats* s = r.before.Find(t.Name())) c.before_mm = s->estimate;
+    for (size_t j = 0; j < final_design.terms.size(); ++j) {
+      const EffectTerm& u = final_design.terms[j];
+      if (final_design.declared[j] && u.source == t.source) {
+        if (const TermStats* s = r.after.Find(u.Name())) c.after_mm = s->estimate;
+      }
+    }
+    r.coefficient_changes.push_back(c);
+  }
+  // The declared model before and after each event with enough runs on either side.
+  Design declared = Empty();
+  for (size_t j = 0; j < final_design.terms.size(); ++j) {
+    if (final_design.declared[j]) declared = With(declared, final_design.terms[j], true);
+  }
+  declared = On(declared, final_design.rows);
+  std::set<int64_t> seen;
+  for (const auto& ev : in_.events) {
+    if (!seen.insert(ev.ts_ms).second) continue;
+    std::vector<int> before, after;
+    std::set<int> runs_before, runs_after;
+    for (int i : declared.rows) {
+      const bool later = in_.points[train_[i]].datum_ts_ms >= ev.ts_ms;
+      (later ? after : before).push_back(i);
+      (later ? runs_after : runs_before).insert(group_[i]);
+    }
+    if (static_cast<int>(runs_before.size()) < opt_.min_runs_per_side ||
+        static_cast<int>(runs_after.size()) < opt_.min_runs_per_side) {
+      continue;
+    }
+    EventComparison c;
+    c.event = ev;
+    c.runs_before = static_cast<int>(runs_before.size());
+    c.runs_after = static_cast<int>(runs_after.size());
+    c.terms = declared.Names();
+    auto fit_of = [&](const std::vector<int>& rows, std::vector<double>& coefficients,
+                      double& rmse) {
+      LinearFit f;
+      if (!Refit(On(declared, rows), &f).ok()) return false;
+      for (const auto& name : c.terms) {
+        const TermStats* s = f.Find(name);
+        coefficients.push_back(s ? s->estimate : NAN);
+      }
+      rmse = f.rmse;
+      return true;
+    };
+    if (fit_of(before, c.before_mm, c.rmse_before_mm) &&
+        fit_of(after, c.after_mm, c.rmse_after_mm)) {
+      r.event_comparisons.push_back(c);
+    }
+  }
+}
+
+}  // namespace thermocomp

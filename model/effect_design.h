@@ -1,0 +1,130 @@
+// The working parts of the effect search (model/effect_search.h): the
+// model being built (Design) and what every step needs about the data
+// (DesignContext): the training rows and their blocks of time, term
+// columns, fits, blocked and forward validation, the screening of
+// candidates, and the description of the final model.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "model/effect_search.h"
+
+namespace thermocomp {
+
+// The current model: its terms, whether each is declared (the axis'
+// inputs, possibly read through a recommended filter) or an added effect,
+// and the training rows it is fitted on: those where every term is known
+// (a logging gap leaves a sensor's terms unknown at some points).
+struct Design {
+  std::vector<EffectTerm> terms;
+  std::vector<bool> declared;
+  std::vector<int> rows;  // ascending indices into the training rows
+
+  void Add(const EffectTerm& t, bool is_declared) {
+    terms.push_back(t);
+    declared.push_back(is_declared);
+  }
+  void Replace(size_t j, const EffectTerm& t) { terms[j] = t; }
+  void Erase(size_t j) {
+    terms.erase(terms.begin() + j);
+    declared.erase(declared.begin() + j);
+  }
+  int n() const { return static_cast<int>(rows.size()); }
+  std::vector<std::string> Names() const;
+  bool Has(const EffectTerm& t) const;
+  int Find(const std::string& name) const;  // -1 when absent
+};
+
+// A candidate that passed the screening (partial F-test).
+struct Screened {
+  EffectTerm term;
+  double gain = 0;  // fall of the training SSE when added
+  double p = 1, p_adjusted = 1;
+};
+
+// Fitted parameters beyond the coefficient, roughly: a lag also fits tau.
+int Complexity(const EffectTerm& t);
+
+class DesignContext {
+ public:
+  DesignContext(const EffectSearchInput& in, const EffectSearchOptions& opt)
+      : in_(in), opt_(opt), features_(in.inputs, in.points) {}
+
+  // Training rows (usable for the declared terms, not held out) and their
+  // blocks; Unprocessable with fewer than 3 training runs.
+  Status Prepare();
+  int n() const { return static_cast<int>(train_.size()); }
+  int runs() const { return runs_; }
+  int blocks() const { return blocks_; }
+  const std::string& block_kind() const { return block_kind_; }
+  int not_evaluable() const { return std::max(not_evaluable_, 0); }
+  double SensorAlpha(const std::string& sensor) const;
+
+  // An empty design on every training row.
+  Design Empty() const;
+  // `d` with `t` added (replacing term j), on the rows where `t` is known too.
+  Design With(const Design& d, const EffectTerm& t, bool declared = false);
+  Design Replaced(const Design& d, size_t j, const EffectTerm& t);
+  // `d` on every training row where all its terms are known (after a
+  // term was erased).
+  Design Recomputed(const Design& d);
+  // `d` on its rows that are also in `rows`.
+  Design On(const Design& d, const std::vector<int>& rows) const;
+  // Share of the design's rows on which `t` is known.
+  double KnownShare(const Design& d, const EffectTerm& t);
+  // The runs (groups) of the design's rows.
+  std::vector<int> Groups(const Design& d) const;
+
+  Eigen::MatrixXd X(const Design& d);
+  Status Refit(const Design& d, LinearFit* fit);
+  StatusOr<BlockErrors> Blocked(const Design& d);
+  // How much better `candidate` predicts than `base` (blocked, paired), on
+  // the rows both can be evaluated on.
+  StatusOr<PairedGain> Gain(const Design& base, const Design& candidate);
+  CrossValidation Loro(const Design& d);
+  StatusOr<double> Forward(const Design& d);
+  // Candidates passing the Bonferroni-corrected F-test and the VIF limit,
+  // the strongest of each family (a sensor's lags are one), tau refined.
+  // A candidate unknown on some of the design's rows is scored on the rest
+  // when it is known on at least min_known_share of them.
+  std::vector<Screened> Shortlist(const Design& d, const LinearFit& fit,
+                                  const std::vector<EffectTerm>& candidates, int* tried);
+  double ResidualCorrelation(const Design& d, const LinearFit& fit, const EffectTerm& t);
+  // What the sensors' white noise adds to the design's squared error,
+  // summed over its rows: each reading (a sensor's filtered value, a lag of
+  // its raw series, its raw value) carries noise of the variance
+  // `variance(term)` gives for a term reading it, at the point and at the
+  // datum, through the coefficients and slopes of the terms that read it.
+  double NoiseSse(const Design& d, const LinearFit& fit,
+                  const std::function<double(const EffectTerm&)>& variance);
+  // Held-out errors, declared coefficients before and after, and the
+  // declared model before and after each event, into the result.
+  void Describe(const Design& final_design, EffectSearchResult& r);
+
+ private:
+  const Eigen::VectorXd& Column(const EffectTerm& t);
+  Eigen::VectorXd Y(const Design& d) const;
+  std::vector<int> Blocks(const Design& d) const;
+  std::vector<Screened> Score(const Design& d, const LinearFit& fit,
+                              const std::vector<EffectTerm>& candidates, int* tried);
+  EffectTerm RefineTau(const Design& d, const LinearFit& fit, const EffectTerm& term);
+
+  const EffectSearchInput& in_;
+  const EffectSearchOptions& opt_;
+  FeatureBuilder features_;
+  std::map<std::string, Eigen::VectorXd> columns_;
+  // Blocked errors by model names and a fingerprint of its rows.
+  std::map<std::pair<std::vector<std::string>, uint64_t>, BlockErrors> blocked_;
+  std::vector<int> train_, usable_;
+  std::vector<int> group_;  // per training row: its run
+  std::vector<int> block_;  // per training row: its block of time
+  Eigen::VectorXd y_;
+  int runs_ = 0, blocks_ = 0;
+  std::string block_kind_;
+  int not_evaluable_ = -1;
+};
+
+}  // namespace thermocomp
