@@ -92,6 +92,9 @@ class DesignContext {
   // when it is known on at least min_known_share of them.
   std::vector<Screened> Shortlist(const Design& d, const LinearFit& fit,
                                   const std::vector<EffectTerm>& candidates, int* tried);
+  // `term` at the time constant between half and twice its own that best
+  // adds to `d` (golden-section over log tau).
+  EffectTerm RefineTau(const Design& d, const LinearFit& fit, const EffectTerm& term);
   double ResidualCorrelation(const Design& d, const LinearFit& fit, const EffectTerm& t);
   // What the sensors' white noise adds to the design's squared error,
   // summed over its rows: each reading (a sensor's filtered value, a lag of
@@ -110,7 +113,6 @@ class DesignContext {
   std::vector<int> Blocks(const Design& d) const;
   std::vector<Screened> Score(const Design& d, const LinearFit& fit,
                               const std::vector<EffectTerm>& candidates, int* tried);
-  EffectTerm RefineTau(const Design& d, const LinearFit& fit, const EffectTerm& term);
 
   const EffectSearchInput& in_;
   const EffectSearchOptions& opt_;

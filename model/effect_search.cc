@@ -74,6 +74,11 @@ class Search {
                                             std::string* partner);
   std::map<std::string, EffectTerm> partners_;    // this round's masked pair: first -> follow-up
   std::map<std::string, std::string> revisions_;  // candidate -> how it changes a declared term
+  // Once no more is found: an added effect superseded by a later one leaves
+  // the list; each other must still earn its place in the final model (its
+  // removal costs at least equivalent_t standard errors), at the time
+  // constant that is best there.
+  Status Settle(Design& design, LinearFit& fit, EffectSearchResult& r);
   // What the sensors' noise adds to the design's squared error.
   double NoiseSse(const Design& design, const LinearFit& fit);
 
@@ -83,6 +88,47 @@ class Search {
   std::set<std::string> declared_sources_;
   std::map<std::string, double> noise_c_, interval_min_;
 };
+
+Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
+  for (size_t e = 0; e < r.effects.size();) {
+    AddedEffect& effect = r.effects[e];
+    const int at = design.Find(effect.term.Name());
+    if (at < 0) {  // superseded by a later effect
+      r.effects.erase(r.effects.begin() + e);
+      continue;
+    }
+    Design without = design;
+    without.Erase(at);
+    without = d_.Recomputed(without);
+    LinearFit without_fit;
+    if (!d_.Refit(without, &without_fit).ok()) {
+      ++e;
+      continue;
+    }
+    EffectTerm term = effect.term;
+    if (term.tau_min > 0) {
+      const EffectTerm tuned = d_.RefineTau(without, without_fit, term);
+      auto g = d_.Gain(design, d_.With(without, tuned));
+      if (tuned.Name() != term.Name() && g.ok() && g->relative >= 0) term = tuned;
+    }
+    const Design with = d_.With(without, term);
+    auto keep = d_.Gain(without, with);
+    if (keep.ok() && keep->t < opt_.equivalent_t) {
+      r.superseded.push_back(effect.term);
+      r.effects.erase(r.effects.begin() + e);
+      design = without;
+      fit = without_fit;
+      continue;
+    }
+    if (term.Name() != effect.term.Name()) {
+      effect.term = term;
+      design = with;
+      if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
+    }
+    ++e;
+  }
+  return Status::Ok();
+}
 
 double Search::NoiseSse(const Design& design, const LinearFit& fit) {
   return d_.NoiseSse(design, fit, [&](const EffectTerm& t) {
@@ -524,6 +570,7 @@ StatusOr<EffectSearchResult> Search::Run() {
     }
   }
 
+  if (Status s = Settle(design, fit, r); !s.ok()) return s;
   r.terms = design.terms;
   r.after = fit;
   r.after_x = d_.X(design);

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "server/analysis_findings.h"
 #include "server/model_codec.h"
 #include "server/time_format.h"
 
@@ -71,7 +72,14 @@ nlohmann::json AnalysisReportJson(const EffectSearchResult& r, const AnalysisCon
     j["cv_rmse_before_mm"] = FiniteOrNull(e.cv_rmse_before_mm);
     j["cv_rmse_after_mm"] = FiniteOrNull(e.cv_rmse_after_mm);
     j["residual_correlation"] = FiniteOrNull(e.residual_correlation);
-    j["interpretation"] = e.term.Interpretation(e.coefficient_mm);
+    TermContext context{c.axis, 0.0};
+    if (e.term.kind == EffectKind::kEventSensor) {
+      if (const TermStats* base = r.after.Find(EffectTerm::Sensor(e.term.source).Name())) {
+        context.base_coefficient_mm = base->estimate;
+      }
+    }
+    j["interpretation"] = e.term.Interpretation(e.coefficient_mm, context);
+    AddEffectFindings(e, j);
     j["revised"] = e.revised;
     nlohmann::json runners = nlohmann::json::array();
     for (const auto& s : e.runners_up) {
@@ -94,7 +102,7 @@ nlohmann::json AnalysisReportJson(const EffectSearchResult& r, const AnalysisCon
   nlohmann::json coefficients = nlohmann::json::object();
   for (const auto& t : r.after.terms) coefficients[t.name] = t.estimate;
   for (const auto& t : r.terms) terms.push_back(EffectTermToJson(t));
-  return {
+  nlohmann::json report = {
       {"machine", c.machine},
       {"axis", c.axis},
       {"created_at", FormatRfc3339(c.created_ms)},
@@ -125,6 +133,8 @@ nlohmann::json AnalysisReportJson(const EffectSearchResult& r, const AnalysisCon
       {"residual_structure",
        {{"before", Structure(r.structure_before)}, {"after", Structure(r.structure_after)}}},
   };
+  AddFindings(r, c.axis, report);
+  return report;
 }
 
 std::string AnalysisMarkdown(const nlohmann::json& j) {
@@ -140,7 +150,8 @@ std::string AnalysisMarkdown(const nlohmann::json& j) {
   if (effects.empty()) {
     md +=
         "**No effect passed**: no candidate explained the residual better than chance "
-        "(Bonferroni-corrected F-test) and by cross-validation over whole runs.\n\n";
+        "(Bonferroni-corrected F-test) and by a gain beyond its uncertainty in cross-validation "
+        "over whole days.\n\n";
   } else {
     md +=
         "## Effects added\n\n| # | effect | coefficient | p (adj.) | CV RMSE um |\n"
@@ -172,9 +183,15 @@ std::string AnalysisMarkdown(const nlohmann::json& j) {
     }
     md += list + ".\n\n";
   }
+  md += FindingsMarkdown(j);
   md += "## Error before and after (um)\n\n| | declared model | extended model |\n|---|---|---|\n";
   md += "| training RMSE | " + Um(j["train_rmse_before_mm"]) + " | " +
         Um(j["train_rmse_after_mm"]) + " |\n";
+  if (j.contains("validation") && j["validation"].is_object()) {
+    const nlohmann::json& v = j["validation"];
+    md += "| blocked cross-validation RMSE | " + Um(v.value("rmse_before_mm", nlohmann::json())) +
+          " | " + Um(v.value("rmse_after_mm", nlohmann::json())) + " |\n";
+  }
   md += "| leave-one-run-out RMSE | " + Um(j["cv_rmse_before_mm"]) + " | " +
         Um(j["cv_rmse_after_mm"]) + " |\n";
   md += "| held-out RMSE | " + Um(j["rmse_before_mm"]) + " | " + Um(j["rmse_after_mm"]) + " |\n\n";

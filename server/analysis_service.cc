@@ -102,8 +102,9 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
   }
   const int64_t max_gap_ms = int64_t{config_.stale_after_s} * 1000;
   DriftDataset data =
-      BuildDriftDataset(db_, *machine, axis_name, config_.gross_error_mm, max_gap_ms, cache_);
-  auto holdout = ChooseHoldout(data, req.holdout_runs, config_.holdout_runs);
+      BuildDriftDataset(db_, *machine, axis_name, config_.gross_error_mm, max_gap_ms, cache_, true);
+  auto holdout = ChooseHoldoutByExtent(data, req.holdout_runs, config_.holdout_min_points,
+                                       config_.holdout_min_days);
   if (!holdout.ok()) return holdout.status();
   EffectSearchInput input = LoadTermInput(db_, *machine, axis_name, data, *holdout, inputs,
                                           max_gap_ms, RawChannels::ForSearch(config_.analysis));

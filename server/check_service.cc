@@ -1,9 +1,9 @@
 #include "server/check_service.h"
-#include "model/time_units.h"
 
 #include <algorithm>
 #include <cmath>
 
+#include "model/time_units.h"
 #include "server/json_text.h"
 #include "server/log.h"
 #include "server/machine_lookup.h"

@@ -75,8 +75,12 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
     live.max_gap_ms = int64_t{config_.stale_after_s} * 1000;
     live.temperature.assign(machine->sensors.size(), NAN);
     live.datum_temperature.assign(machine->sensors.size(), NAN);
-    for (const auto& ax : machine->axes) {
-      auto it = datum->axes.find(ax.name);
+    std::vector<std::string> position_axes;
+    for (const auto& ax : machine->axes) position_axes.push_back(ax.name);
+    live.probe_axes = AxesBeyondMachine(*model, *machine);
+    position_axes.insert(position_axes.end(), live.probe_axes.begin(), live.probe_axes.end());
+    for (const auto& name : position_axes) {
+      auto it = datum->axes.find(name);
       live.datum_position_mm.push_back(
           it != datum->axes.end() && it->second.position_mm ? *it->second.position_mm : NAN);
     }

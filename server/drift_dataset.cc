@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
 
+#include "model/block_validation.h"
 #include "storage/probe_store.h"
 #include "storage/sample_store.h"
 
@@ -39,10 +41,24 @@ std::vector<double> TemperaturesAt(SampleStore& samples, const MachineRecord& ma
 
 DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const std::string& axis,
                                double gross_error_mm, int64_t max_gap_ms,
-                               ProbeTemperatureCache* cache) {
+                               ProbeTemperatureCache* cache, bool other_axes) {
   DriftDataset d;
   for (const auto& s : machine.sensors) d.sensors.push_back(s.name);
   for (const auto& a : machine.axes) d.axes.push_back(a.name);
+  // Every axis the probe points carry a position of, beyond the machine's
+  // own: a Y error may grow with X, or with Z where Z is not compensated.
+  const std::vector<RunRecord> runs = ProbeStore(db).LoadAxisRuns(machine.id, axis, other_axes);
+  std::set<std::string> probed;
+  for (const RunRecord& run : runs) {
+    for (const auto& p : run.points) {
+      for (const auto& [name, value] : p.axes) {
+        if (value.position_mm) probed.insert(name);
+      }
+    }
+  }
+  for (const auto& name : probed) {
+    if (std::find(d.axes.begin(), d.axes.end(), name) == d.axes.end()) d.axes.push_back(name);
+  }
   auto positions = [&](const ProbePointRecord& p) {
     std::vector<double> v;
     for (const auto& a : d.axes) {
@@ -53,7 +69,7 @@ DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const
     return v;
   };
   SampleStore samples(db);
-  for (const RunRecord& run : ProbeStore(db).LoadAxisRuns(machine.id, axis)) {
+  for (const RunRecord& run : runs) {
     const ProbePointRecord* datum = nullptr;
     for (const auto& p : run.points) {
       if (p.k == 0) datum = &p;
@@ -110,6 +126,26 @@ StatusOr<std::vector<std::string>> ChooseHoldout(
   const int h = std::max(std::min(count, runs - 2), 0);
   for (int i = runs - h; i < runs; ++i) holdout.push_back(data.runs[i]);
   return holdout;
+}
+
+StatusOr<std::vector<std::string>> ChooseHoldoutByExtent(
+    const DriftDataset& data, const std::optional<std::vector<std::string>>& requested,
+    int min_points, double min_days) {
+  if (requested) return ChooseHoldout(data, requested, 0);
+  std::vector<int> run;
+  std::vector<int64_t> ts;
+  for (const auto& r : data.rows) {
+    run.push_back(r.run);
+    ts.push_back(r.ts_ms);
+  }
+  const std::vector<bool> held = NewestRunsHeldOut(run, ts, min_points, min_days);
+  std::set<int> runs;
+  for (size_t i = 0; i < held.size(); ++i) {
+    if (held[i]) runs.insert(run[i]);
+  }
+  std::vector<std::string> out;
+  for (int r : runs) out.push_back(data.runs[r]);
+  return out;
 }
 
 std::vector<int> DriftDataset::RowsOfRuns(const std::vector<std::string>& names,

@@ -45,14 +45,21 @@ struct DriftDataset {
 // The runs held out of a fit or analysis: the requested ones (each must
 // have usable points: Unprocessable otherwise) or the newest `count`,
 // leaving at least two runs to train on.
+// Without a request: the newest runs until they hold `min_points` points and
+// span `min_days` days (NewestRunsHeldOut), enough held-out data to decide.
+StatusOr<std::vector<std::string>> ChooseHoldoutByExtent(
+    const DriftDataset& data, const std::optional<std::vector<std::string>>& requested,
+    int min_points, double min_days);
 StatusOr<std::vector<std::string>> ChooseHoldout(
     const DriftDataset& data, const std::optional<std::vector<std::string>>& requested, int count);
 
 // Caller holds db.mutex(). `max_gap_ms`: an archived sample older than this
 // at a probe time does not count as the temperature at that time. `cache`
 // (optional) holds archive temperatures at probe points between calls.
+// `other_axes`: positions on every axis the points carry (for terms that
+// read another axis' position), not only the machine's axes on `axis`.
 DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const std::string& axis,
                                double gross_error_mm, int64_t max_gap_ms,
-                               ProbeTemperatureCache* cache = nullptr);
+                               ProbeTemperatureCache* cache = nullptr, bool other_axes = false);
 
 }  // namespace thermocomp

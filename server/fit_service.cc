@@ -66,8 +66,10 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
       return Status::Unprocessable("inputs: unknown sensor '" + in + "'");
   }
 
+  // Every axis' positions: the active model, compared on the held-out
+  // points, may read another axis' position.
   DriftDataset data = BuildDriftDataset(db_, *machine, axis_name, config_.gross_error_mm,
-                                        int64_t{config_.stale_after_s} * 1000, cache_);
+                                        int64_t{config_.stale_after_s} * 1000, cache_, true);
   auto chosen = ChooseHoldout(data, req.holdout_runs, config_.holdout_runs);
   if (!chosen.ok()) return chosen.status();
   const std::vector<std::string>& holdout = *chosen;

@@ -5,6 +5,7 @@
 #include "model/drift_model.h"
 #include "model/thinning.h"
 #include "server/drift_dataset.h"
+#include "server/live_terms.h"
 #include "server/machine_lookup.h"
 #include "server/model_codec.h"
 #include "server/term_input.h"
@@ -35,8 +36,6 @@ StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
   if (!found.ok()) return found.status();
   const MachineRecord* machine = &found->machine;
   const AxisRecord* axis = &found->axis();
-  DriftDataset data = BuildDriftDataset(db_, *machine, q.axis, config_.gross_error_mm,
-                                        int64_t{config_.stale_after_s} * 1000, cache_);
   std::optional<DriftModel> model;
   std::optional<int> version;
   if (auto active = ModelStore(db_).Active(axis->id)) {
@@ -45,6 +44,9 @@ StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
       version = active->version;
     }
   }
+  DriftDataset data = BuildDriftDataset(db_, *machine, q.axis, config_.gross_error_mm,
+                                        int64_t{config_.stale_after_s} * 1000, cache_,
+                                        model && ReadsOtherAxes(*model, q.axis));
   // Predicted by the active model's terms, extended ones too, as in the fit.
   std::vector<double> by_model(data.rows.size(), NAN);
   if (model) {

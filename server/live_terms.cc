@@ -9,6 +9,24 @@
 
 namespace thermocomp {
 
+std::vector<std::string> AxesBeyondMachine(const DriftModel& model, const MachineRecord& machine) {
+  std::vector<std::string> out;
+  for (size_t j = 0; j < model.inputs.size(); ++j) {
+    const EffectTerm t = model.TermAt(j);
+    if (t.axis.empty() || machine.FindAxis(t.axis)) continue;
+    if (std::find(out.begin(), out.end(), t.axis) == out.end()) out.push_back(t.axis);
+  }
+  return out;
+}
+
+bool ReadsOtherAxes(const DriftModel& model, const std::string& axis) {
+  for (size_t j = 0; j < model.inputs.size(); ++j) {
+    const EffectTerm t = model.TermAt(j);
+    if (!t.axis.empty() && t.axis != axis) return true;
+  }
+  return false;
+}
+
 bool DependsOnPosition(const DriftModel& model, const std::string& axis) {
   for (size_t j = 0; j < model.inputs.size(); ++j) {
     const EffectTerm t = model.TermAt(j);
@@ -30,6 +48,10 @@ std::vector<std::vector<double>> LiveTermValues(Database& db, const DriftModel& 
   for (const auto& a : m.axes) {
     in.axes.push_back(a.name);
     in.reference_position_mm.push_back(a.reference_position_mm);
+  }
+  for (const auto& a : c.probe_axes) {
+    in.axes.push_back(a);
+    in.reference_position_mm.push_back(0.0);
   }
   // Raw windows only for the channels a lag, rate or signal term reads.
   in.sensor_raw.resize(m.sensors.size());

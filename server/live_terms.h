@@ -19,7 +19,11 @@ struct LiveContext {
   int64_t datum_ts_ms = 0;
   std::vector<double> temperature;        // filtered now, per machine sensor; NaN unknown
   std::vector<double> datum_temperature;  // filtered at the datum, per machine sensor
-  std::vector<double> datum_position_mm;  // per machine axis; NaN unknown
+  // Per machine axis, then per axis of `probe_axes`; NaN unknown.
+  std::vector<double> datum_position_mm;
+  // Axes a term reads that the machine does not compensate (a Y error
+  // growing with Z): evaluated where the datum was probed, reference 0.
+  std::vector<std::string> probe_axes;
   int64_t max_gap_ms = 5 * 60000;
 };
 
@@ -28,6 +32,12 @@ struct LiveContext {
 std::vector<std::vector<double>> LiveTermValues(Database& db, const DriftModel& model,
                                                 const LiveContext& context,
                                                 const std::vector<double>& positions_mm);
+
+// The axes the model's terms read that are not the machine's.
+std::vector<std::string> AxesBeyondMachine(const DriftModel& model, const MachineRecord& machine);
+
+// Whether any term reads the position of an axis other than `axis`.
+bool ReadsOtherAxes(const DriftModel& model, const std::string& axis);
 
 // Whether any term depends on the position of `axis`.
 bool DependsOnPosition(const DriftModel& model, const std::string& axis);

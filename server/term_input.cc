@@ -35,9 +35,13 @@ EffectSearchInput LoadTermInput(Database& db, const MachineRecord& machine, cons
   in.inputs.max_gap_ms = max_gap_ms;
   in.inputs.sensors = data.sensors;
   in.inputs.axes = data.axes;
-  for (const auto& a : machine.axes) {
-    in.inputs.reference_position_mm.push_back(a.reference_position_mm);
+  // Axes the probe points carry beyond the machine's own have no stated
+  // reference: positions are taken as they are (reference 0).
+  for (const auto& name : data.axes) {
+    const AxisRecord* a = machine.FindAxis(name);
+    in.inputs.reference_position_mm.push_back(a ? a->reference_position_mm : 0.0);
   }
+  for (const auto& s : machine.sensors) in.inputs.sensor_alpha.push_back(s.ewma_alpha);
   for (const auto& s : declared) in.declared.push_back(EffectTerm::Sensor(s));
   in.inputs.sensor_raw.resize(machine.sensors.size());
   AuxStore aux(db);

@@ -1,8 +1,9 @@
 #include "sim/column_machine.h"
-#include "model/time_units.h"
 
 #include <algorithm>
 #include <cmath>
+
+#include "model/time_units.h"
 
 namespace thermocomp {
 namespace {

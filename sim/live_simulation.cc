@@ -1,5 +1,4 @@
 #include "sim/live_simulation.h"
-#include "model/time_units.h"
 
 #include <algorithm>
 #include <chrono>
@@ -11,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/dds/dds_client.h"
+#include "model/time_units.h"
 #include "server/log.h"
 #include "server/time_format.h"
 #include "sim/virtual_machine.h"

@@ -71,7 +71,8 @@ Status ProbeStore::InsertPoint(int64_t run_id, const ProbePointRecord& p,
   return Status::Ok();
 }
 
-std::vector<RunRecord> ProbeStore::LoadAxisRuns(int64_t machine_id, const std::string& axis) {
+std::vector<RunRecord> ProbeStore::LoadAxisRuns(int64_t machine_id, const std::string& axis,
+                                                bool other_positions) {
   std::vector<RunRecord> runs;
   {
     Statement q(
@@ -93,6 +94,22 @@ std::vector<RunRecord> ProbeStore::LoadAxisRuns(int64_t machine_id, const std::s
       if (!q.IsNull(6)) v.position_mm = q.Double(6);
       v.deviation_mm = q.Double(7);
       runs.back().points.push_back(std::move(p));
+    }
+  }
+  // Where each point was on the other axes: a Y error may grow with X.
+  if (other_positions) {
+    std::map<int64_t, ProbePointRecord*> by_id;
+    for (auto& run : runs) {
+      for (auto& p : run.points) by_id.emplace(p.id, &p);
+    }
+    Statement q(db_,
+                "SELECT v.point_id, v.axis, v.position_mm FROM probe_axis_values v"
+                " JOIN probe_points p ON p.id = v.point_id JOIN runs r ON r.id = p.run_id"
+                " WHERE r.machine_id = ? AND v.axis <> ? AND v.position_mm IS NOT NULL");
+    q.Bind(1, machine_id).Bind(2, axis);
+    while (q.Step()) {
+      auto it = by_id.find(q.Int(0));
+      if (it != by_id.end()) it->second->axes[q.Text(1)].position_mm = q.Double(2);
     }
   }
   // Snapshots are rare (imports); read them only for points that have one.

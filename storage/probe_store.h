@@ -20,9 +20,11 @@ class ProbeStore {
   Status InsertPoint(int64_t run_id, const ProbePointRecord& point,
                      const std::map<std::string, int64_t>& sensor_ids);
   // The machine's runs ordered by first time, with their points that have a
-  // deviation on `axis` (each point's `axes` holds that axis only): what a
-  // drift data set of the axis needs, in one indexed scan.
-  std::vector<RunRecord> LoadAxisRuns(int64_t machine_id, const std::string& axis);
+  // deviation on `axis` (each point's `axes` holds that axis' value, and its
+  // positions on the other axes when `other_positions`): what a drift data
+  // set of the axis needs.
+  std::vector<RunRecord> LoadAxisRuns(int64_t machine_id, const std::string& axis,
+                                      bool other_positions = false);
   int64_t CountPoints(int64_t machine_id);
   int CountRunsSince(int64_t machine_id, int64_t since_ms);
   // The newest datum point (k = 0) of the machine, by time.
