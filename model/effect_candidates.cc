@@ -8,7 +8,6 @@
 #include "model/effect_search.h"
 
 namespace thermocomp {
-namespace {}  // namespace
 
 std::vector<EffectTerm> GenerateCandidates(const EffectSearchInput& in,
                                            const EffectSearchOptions& opt) {

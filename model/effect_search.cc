@@ -75,10 +75,15 @@ class Search {
   std::map<std::string, EffectTerm> partners_;    // this round's masked pair: first -> follow-up
   std::map<std::string, std::string> revisions_;  // candidate -> how it changes a declared term
   // Once no more is found: an added effect superseded by a later one leaves
-  // the list; each other must still earn its place in the final model (its
-  // removal costs at least equivalent_t standard errors), at the time
-  // constant that is best there.
+  // the list; each other must still earn its place in the final model by
+  // the bar it entered by (its removal costs at least min_t standard
+  // errors, the others' time constants re-tuned), at the time constant
+  // that is best there.
   Status Settle(Design& design, LinearFit& fit, EffectSearchResult& r);
+  // `design` with each added effect that has a time constant at the one
+  // best for it there; *moved maps the old names to the new terms.
+  Design Retuned(const Design& design, const EffectSearchResult& r,
+                 std::map<std::string, EffectTerm>* moved);
   // What the sensors' noise adds to the design's squared error.
   double NoiseSse(const Design& design, const LinearFit& fit);
 
@@ -88,6 +93,25 @@ class Search {
   std::set<std::string> declared_sources_;
   std::map<std::string, double> noise_c_, interval_min_;
 };
+
+Design Search::Retuned(const Design& design, const EffectSearchResult& r,
+                       std::map<std::string, EffectTerm>* moved) {
+  Design d = design;
+  for (const auto& effect : r.effects) {
+    const int at = d.Find(effect.term.Name());
+    if (at < 0 || effect.term.tau_min <= 0) continue;
+    Design without = d;
+    without.Erase(at);
+    without = d_.Recomputed(without);
+    LinearFit fit;
+    if (!d_.Refit(without, &fit).ok()) continue;
+    const EffectTerm tuned = d_.RefineTau(without, fit, effect.term);
+    if (tuned.Name() == effect.term.Name()) continue;
+    d = d_.With(without, tuned);
+    (*moved)[effect.term.Name()] = tuned;
+  }
+  return d;
+}
 
 Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
   for (size_t e = 0; e < r.effects.size();) {
@@ -112,12 +136,24 @@ Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
       if (tuned.Name() != term.Name() && g.ok() && g->relative >= 0) term = tuned;
     }
     const Design with = d_.With(without, term);
+    // Without it, the other effects may take their own time constants back
+    // (one lag that stood in for part of another's response).
+    std::map<std::string, EffectTerm> moved;
+    const Design retuned = Retuned(without, r, &moved);
     auto keep = d_.Gain(without, with);
-    if (keep.ok() && keep->t < opt_.equivalent_t) {
+    auto keep_retuned = d_.Gain(retuned, with);
+    const bool superfluous = keep.ok() && keep->t < opt_.min_t;
+    if (superfluous || (keep_retuned.ok() && keep_retuned->t < opt_.min_t)) {
       r.superseded.push_back(effect.term);
       r.effects.erase(r.effects.begin() + e);
-      design = without;
-      fit = without_fit;
+      design = superfluous ? without : retuned;
+      if (!superfluous) {
+        for (auto& other : r.effects) {
+          if (auto m = moved.find(other.term.Name()); m != moved.end()) other.term = m->second;
+        }
+      }
+      if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
+      e = 0;  // the others are checked again in the new model
       continue;
     }
     if (term.Name() != effect.term.Name()) {

@@ -94,7 +94,8 @@ nlohmann::json AnalysisReportJson(const EffectSearchResult& r, const AnalysisCon
   for (const auto& s : r.closest) {
     closest.push_back({{"name", s.term.Name()},
                        {"cv_rmse_mm", FiniteOrNull(s.cv_rmse)},
-                       {"p_adjusted", FiniteOrNull(s.p_adjusted)}});
+                       {"p_adjusted", FiniteOrNull(s.p_adjusted)},
+                       {"confidence", GainJson(s.gain)}});
   }
   nlohmann::json superseded = nlohmann::json::array();
   for (const auto& t : r.superseded) superseded.push_back(t.Name());
@@ -175,11 +176,17 @@ std::string AnalysisMarkdown(const nlohmann::json& j) {
     }
   }
   if (j.contains("closest_candidates") && !j["closest_candidates"].empty()) {
-    md += "Closest candidates that did not pass (CV RMSE with it, um; adjusted p): ";
+    md +=
+        "Closest candidates that did not pass (CV RMSE with it, um; adjusted p; t of its "
+        "validated gain, which must reach the configured min_t): ";
     std::string list;
     for (const auto& c : j["closest_candidates"]) {
-      list += (list.empty() ? "" : ", ") + ("`" + c.value("name", "") + "` " + Um(c["cv_rmse_mm"]) +
-                                            ", " + Num(c["p_adjusted"], "%.2g"));
+      const nlohmann::json t = c.contains("confidence")
+                                   ? c["confidence"].value("t", nlohmann::json())
+                                   : nlohmann::json();
+      list += (list.empty() ? "" : ", ") +
+              ("`" + c.value("name", "") + "` " + Um(c["cv_rmse_mm"]) + ", " +
+               Num(c["p_adjusted"], "%.2g") + ", t " + Num(t, "%.1f"));
     }
     md += list + ".\n\n";
   }
