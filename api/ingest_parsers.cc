@@ -384,4 +384,76 @@ bool ParseProbePointsCsv(const std::string& body, std::vector<ProbePointInput>& 
   return errors.empty();
 }
 
+bool ParseDisplacementsCsv(const std::string& body, int64_t run_gap_ms,
+                           std::vector<ProbePointInput>& out, FieldErrors& errors) {
+  auto rows = SplitCsv(body);
+  const bool has_run = !rows.empty() && rows[0].size() > 1 && rows[0][1] == "run";
+  const size_t first_axis = has_run ? 2 : 1;
+  bool header_ok = !rows.empty() && rows[0].size() > first_axis && rows[0][0] == "ts";
+  for (size_t c = first_axis; header_ok && c < rows[0].size(); ++c) {
+    header_ok = rows[0][c].size() > 4 && rows[0][c].substr(0, 4) == "dev_";
+  }
+  if (!header_ok) {
+    errors.push_back({0, "header", "CSV must start with ts,[run,] then dev_<axis> columns"});
+    return false;
+  }
+  const auto& header = rows[0];
+  std::string run;
+  int k = 0;
+  int64_t last_ts = 0;
+  for (size_t r = 1; r < rows.size(); ++r) {
+    const auto& cells = rows[r];
+    const size_t index = r - 1;
+    if (cells.size() != header.size()) {
+      errors.push_back({index, "row", "expected " + std::to_string(header.size()) + " fields"});
+      continue;
+    }
+    auto ts = ParseTimestamp(cells[0]);
+    if (!ts) {
+      errors.push_back({index, "ts", kTsHelp});
+      continue;
+    }
+    if (!out.empty() && *ts <= last_ts) {
+      errors.push_back({index, "ts", "not after the previous sample (samples in time order)"});
+      continue;
+    }
+    const std::string given = has_run ? std::string(cells[1]) : std::string();
+    const bool new_run =
+        out.empty() || (has_run && given != run) || (!has_run && *ts - last_ts > run_gap_ms);
+    if (new_run) {
+      if (has_run) {
+        run = given;
+      } else {  // "D20260301T060000Z": the start, in a run's alphabet
+        run = "D";
+        for (char ch : FormatRfc3339(*ts).substr(0, 19)) {
+          if (ch != '-' && ch != ':') run += ch;
+        }
+        run += 'Z';
+      }
+      k = 0;
+    }
+    if (k > kMaxProbeK) {
+      errors.push_back(
+          {index, "ts", "more than " + std::to_string(kMaxProbeK) + " samples in run"});
+      continue;
+    }
+    ProbePointInput in;
+    in.ts_ms = *ts;
+    in.run = run;
+    in.k = k++;
+    for (size_t c = first_axis; c < cells.size(); ++c) {
+      if (cells[c].empty()) continue;
+      auto v = ParseDouble(cells[c]);
+      if (!v) {
+        errors.push_back({index, std::string(header[c]), "not a number"});
+        continue;
+      }
+      in.axes[std::string(header[c].substr(4))].deviation_mm = *v;
+    }
+    last_ts = *ts;
+    out.push_back(std::move(in));
+  }
+  return errors.empty();
+}
+
 }  // namespace thermocomp::api

@@ -27,5 +27,13 @@ bool ParseProbePointsJson(const std::string& body, std::vector<ProbePointInput>&
 // "ts,run,k,pos_X...,dev_X...,[sensor...]".
 bool ParseProbePointsCsv(const std::string& body, std::vector<ProbePointInput>& out,
                          FieldErrors& errors);
+// Displacement measured continuously (a test mandrel and displacement
+// sensors): "ts,[run,]dev_X,dev_Y,..." in time order, deviations in mm. A
+// run is a heating cycle: it starts at the first sample, where the `run`
+// value changes, or after a gap longer than `run_gap_ms` (then named by its
+// start, "D20260301T060000Z"); its first sample is its datum (k = 0), the others
+// follow as k = 1, 2, ... Each file holds whole runs.
+bool ParseDisplacementsCsv(const std::string& body, int64_t run_gap_ms,
+                           std::vector<ProbePointInput>& out, FieldErrors& errors);
 
 }  // namespace thermocomp::api

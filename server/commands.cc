@@ -260,6 +260,8 @@ const std::vector<CommandSpec>& Commands() {
       {"import",
        "  import    --machine M [--temperatures F] [--signals F] [--probe-points F]  (CSV or "
        "JSON)\n"
+       "            --machine M --displacements F [--run-gap-min 30]  (continuous: "
+       "ts,[run,]dev_X...)\n"
        "            --machine M --positioning laser.csv --axis Y --ts RFC3339 "
        "[--compensation-active]\n"
        "            --study fms_datum_drift.csv [--machine fms-study] [--start RFC3339]\n"
@@ -271,6 +273,8 @@ const std::vector<CommandSpec>& Commands() {
         {"temperatures", true},
         {"signals", true},
         {"probe-points", true},
+        {"displacements", true},
+        {"run-gap-min", true},
         {"positioning", true},
         {"axis", true},
         {"ts", true},

@@ -152,6 +152,22 @@ int Import(const Args& a) {
                 (*r)["iso230_2"]["R_um"].get<double>(), (*r)["iso230_2"]["B_um"].get<double>(),
                 created ? "" : " (already stored)");
   }
+  if (a.Has("displacements")) {
+    std::string text = ReadFile(a.Get("displacements"), ok);
+    if (!ok) return Fail("cannot read " + a.Get("displacements"));
+    const double gap_min = std::stod(a.Get("run-gap-min", "30"));
+    if (!(gap_min > 0 && gap_min <= 1e5)) return Fail("--run-gap-min: not within 0..100000");
+    std::vector<ProbePointInput> points;
+    IngestResult malformed;
+    if (!api::ParseDisplacementsCsv(text, static_cast<int64_t>(gap_min * 60000), points,
+                                    malformed.errors)) {
+      malformed.status = Status::InvalidArgument("malformed CSV");
+      return Fail("displacements: " + Describe(malformed));
+    }
+    IngestResult r = (*app)->ingest().AddProbePoints(machine, points, "import");
+    if (!r.status.ok()) return Fail("displacements: " + Describe(r));
+    std::printf("displacements: %s\n", Describe(r).c_str());
+  }
   for (const std::string kind : {"temperatures", "signals", "probe-points"}) {
     if (!a.Has(kind)) continue;
     std::string text = ReadFile(a.Get(kind), ok);

@@ -68,6 +68,42 @@ TEST(IngestParsersTest, ProbeCsvSplitsPositionDeviationAndSnapshot) {
   EXPECT_DOUBLE_EQ(out[0].temperatures["Ty2"], 21.4);
 }
 
+TEST(IngestParsersTest, ContinuousDisplacementBecomesRunsWithTheirFirstSampleAsDatum) {
+  std::vector<ProbePointInput> out;
+  FieldErrors errors;
+  // 15-s samples; a gap of an hour starts a new heating cycle.
+  ASSERT_TRUE(ParseDisplacementsCsv(
+      "ts,dev_X,dev_Y\n2026-03-01T06:00:00Z,0,0\n2026-03-01T06:00:15Z,0.001,0.002\n"
+      "2026-03-01T06:00:30Z,,0.003\n2026-03-01T07:00:30Z,0.5,0.6\n2026-03-01T07:00:45Z,0.5,0.7\n",
+      30 * 60000, out, errors))
+      << errors[0].message;
+  ASSERT_EQ(out.size(), 5u);
+  EXPECT_EQ(out[0].run, "D20260301T060000Z");
+  EXPECT_EQ(out[0].k, 0);
+  EXPECT_EQ(out[2].k, 2);
+  EXPECT_FALSE(out[2].axes.count("X"));  // an empty cell is no value
+  EXPECT_DOUBLE_EQ(*out[2].axes.at("Y").deviation_mm, 0.003);
+  EXPECT_EQ(out[3].run, "D20260301T070030Z");
+  EXPECT_EQ(out[3].k, 0);
+  EXPECT_EQ(out[4].k, 1);
+
+  // A run column decides the runs; samples must be in time order.
+  out.clear();
+  ASSERT_TRUE(ParseDisplacementsCsv("ts,run,dev_Z\n1772344800000,A,0\n1772344815000,B,1\n",
+                                    30 * 60000, out, errors));
+  EXPECT_EQ(out[1].run, "B");
+  EXPECT_EQ(out[1].k, 0);
+  out.clear();
+  EXPECT_FALSE(ParseDisplacementsCsv("ts,dev_Y\n1772344815000,0\n1772344800000,1\nx,2\n",
+                                     30 * 60000, out, errors));
+  ASSERT_EQ(errors.size(), 2u);
+  EXPECT_EQ(errors[0].field, "ts");
+  EXPECT_EQ(errors[0].index, 1u);
+  errors.clear();
+  EXPECT_FALSE(ParseDisplacementsCsv("ts,Y\n1772344800000,0\n", 60000, out, errors));
+  EXPECT_EQ(errors[0].field, "header");
+}
+
 TEST(IngestParsersTest, TimestampForms) {
   EXPECT_EQ(ParseTimestamp("2026-03-01T07:00:00+01:00"), ParseTimestamp("2026-03-01T06:00:00Z"));
   EXPECT_EQ(ParseTimestamp("2026-03-01T05:30:00-00:30"), ParseTimestamp("2026-03-01T06:00:00Z"));

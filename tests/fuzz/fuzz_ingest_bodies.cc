@@ -1,6 +1,6 @@
 // Every ingest body parser (temperatures, signals, probe points; JSON and
-// CSV) on arbitrary bytes: the first byte picks the parser. A parse either
-// succeeds or reports errors; never a crash, never unbounded errors.
+// CSV; continuous displacement CSV) on arbitrary bytes: the first byte picks the parser. A parse
+// either succeeds or reports errors; never a crash, never unbounded errors.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -13,7 +13,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string body(reinterpret_cast<const char*>(data) + 1, size - 1);
   FieldErrors errors;
   bool ok = false;
-  switch (data[0] % 6) {
+  switch (data[0] % 7) {
     case 0: {
       std::vector<TemperatureInput> out;
       ok = api::ParseTemperaturesJson(body, out, errors);
@@ -39,9 +39,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       ok = api::ParseProbePointsJson(body, out, errors);
       break;
     }
-    default: {
+    case 5: {
       std::vector<ProbePointInput> out;
       ok = api::ParseProbePointsCsv(body, out, errors);
+      break;
+    }
+    default: {
+      std::vector<ProbePointInput> out;
+      ok = api::ParseDisplacementsCsv(body, 30 * 60000, out, errors);
       break;
     }
   }

@@ -106,6 +106,25 @@ TEST(CliTest, AnalyzeAndPositioningImportWorkOnADatabase) {
                                       "/laser.csv --axis Y");
   EXPECT_EQ(code, 1);
   EXPECT_NE(out.find("--ts"), std::string::npos) << out;
+
+  // Continuous displacement goes in as it is: 15-s samples, runs by gaps.
+  {
+    FILE* f = fopen((dir + "/displacement.csv").c_str(), "w");
+    ASSERT_TRUE(f);
+    fputs("ts,dev_Y\n", f);
+    for (int i = 0; i < 240; ++i)
+      fprintf(f, "%lld,%.6f\n", 1772352000000LL + i * 15000LL, i * 1e-5);
+    for (int i = 0; i < 240; ++i)
+      fprintf(f, "%lld,%.6f\n", 1772438400000LL + i * 15000LL, i * 1e-5);
+    fclose(f);
+  }
+  std::tie(code, out) = RunThermocomp("import --db " + db + " --machine m1 --displacements " + dir +
+                                      "/displacement.csv");
+  EXPECT_EQ(code, 0) << out;
+  EXPECT_NE(out.find("displacements: 480 accepted, 0 duplicates"), std::string::npos) << out;
+  std::tie(code, out) = RunThermocomp("import --db " + db + " --machine m1 --displacements " + dir +
+                                      "/displacement.csv --run-gap-min 0");
+  EXPECT_EQ(code, 1) << out;
   std::system(("rm -rf " + dir).c_str());
 }
 
