@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/status.h"
 #include "model/pitch_table.h"
-#include "model/status.h"
 
 namespace thermocomp::api {
 

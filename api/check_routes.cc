@@ -5,8 +5,8 @@
 #include "api/check_reports.h"
 #include "api/http_util.h"
 #include "api/ingest_parsers.h"
+#include "core/time_format.h"
 #include "server/json_fields.h"
-#include "server/time_format.h"
 
 namespace thermocomp::api {
 namespace {

@@ -12,10 +12,10 @@
 #include "api/json_mapping.h"
 #include "api/openapi.h"
 #include "api/problem.h"
+#include "core/log.h"
+#include "core/time_format.h"
 #include "server/analysis_report.h"
 #include "server/json_fields.h"
-#include "server/log.h"
-#include "server/time_format.h"
 
 namespace thermocomp::api {
 namespace {

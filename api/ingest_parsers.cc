@@ -5,9 +5,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/time_format.h"
 #include "server/json_fields.h"
 #include "server/json_text.h"
-#include "server/time_format.h"
 
 namespace thermocomp::api {
 namespace {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "server/ingest_service.h"
+#include "core/ingest_inputs.h"
 
 namespace thermocomp::api {
 

@@ -3,10 +3,10 @@
 #include <cmath>
 
 #include "api/ingest_parsers.h"
+#include "core/time_format.h"
 #include "server/json_fields.h"
 #include "server/json_text.h"
 #include "server/model_codec.h"
-#include "server/time_format.h"
 
 namespace thermocomp::api {
 

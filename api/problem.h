@@ -7,8 +7,8 @@
 
 #include <httplib.h>
 
-#include "model/status.h"
-#include "server/ingest_service.h"
+#include "core/ingest_inputs.h"
+#include "core/status.h"
 
 namespace thermocomp::api {
 

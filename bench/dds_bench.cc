@@ -15,7 +15,7 @@
 #include <sqlite3.h>
 
 #include "api/dds/dds_client.h"
-#include "server/time_format.h"
+#include "core/time_format.h"
 #include "storage/database.h"
 
 namespace thermocomp {

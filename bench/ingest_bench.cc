@@ -11,7 +11,7 @@
 #include <sqlite3.h>
 
 #include "api/http_server.h"
-#include "server/time_format.h"
+#include "core/time_format.h"
 
 namespace thermocomp {
 namespace {

@@ -10,8 +10,8 @@
 
 #include <Eigen/Dense>
 
-#include "model/status.h"
-#include "model/time_units.h"
+#include "core/status.h"
+#include "core/time_units.h"
 
 namespace thermocomp {
 

@@ -4,8 +4,8 @@
 
 #include <vector>
 
+#include "core/status.h"
 #include "model/observations.h"
-#include "model/status.h"
 
 namespace thermocomp {
 

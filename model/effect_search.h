@@ -32,11 +32,11 @@
 #include <string>
 #include <vector>
 
+#include "core/status.h"
 #include "model/block_validation.h"
 #include "model/cross_validation.h"
 #include "model/effect_term.h"
 #include "model/linear_fit.h"
-#include "model/status.h"
 #include "model/term_features.h"
 
 namespace thermocomp {

@@ -11,7 +11,7 @@
 
 #include <Eigen/Dense>
 
-#include "model/status.h"
+#include "core/status.h"
 
 namespace thermocomp {
 

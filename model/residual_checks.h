@@ -6,8 +6,8 @@
 
 #include <Eigen/Dense>
 
+#include "core/status.h"
 #include "model/linear_fit.h"
-#include "model/status.h"
 
 namespace thermocomp {
 

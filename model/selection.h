@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "core/status.h"
 #include "model/linear_fit.h"
 #include "model/observations.h"
-#include "model/status.h"
 
 namespace thermocomp {
 

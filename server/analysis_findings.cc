@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/time_format.h"
 #include "server/model_codec.h"
-#include "server/time_format.h"
 
 namespace thermocomp {
 namespace {

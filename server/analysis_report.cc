@@ -2,9 +2,9 @@
 
 #include <cstdio>
 
+#include "core/time_format.h"
 #include "server/analysis_findings.h"
 #include "server/model_codec.h"
-#include "server/time_format.h"
 
 namespace thermocomp {
 namespace {

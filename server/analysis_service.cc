@@ -3,16 +3,16 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/log.h"
+#include "core/time_format.h"
 #include "model/acceptance.h"
 #include "model/drift_model.h"
 #include "server/analysis_report.h"
 #include "server/drift_dataset.h"
 #include "server/json_text.h"
-#include "server/log.h"
 #include "server/machine_lookup.h"
 #include "server/model_codec.h"
 #include "server/term_input.h"
-#include "server/time_format.h"
 #include "storage/aux_store.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"

@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "server/clock.h"
+#include "core/clock.h"
 #include "server/config.h"
 #include "server/probe_temperature_cache.h"
 #include "storage/analysis_store.h"

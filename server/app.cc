@@ -1,6 +1,6 @@
 #include "server/app.h"
 
-#include "server/log.h"
+#include "core/log.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"
 

@@ -5,9 +5,9 @@
 
 #include <memory>
 
+#include "core/clock.h"
 #include "server/analysis_service.h"
 #include "server/check_service.h"
-#include "server/clock.h"
 #include "server/compensation_service.h"
 #include "server/config.h"
 #include "server/fit_service.h"

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <set>
 
+#include "core/time_format.h"
 #include "server/ingest_service.h"
-#include "server/time_format.h"
 #include "storage/aux_store.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"

@@ -8,9 +8,9 @@
 #include <sstream>
 #include <tuple>
 
+#include "core/time_format.h"
 #include "server/json_fields.h"
 #include "server/json_text.h"
-#include "server/time_format.h"
 
 namespace thermocomp {
 namespace {

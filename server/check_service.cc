@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "model/time_units.h"
+#include "core/log.h"
+#include "core/time_format.h"
+#include "core/time_units.h"
 #include "server/json_text.h"
-#include "server/log.h"
 #include "server/machine_lookup.h"
-#include "server/time_format.h"
 #include "storage/aux_store.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"

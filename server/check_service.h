@@ -13,9 +13,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/clock.h"
 #include "model/pitch_table.h"
 #include "server/check_codec.h"
-#include "server/clock.h"
 #include "server/config.h"
 #include "storage/check_store.h"
 #include "storage/database.h"

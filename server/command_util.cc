@@ -5,7 +5,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "server/log.h"
+#include "core/log.h"
 
 namespace thermocomp::cli {
 

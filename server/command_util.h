@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "model/time_units.h"
+#include "core/time_units.h"
 #include "server/app.h"
 #include "sim/virtual_machine.h"
 

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/time_format.h"
 #include "model/drift_model.h"
 #include "server/live_terms.h"
 #include "server/model_codec.h"
-#include "server/time_format.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"

@@ -21,7 +21,7 @@
 #include <thread>
 #include <vector>
 
-#include "server/clock.h"
+#include "core/clock.h"
 #include "server/config.h"
 #include "storage/database.h"
 

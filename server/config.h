@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
+#include "core/status.h"
 #include "model/acceptance.h"
 #include "model/effect_search.h"
 #include "model/selection.h"
-#include "model/status.h"
 
 namespace thermocomp {
 

@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "core/records.h"
 #include "model/observations.h"
 #include "server/probe_temperature_cache.h"
 #include "storage/database.h"
-#include "storage/records.h"
 
 namespace thermocomp {
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <set>
 
+#include "core/log.h"
+#include "core/time_format.h"
 #include "model/acceptance.h"
 #include "model/cross_validation.h"
 #include "model/drift_model.h"
@@ -11,11 +13,9 @@
 #include "model/selection.h"
 #include "server/drift_dataset.h"
 #include "server/json_text.h"
-#include "server/log.h"
 #include "server/machine_lookup.h"
 #include "server/model_codec.h"
 #include "server/term_input.h"
-#include "server/time_format.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"

@@ -14,11 +14,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "server/clock.h"
+#include "core/clock.h"
+#include "core/records.h"
 #include "server/config.h"
 #include "server/probe_temperature_cache.h"
 #include "storage/database.h"
-#include "storage/records.h"
 
 namespace thermocomp {
 

@@ -2,6 +2,7 @@
 
 #include "storage/check_store.h"
 
+#include "core/time_format.h"
 #include "model/drift_model.h"
 #include "model/thinning.h"
 #include "server/drift_dataset.h"
@@ -9,7 +10,6 @@
 #include "server/machine_lookup.h"
 #include "server/model_codec.h"
 #include "server/term_input.h"
-#include "server/time_format.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"

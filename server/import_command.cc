@@ -4,9 +4,9 @@
 #include <sstream>
 
 #include "api/ingest_parsers.h"
+#include "core/time_format.h"
 #include "server/check_codec.h"
 #include "server/command_util.h"
-#include "server/time_format.h"
 
 namespace thermocomp::cli {
 

@@ -4,8 +4,8 @@
 #include <cctype>
 #include <cmath>
 
+#include "core/time_format.h"
 #include "model/ewma_filter.h"
-#include "server/time_format.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
 #include "storage/probe_store.h"

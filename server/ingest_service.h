@@ -9,64 +9,20 @@
 #include <string>
 #include <vector>
 
-#include "model/status.h"
-#include "server/clock.h"
-#include "server/field_errors.h"
+#include "core/clock.h"
+#include "core/field_errors.h"
+#include "core/ingest_inputs.h"
+#include "core/records.h"
+#include "core/status.h"
 #include "server/probe_temperature_cache.h"
 #include "storage/database.h"
-#include "storage/records.h"
 
 namespace thermocomp {
-
-struct TemperatureInput {
-  std::string sensor;
-  int64_t ts_ms = 0;
-  double value = 0;
-};
-
-struct ProbePointInput {
-  std::string run;
-  int k = 0;
-  int64_t ts_ms = 0;
-  std::map<std::string, AxisValue> axes;       // positions and deviations by axis
-  std::map<std::string, double> temperatures;  // optional filtered snapshot
-};
-
-// An auxiliary signal the machine logs (spindle speed, load, ...).
-struct SignalInput {
-  std::string signal;
-  int64_t ts_ms = 0;
-  double value = 0;
-};
-
-// Something that happened to the machine: maintenance, a collision, a
-// column check, or other.
-struct EventInput {
-  int64_t ts_ms = 0;
-  std::string kind;
-  std::string note;
-};
-
-struct IngestResult {
-  Status status;
-  FieldErrors errors;
-  int accepted = 0;
-  int duplicates = 0;
-  int64_t id = 0;  // AddEvent: the stored event
-};
 
 // A refused batch: the status (malformed values 400 before unusable
 // references 422 before conflicts 409) and the items at fault.
 IngestResult Rejected(FieldErrors errors, Status status);
 
-// Limits shared by every ingest path.
-constexpr double kMinTemperatureC = -40.0;
-constexpr double kMaxTemperatureC = 150.0;
-constexpr int64_t kMaxFutureMs = 24 * 3600 * 1000;
-constexpr double kMaxAbsDeviationMm = 10.0;
-constexpr double kMaxAbsSignal = 1e9;
-constexpr size_t kMaxNoteLength = 1000;
-constexpr int kMaxProbeK = 1000000;  // a point index within a run
 // A late sample's replay of the filter stops where the change to the
 // stored filtered values falls below this (degC): far below any sensor's
 // resolution, and a bounded number of rows (ln(tol/change) / ln(1-alpha)).

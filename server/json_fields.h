@@ -13,8 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "server/field_errors.h"
-#include "server/time_format.h"
+#include "core/field_errors.h"
+#include "core/time_format.h"
 
 namespace thermocomp {
 

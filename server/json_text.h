@@ -16,8 +16,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "model/status.h"
-#include "server/field_errors.h"
+#include "core/field_errors.h"
+#include "core/status.h"
 
 namespace thermocomp {
 

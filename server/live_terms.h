@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "core/records.h"
 #include "model/drift_model.h"
 #include "storage/database.h"
-#include "storage/records.h"
 
 namespace thermocomp {
 

@@ -4,9 +4,9 @@
 
 #include <string>
 
-#include "model/status.h"
+#include "core/records.h"
+#include "core/status.h"
 #include "storage/database.h"
-#include "storage/records.h"
 
 namespace thermocomp {
 

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <set>
 
+#include "core/time_format.h"
 #include "model/ewma_filter.h"
-#include "server/time_format.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "server/time_format.h"
+#include "core/time_format.h"
 
 namespace thermocomp {
 

@@ -3,8 +3,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/status.h"
 #include "model/drift_model.h"
-#include "model/status.h"
 
 namespace thermocomp {
 

@@ -1,6 +1,6 @@
 #include "server/refit_scheduler.h"
 
-#include "server/log.h"
+#include "core/log.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"
 #include "storage/probe_store.h"

@@ -14,9 +14,9 @@
 #include <mutex>
 #include <thread>
 
+#include "core/clock.h"
 #include "server/analysis_service.h"
 #include "server/check_service.h"
-#include "server/clock.h"
 #include "server/config.h"
 #include "server/fit_service.h"
 #include "storage/database.h"

@@ -8,8 +8,8 @@
 
 #include "api/dds/dds_bridge.h"
 #include "api/json_mapping.h"
+#include "core/time_format.h"
 #include "server/command_util.h"
-#include "server/time_format.h"
 #include "sim/live_simulation.h"
 
 namespace thermocomp::cli {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "model/time_units.h"
+#include "core/time_units.h"
 
 namespace thermocomp {
 namespace {

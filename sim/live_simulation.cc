@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "api/dds/dds_client.h"
-#include "model/time_units.h"
-#include "server/log.h"
-#include "server/time_format.h"
+#include "core/log.h"
+#include "core/time_format.h"
+#include "core/time_units.h"
 #include "sim/virtual_machine.h"
 
 namespace thermocomp {

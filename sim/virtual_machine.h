@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
-#include "server/ingest_service.h"
-#include "storage/records.h"
+#include "core/ingest_inputs.h"
+#include "core/records.h"
 
 namespace thermocomp {
 

@@ -16,7 +16,7 @@
 
 #include <sqlite3.h>
 
-#include "model/status.h"
+#include "core/status.h"
 
 namespace thermocomp {
 

@@ -3,8 +3,8 @@
 
 #include <vector>
 
+#include "core/records.h"
 #include "storage/database.h"
-#include "storage/records.h"
 
 namespace thermocomp {
 

@@ -4,8 +4,8 @@
 #include <optional>
 #include <vector>
 
+#include "core/records.h"
 #include "storage/database.h"
-#include "storage/records.h"
 
 namespace thermocomp {
 

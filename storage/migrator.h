@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "model/status.h"
+#include "core/status.h"
 
 namespace thermocomp {
 

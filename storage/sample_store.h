@@ -6,8 +6,8 @@
 #include <optional>
 #include <vector>
 
+#include "core/records.h"
 #include "storage/database.h"
-#include "storage/records.h"
 
 namespace thermocomp {
 

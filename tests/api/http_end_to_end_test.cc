@@ -7,7 +7,7 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
-#include "server/time_format.h"
+#include "core/time_format.h"
 
 namespace thermocomp {
 namespace {

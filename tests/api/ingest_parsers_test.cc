@@ -1,5 +1,5 @@
 #include "api/ingest_parsers.h"
-#include "server/time_format.h"
+#include "core/time_format.h"
 
 #include <gtest/gtest.h>
 

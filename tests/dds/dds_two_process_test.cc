@@ -11,7 +11,7 @@
 #include <set>
 
 #include "api/dds/dds_client.h"
-#include "server/time_format.h"
+#include "core/time_format.h"
 #include "storage/database.h"
 #include "tests/dds/dds_config.h"
 #include "tests/server_process.h"

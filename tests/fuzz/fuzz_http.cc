@@ -13,7 +13,7 @@
 #include <string>
 
 #include "api/http_server.h"
-#include "server/log.h"
+#include "core/log.h"
 #include "sim/virtual_machine.h"
 
 namespace {

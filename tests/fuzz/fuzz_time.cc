@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "server/time_format.h"
+#include "core/time_format.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace thermocomp;

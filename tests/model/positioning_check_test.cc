@@ -224,7 +224,8 @@ TEST(ColumnCheck, CircleThroughThreeSpherePositionsIsExact) {
 }
 
 TEST(ColumnCheck, ArtifactExpansionIsCorrectedBeforeUse) {
-  // The study's KD sphere in Y (docs/model.md §11), eps = 0.0069 * TW - 0.1371 mm; at 21.3 degC 0.00987 mm.
+  // The study's KD sphere in Y (docs/model.md §11), eps = 0.0069 * TW - 0.1371 mm; at 21.3 degC
+  // 0.00987 mm.
   PointExpansion kd;
   kd.beta_y = 0.0069;
   kd.b_y = -0.1371;

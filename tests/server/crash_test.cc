@@ -11,7 +11,7 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
-#include "server/time_format.h"
+#include "core/time_format.h"
 #include "storage/database.h"
 #include "tests/server_process.h"
 

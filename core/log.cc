@@ -1,4 +1,4 @@
-#include "server/log.h"
+#include "core/log.h"
 
 #include <atomic>
 #include <cstdio>
@@ -6,7 +6,7 @@
 #include <mutex>
 #include <string>
 
-#include "server/time_format.h"
+#include "core/time_format.h"
 
 namespace thermocomp::log {
 namespace {

@@ -1,4 +1,4 @@
-#include "server/time_format.h"
+#include "core/time_format.h"
 
 #include <charconv>
 #include <chrono>
