@@ -1,4 +1,4 @@
-// Helpers shared by the command-line subcommands (server/commands.cc,
+// Helpers shared by the command-line subcommands (app/commands.cc,
 // import_command.cc, simulate_command.cc): option parsing, errors, the App.
 #pragma once
 

@@ -1,4 +1,4 @@
-#include "server/command_util.h"
+#include "app/command_util.h"
 
 #include <cstdio>
 #include <filesystem>

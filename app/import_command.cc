@@ -4,9 +4,9 @@
 #include <sstream>
 
 #include "api/ingest_parsers.h"
+#include "app/command_util.h"
 #include "core/time_format.h"
 #include "server/check_codec.h"
-#include "server/command_util.h"
 
 namespace thermocomp::cli {
 

@@ -1,4 +1,4 @@
-#include "server/commands.h"
+#include "app/commands.h"
 
 #include <cmath>
 #include <csignal>
@@ -15,11 +15,11 @@
 #include "api/http_server.h"
 #include "api/ingest_parsers.h"
 #include "api/json_mapping.h"
+#include "app/command_util.h"
+#include "app/live_simulation.h"
 #include "core/log.h"
 #include "core/time_format.h"
 #include "server/analysis_report.h"
-#include "server/command_util.h"
-#include "sim/live_simulation.h"
 #include "sim/virtual_machine.h"
 #include "storage/machine_store.h"
 

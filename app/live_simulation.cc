@@ -1,4 +1,4 @@
-#include "sim/live_simulation.h"
+#include "app/live_simulation.h"
 
 #include <algorithm>
 #include <chrono>

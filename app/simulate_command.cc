@@ -8,9 +8,9 @@
 
 #include "api/dds/dds_bridge.h"
 #include "api/json_mapping.h"
+#include "app/command_util.h"
+#include "app/live_simulation.h"
 #include "core/time_format.h"
-#include "server/command_util.h"
-#include "sim/live_simulation.h"
 
 namespace thermocomp::cli {
 namespace {
