@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "server/config.h"
+#include "service/config.h"
 
 namespace thermocomp::api {
 

@@ -6,7 +6,7 @@
 #include "api/http_util.h"
 #include "api/ingest_parsers.h"
 #include "core/time_format.h"
-#include "server/json_fields.h"
+#include "service/json_fields.h"
 
 namespace thermocomp::api {
 namespace {

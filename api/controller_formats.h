@@ -17,7 +17,7 @@
 #include <optional>
 #include <string>
 
-#include "server/compensation_service.h"
+#include "service/compensation_service.h"
 
 namespace thermocomp::api {
 

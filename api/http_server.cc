@@ -14,8 +14,8 @@
 #include "api/problem.h"
 #include "core/log.h"
 #include "core/time_format.h"
-#include "server/analysis_report.h"
-#include "server/json_fields.h"
+#include "service/analysis_report.h"
+#include "service/json_fields.h"
 
 namespace thermocomp::api {
 namespace {

@@ -8,9 +8,9 @@
 #include <string>
 #include <thread>
 
-// server/app.h first: glibc's resolv.h (pulled in by httplib.h) defines
+// service/app.h first: glibc's resolv.h (pulled in by httplib.h) defines
 // a macro `_res` that breaks Eigen's headers when they come after it.
-#include "server/app.h"
+#include "service/app.h"
 
 #include <httplib.h>
 

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/problem.h"
-#include "server/json_text.h"
+#include "service/json_text.h"
 
 namespace thermocomp::api {
 

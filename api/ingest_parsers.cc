@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/time_format.h"
-#include "server/json_fields.h"
-#include "server/json_text.h"
+#include "service/json_fields.h"
+#include "service/json_text.h"
 
 namespace thermocomp::api {
 namespace {

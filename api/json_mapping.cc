@@ -4,9 +4,9 @@
 
 #include "api/ingest_parsers.h"
 #include "core/time_format.h"
-#include "server/json_fields.h"
-#include "server/json_text.h"
-#include "server/model_codec.h"
+#include "service/json_fields.h"
+#include "service/json_text.h"
+#include "service/model_codec.h"
 
 namespace thermocomp::api {
 

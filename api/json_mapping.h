@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "server/app.h"  // before httplib.h, see http_server.h
+#include "service/app.h"  // before httplib.h, see http_server.h
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>

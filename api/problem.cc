@@ -2,7 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "server/json_text.h"
+#include "service/json_text.h"
 
 namespace thermocomp::api {
 namespace {

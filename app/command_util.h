@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/time_units.h"
-#include "server/app.h"
+#include "service/app.h"
 #include "sim/virtual_machine.h"
 
 namespace thermocomp::cli {

@@ -19,7 +19,7 @@
 #include "app/live_simulation.h"
 #include "core/log.h"
 #include "core/time_format.h"
-#include "server/analysis_report.h"
+#include "service/analysis_report.h"
 #include "sim/virtual_machine.h"
 #include "storage/machine_store.h"
 

@@ -6,7 +6,7 @@
 #include "api/ingest_parsers.h"
 #include "app/command_util.h"
 #include "core/time_format.h"
-#include "server/check_codec.h"
+#include "service/check_codec.h"
 
 namespace thermocomp::cli {
 

@@ -17,7 +17,7 @@
 #include <benchmark/benchmark.h>
 #include <sqlite3.h>
 
-#include "server/app.h"
+#include "service/app.h"
 #include "sim/sim_recording.h"
 
 namespace thermocomp {

@@ -8,8 +8,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "server/app.h"
-#include "server/model_codec.h"
+#include "service/app.h"
+#include "service/model_codec.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"

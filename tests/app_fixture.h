@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "api/http_server.h"
-#include "server/app.h"
+#include "service/app.h"
 #include "sim/virtual_machine.h"
 
 namespace thermocomp::testing {

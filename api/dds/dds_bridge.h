@@ -18,7 +18,7 @@
 #include <string>
 #include <thread>
 
-#include "server/app.h"
+#include "service/app.h"
 
 namespace thermocomp::dds {
 

@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <string>
 
-#include "server/config.h"
+#include "service/config.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace thermocomp;

@@ -2,7 +2,7 @@
 // routes, auth, parsers, services and a real SQLite file, from an
 // in-memory connection: whatever the bytes, a response is written, it is
 // well-formed, and the process survives.
-#include "server/app.h"  // first: Eigen before httplib.h
+#include "service/app.h"  // first: Eigen before httplib.h
 
 #include <unistd.h>
 

@@ -1,0 +1,68 @@
+#include "service/app.h"
+
+#include "core/log.h"
+#include "storage/machine_store.h"
+#include "storage/model_store.h"
+
+namespace thermocomp {
+
+StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& clock) {
+  std::unique_ptr<App> app(new App(config, clock));
+  DatabaseOptions opt;
+  opt.synchronous = config.synchronous;
+  opt.busy_timeout_ms = config.busy_timeout_ms;
+  auto db = Database::Open(config.db_path, opt);
+  if (!db.ok()) return db.status();
+  app->db_ = std::move(db).value();
+  Database& d = *app->db_;
+  const Config& c = app->config_;
+  ProbeTemperatureCache* cache = &app->probe_temperatures_;
+  app->machines_ = std::make_unique<MachineService>(d, clock, cache);
+  app->ingest_ = std::make_unique<IngestService>(d, clock, cache);
+  app->fits_ = std::make_unique<FitService>(d, clock, c, cache);
+  app->analyses_ = std::make_unique<AnalysisService>(d, clock, c, cache);
+  app->checks_ = std::make_unique<CheckService>(d, clock, c);
+  app->compensation_ = std::make_unique<CompensationService>(d, clock, c);
+  app->history_ = std::make_unique<HistoryService>(d, c, cache);
+  app->scheduler_ = std::make_unique<RefitScheduler>(d, *app->fits_, clock, c, app->analyses_.get(),
+                                                     app->checks_.get());
+  CompensationService* compensation = app->compensation_.get();
+  auto changed = [compensation](const std::string& machine) { compensation->MarkChanged(machine); };
+  app->ingest_->SetListener(changed);
+  app->fits_->SetListener(changed);
+  app->analyses_->SetListener(changed);
+  compensation->Start();
+  log::Info("database open",
+            "path=" + config.db_path + " schema_version=" + std::to_string(d.schema_version()));
+  return app;
+}
+
+std::string App::ModelGauges() {
+  std::string out =
+      "# HELP thermocomp_fits_total Model versions fitted and stored.\n"
+      "# TYPE thermocomp_fits_total counter\n"
+      "thermocomp_fits_total " +
+      std::to_string(fits_->fits_stored()) + "\n";
+  out +=
+      "# HELP thermocomp_model_age_seconds Age of the active model per axis.\n"
+      "# TYPE thermocomp_model_age_seconds gauge\n";
+  std::lock_guard<std::mutex> lock(db_->mutex());
+  ModelStore models(*db_);
+  const int64_t now = clock_.NowMs();
+  std::string overdue =
+      "# HELP thermocomp_column_checks_overdue Column-check requests past their due time.\n"
+      "# TYPE thermocomp_column_checks_overdue gauge\n";
+  for (const auto& m : MachineStore(*db_).List()) {
+    overdue += "thermocomp_column_checks_overdue{machine=\"" + m.name + "\"} " +
+               std::to_string(CountChecks(*db_, m.id, now).overdue) + "\n";
+    for (const auto& a : m.axes) {
+      if (auto rec = models.Active(a.id)) {
+        out += "thermocomp_model_age_seconds{machine=\"" + m.name + "\",axis=\"" + a.name + "\"} " +
+               std::to_string((now - rec->created_ms) / 1000) + "\n";
+      }
+    }
+  }
+  return out + overdue;
+}
+
+}  // namespace thermocomp

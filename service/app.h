@@ -1,0 +1,60 @@
+// App: the wiring of one thermocomp instance: the database, the services
+// and the scheduler, built from a Config. Sources (HTTP, import, DDS) and
+// sinks talk to the services, never to storage directly.
+#pragma once
+
+#include <memory>
+
+#include "core/clock.h"
+#include "service/analysis_service.h"
+#include "service/check_service.h"
+#include "service/compensation_service.h"
+#include "service/config.h"
+#include "service/fit_service.h"
+#include "service/history_service.h"
+#include "service/ingest_service.h"
+#include "service/machine_service.h"
+#include "service/metrics.h"
+#include "service/probe_temperature_cache.h"
+#include "service/refit_scheduler.h"
+#include "storage/database.h"
+
+namespace thermocomp {
+
+class App {
+ public:
+  static StatusOr<std::unique_ptr<App>> Open(const Config& config, const Clock& clock);
+
+  const Config& config() const { return config_; }
+  const Clock& clock() const { return clock_; }
+  Database& db() { return *db_; }
+  MachineService& machines() { return *machines_; }
+  IngestService& ingest() { return *ingest_; }
+  FitService& fits() { return *fits_; }
+  AnalysisService& analyses() { return *analyses_; }
+  CheckService& checks() { return *checks_; }
+  CompensationService& compensation() { return *compensation_; }
+  HistoryService& history() { return *history_; }
+  RefitScheduler& scheduler() { return *scheduler_; }
+  Metrics& metrics() { return metrics_; }
+  // /metrics lines the services own: fits stored, model age per axis.
+  std::string ModelGauges();
+
+ private:
+  App(const Config& config, const Clock& clock) : config_(config), clock_(clock) {}
+  Config config_;
+  const Clock& clock_;
+  std::unique_ptr<Database> db_;
+  std::unique_ptr<MachineService> machines_;
+  std::unique_ptr<IngestService> ingest_;
+  std::unique_ptr<FitService> fits_;
+  std::unique_ptr<AnalysisService> analyses_;
+  std::unique_ptr<CheckService> checks_;
+  std::unique_ptr<CompensationService> compensation_;
+  std::unique_ptr<HistoryService> history_;
+  std::unique_ptr<RefitScheduler> scheduler_;
+  Metrics metrics_;
+  ProbeTemperatureCache probe_temperatures_;
+};
+
+}  // namespace thermocomp

@@ -1,0 +1,361 @@
+#include "service/check_service.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/log.h"
+#include "core/time_format.h"
+#include "core/time_units.h"
+#include "service/json_text.h"
+#include "service/machine_lookup.h"
+#include "storage/aux_store.h"
+#include "storage/log_store.h"
+#include "storage/machine_store.h"
+
+namespace thermocomp {
+namespace {
+
+std::string StateOf(const CheckRequestRecord& r, int64_t now) {
+  if (r.done_ms) return "done";
+  return now > r.due_ms ? "overdue" : "pending";
+}
+
+nlohmann::json ZeroJson(const ColumnCheckRecord& c) {
+  return {{"X", c.zero_x_mm}, {"Y", c.zero_y_mm}, {"Z", c.zero_z_mm}};
+}
+
+// Least-squares slope of v over t, um per week.
+double PerWeek(const std::vector<ColumnCheckRecord>& checks, double ColumnCheckRecord::*v) {
+  const double n = static_cast<double>(checks.size());
+  if (n < 2) return 0.0;
+  double mt = 0, mv = 0;
+  for (const auto& c : checks) mt += c.ts_ms / n, mv += c.*v / n;
+  double stt = 0, stv = 0;
+  for (const auto& c : checks) {
+    stt += (c.ts_ms - mt) * (c.ts_ms - mt);
+    stv += (c.ts_ms - mt) * (c.*v - mv);
+  }
+  return stt > 0 ? stv / stt * 7 * kDayMs * 1000.0 : 0.0;
+}
+
+}  // namespace
+
+nlohmann::json RequestToJson(const RequestView& v) {
+  const CheckRequestRecord& r = v.record;
+  return {{"id", r.id},
+          {"reason", r.reason},
+          {"created_at", FormatRfc3339(r.created_ms)},
+          {"due", FormatRfc3339(r.due_ms)},
+          {"automatic", r.automatic},
+          {"state", v.state},
+          {"done_at", r.done_ms ? nlohmann::json(FormatRfc3339(*r.done_ms)) : nullptr},
+          {"check_id", r.check_id ? nlohmann::json(*r.check_id) : nullptr}};
+}
+
+StatusOr<bool> CheckService::PutArtifact(const std::string& name, const nlohmann::json& definition,
+                                         const std::string& actor, FieldErrors* errors) {
+  if (!ArtifactFromJson(definition, *errors)) return Status::InvalidArgument("invalid artifact");
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  CheckStore store(db_);
+  const bool created = !store.Artifact(name);
+  Transaction tx(db_);
+  if (!tx.status().ok()) return tx.status();
+  if (Status s = store.PutArtifact(name, JsonText(definition), clock_.NowMs()); !s.ok()) return s;
+  if (Status s = LogStore(db_).Audit(clock_.NowMs(), actor, "artifact", "", 1, name); !s.ok()) {
+    return s;
+  }
+  if (Status s = tx.Commit(); !s.ok()) return s;
+  return created;
+}
+
+StatusOr<int64_t> CheckService::RequestCheck(const std::string& machine_name,
+                                             const std::string& reason, int64_t due_ms,
+                                             const std::string& actor) {
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  auto machine = FindMachine(db_, machine_name);
+  if (!machine.ok()) return machine.status();
+  Transaction tx(db_);
+  if (!tx.status().ok()) return tx.status();
+  auto id = CheckStore(db_).InsertRequest(machine->id, {0, reason, clock_.NowMs(), due_ms, false});
+  if (!id.ok()) return id.status();
+  if (Status s =
+          LogStore(db_).Audit(clock_.NowMs(), actor, "check-request", machine_name, 1, reason);
+      !s.ok()) {
+    return s;
+  }
+  if (Status s = tx.Commit(); !s.ok()) return s;
+  return id;
+}
+
+StatusOr<std::vector<RequestView>> CheckService::Requests(const std::string& machine_name,
+                                                          const std::string& state) {
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  auto machine = FindMachine(db_, machine_name);
+  if (!machine.ok()) return machine.status();
+  const int64_t now = clock_.NowMs();
+  std::vector<RequestView> out;
+  for (auto& r : CheckStore(db_).Requests(machine->id)) {
+    RequestView v{r, StateOf(r, now)};
+    if (state.empty() || v.state == state) out.push_back(std::move(v));
+  }
+  return out;
+}
+
+CheckCounts CountChecks(Database& db, int64_t machine_id, int64_t now) {
+  CheckCounts c;
+  for (const auto& r : CheckStore(db).Requests(machine_id)) {
+    const std::string s = StateOf(r, now);
+    if (s == "pending") ++c.pending;
+    if (s == "overdue") ++c.overdue;
+  }
+  return c;
+}
+
+int CheckService::EnsurePeriodicRequests() {
+  if (config_.check_every_days <= 0) return 0;
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  const int64_t now = clock_.NowMs();
+  const int64_t period = int64_t{config_.check_every_days} * kDayMs;
+  int made = 0;
+  CheckStore store(db_);
+  for (const auto& m : MachineStore(db_).List()) {
+    if (!m.automatic_checks) continue;  // opted in per machine
+    auto latest = store.LatestRequestOrCheck(m.id);
+    if (latest && now - *latest < period) continue;
+    Transaction tx(db_);
+    if (!tx.status().ok()) continue;
+    auto id = store.InsertRequest(m.id, {0, "weekly column check", now,
+                                         now + int64_t{config_.check_due_after_h} * kHourMs, true});
+    if (id.ok() && tx.Commit().ok()) ++made;
+  }
+  return made;
+}
+
+StatusOr<nlohmann::json> CheckService::AddColumnCheck(const std::string& machine_name,
+                                                      const ColumnCheckInput& in,
+                                                      const std::string& actor, bool* created) {
+  if (in.ts_ms > clock_.NowMs() + kDayMs) {
+    return Status::InvalidArgument("ts: more than a day in the future");
+  }
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  auto machine = FindMachine(db_, machine_name);
+  if (!machine.ok()) return machine.status();
+  CheckStore store(db_);
+  auto definition = store.Artifact(in.artifact);
+  if (!definition) return Status::Unprocessable("artifact: unknown artifact '" + in.artifact + "'");
+  FieldErrors errors;
+  auto artifact = ArtifactFromJson(nlohmann::json::parse(*definition), errors);
+  if (!artifact) return Status::Internal("stored artifact is unreadable");
+  auto result =
+      EvaluateColumnCheck(*artifact, in.temperature_c, in.spheres, in.points, in.parallelism);
+  if (!result.ok()) return Status::Unprocessable(result.status().message());
+  std::optional<CheckRequestRecord> request;
+  if (in.request_id) {
+    request = store.Request(machine->id, *in.request_id);
+    if (!request) {
+      return Status::Unprocessable("request_id: no request " + std::to_string(*in.request_id) +
+                                   " for " + machine_name);
+    }
+  } else {
+    // The oldest open request is the one a check answers.
+    for (const auto& r : store.Requests(machine->id)) {
+      if (!r.done_ms) request = r;
+    }
+  }
+  nlohmann::json out = ColumnResultToJson(*result);
+  out["ts"] = FormatRfc3339(in.ts_ms);
+  out["artifact"] = in.artifact;
+  out["artifact_temperature_c"] = in.temperature_c;
+  const auto previous = store.LatestColumnCheck(machine->id);
+  if (auto existing = store.ColumnCheckAt(machine->id, in.ts_ms)) {
+    nlohmann::json stored = nlohmann::json::parse(existing->result_json);
+    stored.erase("id");
+    stored.erase("request_id");
+    stored.erase("zero_change_um");
+    stored.erase("beyond_tolerance");
+    if (stored != out) {
+      return Status::Conflict("a different column check at " + FormatRfc3339(in.ts_ms) +
+                              " is stored already (id " + std::to_string(existing->id) + ")");
+    }
+    *created = false;
+    return nlohmann::json::parse(existing->result_json);
+  }
+  bool beyond = false;
+  if (previous && previous->ts_ms < in.ts_ms) {
+    const double dx = (result->machine_zero_mm.x - previous->zero_x_mm) * 1000;
+    const double dy = (result->machine_zero_mm.y - previous->zero_y_mm) * 1000;
+    const double dz = (result->machine_zero_mm.z - previous->zero_z_mm) * 1000;
+    out["zero_change_um"] = {
+        {"X", dx}, {"Y", dy}, {"Z", dz}, {"since", FormatRfc3339(previous->ts_ms)}};
+    beyond = std::max({std::fabs(dx), std::fabs(dy), std::fabs(dz)}) > config_.zero_tolerance_um;
+  }
+  out["beyond_tolerance"] = beyond;
+
+  Transaction tx(db_);
+  if (!tx.status().ok()) return tx.status();
+  ColumnCheckRecord rec{0,
+                        request ? std::optional(request->id) : std::nullopt,
+                        in.ts_ms,
+                        in.artifact,
+                        in.temperature_c,
+                        result->machine_zero_mm.x,
+                        result->machine_zero_mm.y,
+                        result->machine_zero_mm.z,
+                        ""};
+  auto id = store.InsertColumnCheck(machine->id, rec);
+  if (!id.ok()) return id.status();
+  out["id"] = *id;
+  out["request_id"] = request ? nlohmann::json(request->id) : nullptr;
+  {
+    Statement up(db_, "UPDATE column_checks SET result_json = ? WHERE id = ?");
+    up.Bind(1, JsonText(out)).Bind(2, *id);
+    if (Status s = up.Run(); !s.ok()) return s;
+  }
+  if (request && !request->done_ms) {
+    if (Status s = store.CloseRequest(request->id, clock_.NowMs(), *id); !s.ok()) return s;
+  }
+  if (beyond) {
+    char note[160];
+    std::snprintf(note, sizeof note, "machine zero moved X %+.1f, Y %+.1f, Z %+.1f um (check %lld)",
+                  out["zero_change_um"]["X"].get<double>(),
+                  out["zero_change_um"]["Y"].get<double>(),
+                  out["zero_change_um"]["Z"].get<double>(), static_cast<long long>(*id));
+    auto event = AuxStore(db_).InsertEvent(machine->id, {0, in.ts_ms, "column_check", note});
+    if (!event.ok()) return event.status();
+  }
+  if (Status s =
+          LogStore(db_).Audit(clock_.NowMs(), actor, "column-check", machine_name, 1, in.artifact);
+      !s.ok()) {
+    return s;
+  }
+  if (Status s = tx.Commit(); !s.ok()) return s;
+  if (beyond) log::Warn("machine zero moved beyond tolerance", "machine=" + machine_name);
+  *created = true;
+  return out;
+}
+
+StatusOr<nlohmann::json> CheckService::ColumnChecks(const std::string& machine_name) {
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  auto machine = FindMachine(db_, machine_name);
+  if (!machine.ok()) return machine.status();
+  auto checks = CheckStore(db_).ColumnChecks(machine->id);
+  nlohmann::json history = nlohmann::json::array();
+  for (const auto& c : checks) history.push_back(nlohmann::json::parse(c.result_json));
+  nlohmann::json trend = {{"X_um_per_week", PerWeek(checks, &ColumnCheckRecord::zero_x_mm)},
+                          {"Y_um_per_week", PerWeek(checks, &ColumnCheckRecord::zero_y_mm)},
+                          {"Z_um_per_week", PerWeek(checks, &ColumnCheckRecord::zero_z_mm)}};
+  if (!checks.empty()) {
+    // How far machine zero wandered: the largest minus the smallest value.
+    auto range = [&](double ColumnCheckRecord::*v) {
+      auto [lo, hi] = std::minmax_element(
+          checks.begin(), checks.end(),
+          [v](const ColumnCheckRecord& a, const ColumnCheckRecord& b) { return a.*v < b.*v; });
+      return ((*hi).*v - (*lo).*v) * 1000;
+    };
+    trend["range_um"] = {{"X", range(&ColumnCheckRecord::zero_x_mm)},
+                         {"Y", range(&ColumnCheckRecord::zero_y_mm)},
+                         {"Z", range(&ColumnCheckRecord::zero_z_mm)}};
+    trend["latest"] = ZeroJson(checks.back());
+  }
+  return nlohmann::json{
+      {"machine", machine_name}, {"checks", history}, {"machine_zero_trend", trend}};
+}
+
+StatusOr<nlohmann::json> CheckService::ColumnCheck(const std::string& machine_name, int64_t id) {
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  auto machine = FindMachine(db_, machine_name);
+  if (!machine.ok()) return machine.status();
+  auto rec = CheckStore(db_).ColumnCheck(machine->id, id);
+  if (!rec)
+    return Status::NotFound("no column check " + std::to_string(id) + " for " + machine_name);
+  nlohmann::json out = nlohmann::json::parse(rec->result_json);
+  out["machine"] = machine_name;
+  return out;
+}
+
+nlohmann::json LatestColumnCheckSummary(Database& db, int64_t machine_id) {
+  auto latest = CheckStore(db).LatestColumnCheck(machine_id);
+  if (!latest) return nullptr;
+  nlohmann::json r = nlohmann::json::parse(latest->result_json);
+  return {{"id", latest->id},
+          {"ts", FormatRfc3339(latest->ts_ms)},
+          {"machine_zero_mm", ZeroJson(*latest)},
+          {"beyond_tolerance", r.value("beyond_tolerance", false)}};
+}
+
+StatusOr<nlohmann::json> CheckService::AddPositioningCheck(const std::string& machine_name,
+                                                           const PositioningInput& in,
+                                                           const std::string& actor,
+                                                           bool* created) {
+  if (in.ts_ms > clock_.NowMs() + kDayMs) {
+    return Status::InvalidArgument("ts: more than a day in the future");
+  }
+  auto evaluation = EvaluatePositioning(in.data, in.uncertainty);
+  if (!evaluation.ok()) return evaluation.status();
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  auto found = FindMachineAxis(db_, machine_name, in.axis);
+  if (!found.ok()) return found.status();
+  const int64_t machine_id = found->machine.id;
+  nlohmann::json input = PositioningInputToJson(in);
+  nlohmann::json out = EvaluationToJson(*evaluation);
+  out["machine"] = machine_name;
+  out["input"] = input;
+  CheckStore store(db_);
+  Statement dup(db_,
+                "SELECT id, input_json FROM positioning_checks WHERE machine_id = ? AND axis = ?"
+                " AND ts_ms = ?");
+  dup.Bind(1, machine_id).Bind(2, in.axis).Bind(3, in.ts_ms);
+  if (dup.Step()) {
+    if (dup.Text(1) != JsonText(input)) {
+      return Status::Conflict("a different positioning check of " + in.axis + " at " +
+                              FormatRfc3339(in.ts_ms) + " is stored already");
+    }
+    *created = false;
+    return nlohmann::json::parse(store.PositioningCheck(machine_id, dup.Int(0))->result_json);
+  }
+  Transaction tx(db_);
+  if (!tx.status().ok()) return tx.status();
+  auto id = store.InsertPositioningCheck(machine_id, {0, in.axis, in.ts_ms, JsonText(input), ""});
+  if (!id.ok()) return id.status();
+  out["id"] = *id;
+  {
+    Statement up(db_, "UPDATE positioning_checks SET result_json = ? WHERE id = ?");
+    up.Bind(1, JsonText(out)).Bind(2, *id);
+    if (Status s = up.Run(); !s.ok()) return s;
+  }
+  if (Status s =
+          LogStore(db_).Audit(clock_.NowMs(), actor, "positioning-check", machine_name, 1, in.axis);
+      !s.ok()) {
+    return s;
+  }
+  if (Status s = tx.Commit(); !s.ok()) return s;
+  *created = true;
+  return out;
+}
+
+StatusOr<nlohmann::json> CheckService::PositioningCheck(const std::string& machine_name,
+                                                        int64_t id) {
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  auto machine = FindMachine(db_, machine_name);
+  if (!machine.ok()) return machine.status();
+  auto rec = CheckStore(db_).PositioningCheck(machine->id, id);
+  if (!rec) {
+    return Status::NotFound("no positioning check " + std::to_string(id) + " for " + machine_name);
+  }
+  return nlohmann::json::parse(rec->result_json);
+}
+
+StatusOr<PitchTable> CheckService::PitchTableOf(const std::string& machine_name, int64_t id,
+                                                std::string* axis) {
+  auto report = PositioningCheck(machine_name, id);
+  if (!report.ok()) return report.status();
+  FieldErrors errors;
+  auto input = PositioningFromJson((*report)["input"], errors);
+  if (!input) return Status::Internal("stored positioning check is unreadable");
+  auto evaluation = EvaluatePositioning(input->data, input->uncertainty);
+  if (!evaluation.ok()) return evaluation.status();
+  *axis = input->axis;
+  return MakePitchTable(evaluation->iso);
+}
+
+}  // namespace thermocomp

@@ -1,0 +1,77 @@
+// CheckService: column checks on the reference artifact and ISO 230-2
+// positioning checks (docs/model.md §11). Requests are made by maintenance
+// or weekly per machine; a column check answers one (named, or the oldest
+// open one), is corrected for the artifact's expansion and evaluated, and a
+// machine-zero change beyond the tolerance since the previous check is
+// logged as a column_check event (a step the effect search can try).
+// Positioning checks are evaluated completely and give pitch tables.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/clock.h"
+#include "model/pitch_table.h"
+#include "service/check_codec.h"
+#include "service/config.h"
+#include "storage/check_store.h"
+#include "storage/database.h"
+
+namespace thermocomp {
+
+struct RequestView {
+  CheckRequestRecord record;
+  std::string state;  // pending | overdue | done
+};
+
+struct CheckCounts {
+  int pending = 0, overdue = 0;  // overdue ones are not counted as pending
+};
+
+class CheckService {
+ public:
+  CheckService(Database& db, const Clock& clock, const Config& config)
+      : db_(db), clock_(clock), config_(config) {}
+
+  // Validates the definition; returns true when it was new.
+  StatusOr<bool> PutArtifact(const std::string& name, const nlohmann::json& definition,
+                             const std::string& actor, FieldErrors* errors);
+  StatusOr<int64_t> RequestCheck(const std::string& machine, const std::string& reason,
+                                 int64_t due_ms, const std::string& actor);
+  // state: empty for all, or pending | overdue | done.
+  StatusOr<std::vector<RequestView>> Requests(const std::string& machine, const std::string& state);
+  // Creates the weekly request of every machine that had no request or
+  // check for check_every_days; returns how many. Called by the scheduler.
+  int EnsurePeriodicRequests();
+
+  // The stored result (with "id"); a resent identical check returns the
+  // stored one with `created` false.
+  StatusOr<nlohmann::json> AddColumnCheck(const std::string& machine, const ColumnCheckInput& in,
+                                          const std::string& actor, bool* created);
+  // History oldest first and the machine-zero trend (um per week, least squares).
+  StatusOr<nlohmann::json> ColumnChecks(const std::string& machine);
+  StatusOr<nlohmann::json> ColumnCheck(const std::string& machine, int64_t id);
+
+  StatusOr<nlohmann::json> AddPositioningCheck(const std::string& machine,
+                                               const PositioningInput& in, const std::string& actor,
+                                               bool* created);
+  StatusOr<nlohmann::json> PositioningCheck(const std::string& machine, int64_t id);
+  StatusOr<PitchTable> PitchTableOf(const std::string& machine, int64_t id, std::string* axis);
+
+ private:
+  Database& db_;
+  const Clock& clock_;
+  const Config& config_;
+};
+
+nlohmann::json RequestToJson(const RequestView& r);
+// Pending and overdue requests of a machine now. Caller holds db.mutex().
+CheckCounts CountChecks(Database& db, int64_t machine_id, int64_t now_ms);
+// The newest column check's machine zero and whether it moved beyond the
+// tolerance, for the machine status; null without checks. Caller holds db.mutex().
+nlohmann::json LatestColumnCheckSummary(Database& db, int64_t machine_id);
+
+}  // namespace thermocomp

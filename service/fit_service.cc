@@ -1,0 +1,296 @@
+#include "service/fit_service.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "core/log.h"
+#include "core/time_format.h"
+#include "model/acceptance.h"
+#include "model/cross_validation.h"
+#include "model/drift_model.h"
+#include "model/residual_checks.h"
+#include "model/selection.h"
+#include "service/drift_dataset.h"
+#include "service/json_text.h"
+#include "service/machine_lookup.h"
+#include "service/model_codec.h"
+#include "service/term_input.h"
+#include "storage/log_store.h"
+#include "storage/machine_store.h"
+#include "storage/model_store.h"
+
+namespace thermocomp {
+namespace {
+
+struct Errors {
+  double rmse = 0, r2 = 0;
+  int n = 0;
+};
+
+// Prediction errors of `model` on observations whose columns are named.
+Errors Evaluate(const DriftModel& model, const Observations& obs) {
+  Errors e;
+  e.n = obs.rows();
+  if (e.n == 0) return e;
+  std::vector<int> cols;
+  for (const auto& in : model.inputs) cols.push_back(obs.ColumnIndex(in));
+  double sse = 0;
+  for (int i = 0; i < e.n; ++i) {
+    std::vector<double> t;
+    for (int c : cols) t.push_back(c >= 0 ? obs.x(i, c) : NAN);
+    double r = obs.y(i) - model.PredictDrift(t);
+    sse += r * r;
+  }
+  const double sst = (obs.y.array() - obs.y.mean()).square().sum();
+  e.rmse = std::sqrt(sse / e.n);
+  e.r2 = sst > 0 ? 1.0 - sse / sst : 0.0;
+  return e;
+}
+
+}  // namespace
+
+StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
+                                         const std::string& axis_name, const FitRequest& req) {
+  std::unique_lock<std::mutex> lock(db_.mutex());
+  auto found = FindMachineAxis(db_, machine_name, axis_name);
+  if (!found.ok()) return found.status();
+  const MachineRecord* machine = &found->machine;
+  const AxisRecord* axis = &found->axis();
+  std::vector<std::string> inputs = req.inputs ? *req.inputs : axis->inputs;
+  if (inputs.empty()) {
+    for (const auto& s : machine->sensors) inputs.push_back(s.name);
+  }
+  for (const auto& in : inputs) {
+    if (!machine->FindSensor(in))
+      return Status::Unprocessable("inputs: unknown sensor '" + in + "'");
+  }
+
+  // Every axis' positions: the active model, compared on the held-out
+  // points, may read another axis' position.
+  DriftDataset data = BuildDriftDataset(db_, *machine, axis_name, config_.gross_error_mm,
+                                        int64_t{config_.stale_after_s} * 1000, cache_, true);
+  auto chosen = ChooseHoldout(data, req.holdout_runs, config_.holdout_runs);
+  if (!chosen.ok()) return chosen.status();
+  const std::vector<std::string>& holdout = *chosen;
+  Observations train = data.ToObservations(data.RowsOfRuns(holdout, true), inputs);
+  Observations test = data.ToObservations(data.RowsOfRuns(holdout, false), data.sensors);
+  if (train.rows() <= static_cast<int>(inputs.size()) + 1 ||
+      std::set<int>(train.group.begin(), train.group.end()).size() < 2) {
+    return Status::Unprocessable("too few points to fit: " + std::to_string(train.rows()) +
+                                 " usable probe points in " + std::to_string(data.runs.size()) +
+                                 " runs for " + std::to_string(inputs.size()) + " inputs");
+  }
+
+  auto sel = SelectModel(train, config_.selection);
+  if (!sel.ok()) return sel.status();
+  const LinearFit& fit = sel->fit;
+  Observations kept = train.Subset(sel->rows, sel->terms);
+  DriftModel model = DriftModel::FromFit(fit, kept.x, kept.names, axis->clamp_mm);
+  auto cv = LeaveOneRunOut(kept);
+  auto checks = CheckResiduals(kept.x, kept.y, fit);
+  Errors validation = Evaluate(model, test);
+  std::optional<double> validation_r2;
+  if (validation.n > 0) validation_r2 = validation.r2;
+  AcceptanceVerdict verdict = CheckAcceptance(fit, config_.acceptance, validation_r2);
+
+  ModelStore models(db_);
+  std::optional<int> active_version;
+  std::optional<Errors> active_errors;
+  double candidate_rmse = validation.rmse;  // on the points both models can evaluate
+  if (auto active = models.Active(axis->id)) {
+    active_version = active->version;
+    if (auto m = DriftModelFromJson(active->model_json); m.ok() && validation.n > 0) {
+      // The active model may be an extended one (lags, positions, ...):
+      // evaluate both through their terms on the same held-out points.
+      EffectSearchInput in =
+          LoadTermInput(db_, *machine, axis_name, data, holdout, {},
+                        int64_t{config_.stale_after_s} * 1000, RawChannels::ForModel(*m));
+      const std::vector<double> by_active = PredictAtPoints(*m, in);
+      const std::vector<double> by_candidate = PredictAtPoints(model, in);
+      double sse_active = 0, sse_candidate = 0;
+      int n = 0;
+      for (size_t i = 0; i < in.points.size(); ++i) {
+        const double ra = in.drift_mm[i] - by_active[i], rc = in.drift_mm[i] - by_candidate[i];
+        if (!in.holdout[i] || !std::isfinite(ra) || !std::isfinite(rc)) continue;
+        sse_active += ra * ra;
+        sse_candidate += rc * rc;
+        ++n;
+      }
+      if (n > 0) {
+        active_errors = Errors{std::sqrt(sse_active / n), 0.0, n};
+        candidate_rmse = std::sqrt(sse_candidate / n);
+      }
+    }
+  }
+  std::string status = "active";
+  std::string reason = verdict.Summary();
+  if (!verdict.passed) {
+    status = "rejected";
+  } else if (active_errors && candidate_rmse > active_errors->rmse) {
+    status = "rejected";
+    char buf[200];
+    std::snprintf(
+        buf, sizeof buf,
+        "held-out RMSE %.4f mm is worse than active version %d's %.4f mm on the same runs",
+        candidate_rmse, *active_version, active_errors->rmse);
+    reason = buf;
+  } else if (active_errors) {
+    reason += "; held-out RMSE not worse than active version " + std::to_string(*active_version);
+  }
+
+  // The largest standardized residuals, named by run and point.
+  std::vector<int> by_size(fit.n);
+  for (int i = 0; i < fit.n; ++i) by_size[i] = i;
+  const Eigen::VectorXd& r = fit.standardized_residuals;
+  std::stable_sort(by_size.begin(), by_size.end(),
+                   [&](int a, int b) { return std::fabs(r(a)) > std::fabs(r(b)); });
+  nlohmann::json largest = nlohmann::json::array();
+  for (int i = 0; i < std::min(fit.n, 5); ++i) {
+    const DriftRow& row = data.rows[kept.source[by_size[i]]];
+    largest.push_back({{"run", data.runs[row.run]},
+                       {"k", row.k},
+                       {"ts", FormatRfc3339(row.ts_ms)},
+                       {"value", r(by_size[i])}});
+  }
+  nlohmann::json residuals = {{"standardized_max_abs", fit.n ? r.cwiseAbs().maxCoeff() : 0.0},
+                              {"standardized_over_2", (r.array().abs() > 2).count()},
+                              {"largest", largest}};
+  if (checks.ok()) {
+    residuals["skewness"] = checks->skewness;
+    residuals["excess_kurtosis"] = checks->excess_kurtosis;
+    residuals["normal"] = checks->normal;
+    residuals["goldfeld_quandt"] = {{"f", FiniteOrNull(checks->goldfeld_quandt)},
+                                    {"p", FiniteOrNull(checks->goldfeld_quandt_p)},
+                                    {"df", {checks->gq_df1, checks->gq_df2}}};
+    residuals["homoscedastic"] = checks->homoscedastic;
+  }
+
+  nlohmann::json removed_terms = nlohmann::json::array();
+  for (const auto& r : sel->removed) {
+    removed_terms.push_back({{"term", r.name},
+                             {"reason", r.reason},
+                             {"p", FiniteOrNull(r.p)},
+                             {"vif", FiniteOrNull(r.vif)}});
+  }
+  nlohmann::json coefficients = {{"intercept", model.intercept}};
+  for (size_t j = 0; j < model.inputs.size(); ++j)
+    coefficients[model.inputs[j]] = model.coefficients[j];
+  nlohmann::json ranges = nlohmann::json::object();
+  for (size_t j = 0; j < model.inputs.size(); ++j) {
+    ranges[model.inputs[j]] = {{"min", model.trained[j].min}, {"max", model.trained[j].max}};
+  }
+  const int64_t now = clock_.NowMs();
+  nlohmann::json report = {
+      {"machine", machine_name},
+      {"axis", axis_name},
+      {"status", status},
+      {"reason", reason},
+      {"trigger", req.trigger},
+      {"created_at", FormatRfc3339(now)},
+      {"declared_inputs", inputs},
+      {"inputs", model.inputs},
+      {"coefficients", coefficients},
+      {"unit", "mm per degC of temperature change since the run's datum"},
+      {"n", fit.n},
+      {"r2", fit.r2},
+      {"adj_r2", fit.adj_r2},
+      {"rmse_mm", fit.rmse},
+      {"sigma_mm", fit.sigma},
+      {"f", FiniteOrNull(fit.f)},
+      {"f_p", FiniteOrNull(fit.f_p)},
+      {"durbin_watson", fit.durbin_watson},
+      {"terms", FitTermsJson(fit)},
+      {"residuals", residuals},
+      {"removed_terms", removed_terms},
+      {"removed_outliers", sel->outlier_rows.size()},
+      {"outlier_steps", sel->outlier_steps},
+      {"skipped", {{"gross_errors", data.skipped_gross}, {"no_datum", data.skipped_no_datum}}},
+      {"training_runs", static_cast<int>(data.runs.size() - holdout.size())},
+      {"training_range", ranges},
+      {"cross_validation",
+       {{"method", "leave-one-run-out"},
+        {"folds", cv.ok() ? cv->folds : 0},
+        {"rmse_mm", cv.ok() ? FiniteOrNull(cv->rmse) : nullptr},
+        {"r2", cv.ok() ? FiniteOrNull(cv->r2) : nullptr}}},
+      {"validation",
+       {{"runs", holdout},
+        {"n", validation.n},
+        {"rmse_mm", validation.n ? FiniteOrNull(validation.rmse) : nullptr},
+        {"r2", validation.n ? FiniteOrNull(validation.r2) : nullptr}}},
+      {"acceptance", {{"passed", verdict.passed}, {"reasons", verdict.reasons}}},
+  };
+  if (active_version) {
+    report["compared_with"] = {
+        {"version", *active_version},
+        {"validation_rmse_mm", active_errors ? FiniteOrNull(active_errors->rmse) : nullptr},
+        {"candidate_rmse_mm", active_errors ? FiniteOrNull(candidate_rmse) : nullptr}};
+  }
+
+  Transaction tx(db_);
+  if (!tx.status().ok()) return tx.status();
+  // The version is known only after the insert; the stored report carries it too.
+  auto version =
+      models.Insert(axis->id, {0, status, reason, now, JsonText(DriftModelToJson(model)), ""});
+  if (!version.ok()) return version.status();
+  report["version"] = *version;
+  {
+    Statement up(db_, "UPDATE models SET report_json = ? WHERE axis_id = ? AND version = ?");
+    up.Bind(1, JsonText(report)).Bind(2, axis->id).Bind(3, int64_t{*version});
+    if (Status s = up.Run(); !s.ok()) return s;
+  }
+  if (Status s = LogStore(db_).Audit(now, req.actor, "fit", machine_name, fit.n,
+                                     axis_name + " v" + std::to_string(*version) + " " + status);
+      !s.ok()) {
+    return s;
+  }
+  if (Status s = tx.Commit(); !s.ok()) return s;
+  ++fits_stored_;
+  lock.unlock();
+  log::Info("model fitted", "machine=" + machine_name + " axis=" + axis_name +
+                                " version=" + std::to_string(*version) + " status=" + status);
+  if (listener_ && status == "active") listener_(machine_name);
+  return report;
+}
+
+Status FitService::Activate(const std::string& machine_name, const std::string& axis_name,
+                            int version, const std::string& actor) {
+  {
+    std::lock_guard<std::mutex> lock(db_.mutex());
+    auto found = FindMachineAxis(db_, machine_name, axis_name);
+    if (!found.ok()) return found.status();
+    const AxisRecord* axis = &found->axis();
+    Transaction tx(db_);
+    if (!tx.status().ok()) return tx.status();
+    if (Status s = ModelStore(db_).Activate(axis->id, version); !s.ok()) return s;
+    if (Status s = LogStore(db_).Audit(clock_.NowMs(), actor, "activate", machine_name, 1,
+                                       axis_name + " v" + std::to_string(version));
+        !s.ok()) {
+      return s;
+    }
+    if (Status s = tx.Commit(); !s.ok()) return s;
+  }
+  if (listener_) listener_(machine_name);
+  return Status::Ok();
+}
+
+StatusOr<std::vector<ModelRecord>> FitService::Models(const std::string& machine_name,
+                                                      const std::string& axis_name) {
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  auto found = FindMachineAxis(db_, machine_name, axis_name);
+  if (!found.ok()) return found.status();
+  return ModelStore(db_).List(found->axis().id);
+}
+
+StatusOr<ModelRecord> FitService::Model(const std::string& machine_name,
+                                        const std::string& axis_name, int version) {
+  auto all = Models(machine_name, axis_name);
+  if (!all.ok()) return all.status();
+  for (auto& m : *all) {
+    if (m.version == version) return m;
+  }
+  return Status::NotFound("no model version " + std::to_string(version) + " for " + machine_name +
+                          " axis " + axis_name);
+}
+
+}  // namespace thermocomp

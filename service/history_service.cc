@@ -1,0 +1,124 @@
+#include "service/history_service.h"
+
+#include "storage/check_store.h"
+
+#include "core/time_format.h"
+#include "model/drift_model.h"
+#include "model/thinning.h"
+#include "service/drift_dataset.h"
+#include "service/live_terms.h"
+#include "service/machine_lookup.h"
+#include "service/model_codec.h"
+#include "service/term_input.h"
+#include "storage/log_store.h"
+#include "storage/machine_store.h"
+#include "storage/model_store.h"
+
+namespace thermocomp {
+namespace {
+
+// One series as {"ts": [...], "<name>": [...]} after thinning on `values`.
+nlohmann::json Series(const std::vector<int64_t>& ts, const std::vector<double>& values,
+                      size_t max_points, std::vector<size_t>* kept = nullptr) {
+  std::vector<double> x(ts.begin(), ts.end());
+  std::vector<size_t> keep = ThinLttb(x, values, max_points);
+  nlohmann::json out = nlohmann::json::array();
+  for (size_t i : keep) out.push_back({{"ts", FormatRfc3339(ts[i])}, {"value_mm", values[i]}});
+  if (kept) *kept = keep;
+  return out;
+}
+
+}  // namespace
+
+StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  auto found = FindMachineAxis(db_, q.machine, q.axis);
+  if (!found.ok()) return found.status();
+  const MachineRecord* machine = &found->machine;
+  const AxisRecord* axis = &found->axis();
+  std::optional<DriftModel> model;
+  std::optional<int> version;
+  if (auto active = ModelStore(db_).Active(axis->id)) {
+    if (auto m = DriftModelFromJson(active->model_json); m.ok()) {
+      model = *m;
+      version = active->version;
+    }
+  }
+  DriftDataset data = BuildDriftDataset(db_, *machine, q.axis, config_.gross_error_mm,
+                                        int64_t{config_.stale_after_s} * 1000, cache_,
+                                        model && ReadsOtherAxes(*model, q.axis));
+  // Predicted by the active model's terms, extended ones too, as in the fit.
+  std::vector<double> by_model(data.rows.size(), NAN);
+  if (model) {
+    EffectSearchInput in =
+        LoadTermInput(db_, *machine, q.axis, data, {}, {}, int64_t{config_.stale_after_s} * 1000,
+                      RawChannels::ForModel(*model));
+    by_model = PredictAtPoints(*model, in);
+  }
+  std::vector<int64_t> ts;
+  std::vector<double> measured, predicted, residual;
+  std::vector<std::string> runs;
+  for (size_t i = 0; i < data.rows.size(); ++i) {
+    const DriftRow& row = data.rows[i];
+    if (row.ts_ms < q.from_ms || row.ts_ms > q.to_ms) continue;
+    ts.push_back(row.ts_ms);
+    measured.push_back(row.drift_mm);
+    runs.push_back(data.runs[row.run]);
+    predicted.push_back(by_model[i]);
+    residual.push_back(row.drift_mm - by_model[i]);
+  }
+  // Probe points are few; thin them together on the measured drift so the
+  // three series stay aligned point by point.
+  std::vector<size_t> keep =
+      ThinLttb(std::vector<double>(ts.begin(), ts.end()), measured, q.max_points);
+  nlohmann::json points = nlohmann::json::array();
+  for (size_t i : keep) {
+    points.push_back({{"ts", FormatRfc3339(ts[i])},
+                      {"run", runs[i]},
+                      {"measured_mm", measured[i]},
+                      {"predicted_mm", FiniteOrNull(predicted[i])},
+                      {"residual_mm", FiniteOrNull(residual[i])}});
+  }
+  // The served offset: raw rows when they are few enough, else the hourly
+  // envelope (two extreme points per hour) thinned like the raw series.
+  std::vector<int64_t> served_ts;
+  std::vector<double> served;
+  LogStore log(db_);
+  std::string served_source = "log";
+  auto [first, last] = log.CompensationExtent(axis->id, q.from_ms, q.to_ms);
+  if (last - first > static_cast<int64_t>(q.max_points) * 3600000 / 2) {
+    served_source = "hourly envelope";
+    for (const auto& [ts, v] : log.CompensationEnvelope(axis->id, q.from_ms, q.to_ms)) {
+      served_ts.push_back(ts);
+      served.push_back(v);
+    }
+  } else {
+    for (const auto& r : log.Compensation(axis->id, q.from_ms, q.to_ms)) {
+      served_ts.push_back(r.ts_ms);
+      served.push_back(r.offset_mm);
+    }
+  }
+  nlohmann::json out = {{"machine", q.machine},
+                        {"axis", q.axis},
+                        {"model_version", version ? nlohmann::json(*version) : nullptr},
+                        {"max_points", q.max_points},
+                        {"probe_points_total", ts.size()},
+                        {"probe_points", points},
+                        {"served_offset_source", served_source},
+                        {"served_offset_total", served.size()},
+                        {"served_offset", Series(served_ts, served, q.max_points)}};
+  // The machine-zero trend from column checks (docs/model.md §11): the check
+  // sees the drift when it runs, the model covers the time between.
+  nlohmann::json zero = nlohmann::json::array();
+  for (const auto& c : CheckStore(db_).ColumnChecks(machine->id)) {
+    if (c.ts_ms < q.from_ms || c.ts_ms > q.to_ms) continue;
+    zero.push_back({{"ts", FormatRfc3339(c.ts_ms)},
+                    {"X_mm", c.zero_x_mm},
+                    {"Y_mm", c.zero_y_mm},
+                    {"Z_mm", c.zero_z_mm}});
+  }
+  out["machine_zero"] = zero;
+  return out;
+}
+
+}  // namespace thermocomp

@@ -1,0 +1,33 @@
+// HistoryService: drift history of an axis for quality staff and
+// dashboards: measured, predicted and residual drift at probe points (by
+// the active model) and the served offset over time, each series thinned
+// to max_points with LTTB.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "service/config.h"
+#include "service/probe_temperature_cache.h"
+#include "storage/database.h"
+
+namespace thermocomp {
+
+struct HistoryQuery {
+  std::string machine, axis;
+  int64_t from_ms = 0, to_ms = INT64_MAX;
+  size_t max_points = 1000;
+};
+
+class HistoryService {
+ public:
+  HistoryService(Database& db, const Config& config, ProbeTemperatureCache* cache = nullptr)
+      : db_(db), config_(config), cache_(cache) {}
+  StatusOr<nlohmann::json> Drift(const HistoryQuery& q);
+
+ private:
+  Database& db_;
+  const Config& config_;
+  ProbeTemperatureCache* cache_;
+};
+
+}  // namespace thermocomp

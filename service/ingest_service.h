@@ -1,0 +1,69 @@
+// IngestService: validates and stores temperatures and probe points. Every
+// source (HTTP, CSV import, DDS) goes through here, so the rules are the
+// same everywhere. A batch is all-or-nothing: one transaction, committed
+// before the caller acknowledges anything.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/clock.h"
+#include "core/field_errors.h"
+#include "core/ingest_inputs.h"
+#include "core/records.h"
+#include "core/status.h"
+#include "service/probe_temperature_cache.h"
+#include "storage/database.h"
+
+namespace thermocomp {
+
+// A refused batch: the status (malformed values 400 before unusable
+// references 422 before conflicts 409) and the items at fault.
+IngestResult Rejected(FieldErrors errors, Status status);
+
+// A late sample's replay of the filter stops where the change to the
+// stored filtered values falls below this (degC): far below any sensor's
+// resolution, and a bounded number of rows (ln(tol/change) / ln(1-alpha)).
+constexpr double kReplayToleranceC = 1e-9;
+
+bool ValidIdentifier(const std::string& id);  // [A-Za-z0-9_.-]{1,64}
+bool ValidAxisName(const std::string& axis);  // X Y Z A B C U V W
+
+class IngestService {
+ public:
+  using Listener = std::function<void(const std::string& machine)>;
+  IngestService(Database& db, const Clock& clock, ProbeTemperatureCache* cache = nullptr)
+      : db_(db), clock_(clock), cache_(cache) {}
+
+  IngestResult AddTemperatures(const std::string& machine,
+                               const std::vector<TemperatureInput>& samples,
+                               const std::string& actor);
+  IngestResult AddProbePoints(const std::string& machine,
+                              const std::vector<ProbePointInput>& points, const std::string& actor);
+  // Auxiliary signals; a channel is created on a signal's first sample.
+  IngestResult AddSignals(const std::string& machine, const std::vector<SignalInput>& samples,
+                          const std::string& actor);
+  // One event; the same (ts, kind) again with the same note is a duplicate.
+  IngestResult AddEvent(const std::string& machine, const EventInput& event,
+                        const std::string& actor);
+  // Called after a commit that changed the machine's data.
+  void SetListener(Listener listener) { listener_ = std::move(listener); }
+
+ private:
+  Status CheckTs(int64_t ts_ms) const;
+  // The end of every batch: refused with the conflicts if there are any;
+  // else the audit row, the commit, `after_commit` (still under the lock),
+  // and the listener once the lock is released.
+  IngestResult Commit(Transaction& tx, std::unique_lock<std::mutex>& lock, IngestResult result,
+                      FieldErrors conflicts, const std::string& conflict_message,
+                      const std::string& action, const std::string& machine,
+                      const std::string& actor, const std::function<void()>& after_commit = {});
+  Database& db_;
+  const Clock& clock_;
+  ProbeTemperatureCache* cache_;
+  Listener listener_;
+};
+
+}  // namespace thermocomp

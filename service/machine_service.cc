@@ -1,0 +1,176 @@
+#include "service/machine_service.h"
+
+#include "service/check_service.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "core/time_format.h"
+#include "model/ewma_filter.h"
+#include "storage/log_store.h"
+#include "storage/machine_store.h"
+#include "storage/model_store.h"
+#include "storage/probe_store.h"
+#include "storage/sample_store.h"
+
+namespace thermocomp {
+
+namespace {
+
+const std::set<std::string> kControllers = {"sinumerik", "beckhoff", "heidenhain", "fanuc",
+                                            "linuxcnc"};
+
+// Controller names: lower-case letters, digits and _.- (okuma, mazak_m, pc).
+bool ValidControllerName(const std::string& c) {
+  if (c.empty() || c.size() > 32) return false;
+  return std::all_of(c.begin(), c.end(), [](char ch) {
+    return (ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '_' || ch == '.' ||
+           ch == '-';
+  });
+}
+
+}  // namespace
+
+bool KnownController(const std::string& controller) {
+  return kControllers.count(controller) > 0;
+}
+
+MachineDefinition MachineDefinition::Of(const MachineRecord& m) {
+  return {m.name,    m.display_name, m.controller, m.control_axes, m.automatic_checks,
+          m.sensors, m.axes};
+}
+
+StatusOr<bool> MachineService::Register(const MachineDefinition& d, const std::string& actor,
+                                        FieldErrors* errors) {
+  FieldErrors e;
+  if (!ValidIdentifier(d.name)) e.push_back({0, "machine", "must match [A-Za-z0-9_.-]{1,64}"});
+  if (d.controller && !ValidControllerName(*d.controller)) {
+    e.push_back({0, "controller",
+                 "must be a control's name of lower-case letters, digits and _.- (the five with "
+                 "native formats: sinumerik, beckhoff, heidenhain, fanuc, linuxcnc; or any "
+                 "other, e.g. okuma, or none)"});
+  }
+  std::set<std::string> sensors;
+  for (size_t i = 0; i < d.sensors.size(); ++i) {
+    const auto& s = d.sensors[i];
+    if (!ValidIdentifier(s.name)) e.push_back({i, "sensors.id", "must match [A-Za-z0-9_.-]{1,64}"});
+    if (!sensors.insert(s.name).second)
+      e.push_back({i, "sensors.id", "duplicate sensor " + s.name});
+    if (!EwmaFilter::ValidAlpha(s.ewma_alpha)) {
+      e.push_back({i, "sensors.ewma_alpha", "must be in (0, 1]"});
+    }
+  }
+  std::optional<MachineRecord> existing;
+  {
+    std::lock_guard<std::mutex> lock(db_.mutex());
+    existing = MachineStore(db_).Find(d.name);
+  }
+  // The stored machine with what the definition gives applied.
+  MachineRecord m = existing.value_or(MachineRecord{});
+  m.name = d.name;
+  if (d.display_name) m.display_name = *d.display_name;
+  if (d.controller) m.controller = *d.controller;
+  if (d.control_axes) m.control_axes = *d.control_axes;
+  if (d.automatic_checks) m.automatic_checks = *d.automatic_checks;
+  for (const auto& s : m.sensors) sensors.insert(s.name);
+  std::set<std::string> axes;
+  for (size_t i = 0; i < d.axes.size(); ++i) {
+    const auto& a = d.axes[i];
+    if (!ValidAxisName(a.name))
+      e.push_back({i, "axes.id", "must be an axis letter X Y Z A B C U V W"});
+    if (!axes.insert(a.name).second) e.push_back({i, "axes.id", "duplicate axis " + a.name});
+    if (!std::isfinite(a.clamp_mm) || a.clamp_mm < 0 || a.clamp_mm > 1.0) {
+      e.push_back({i, "axes.model.clamp_mm", "must be within 0..1 mm"});
+    }
+    if (!std::isfinite(a.reference_position_mm) || std::fabs(a.reference_position_mm) > 1e5) {
+      e.push_back({i, "axes.reference_position_mm", "must be a finite number within +-100 m"});
+    }
+    for (const auto& in : a.inputs) {
+      if (!sensors.count(in)) e.push_back({i, "axes.model.inputs", "unknown sensor '" + in + "'"});
+    }
+  }
+  for (const auto& a : m.axes) axes.insert(a.name);
+  if (!m.control_axes.empty()) {
+    std::set<std::string> seen;
+    for (const auto& a : m.control_axes) {
+      if (!ValidAxisName(a) || !seen.insert(a).second) {
+        e.push_back({0, "control_axes", "must list distinct axis letters X Y Z A B C U V W"});
+        break;
+      }
+    }
+    for (const auto& a : axes) {
+      if (!seen.count(a)) {
+        e.push_back({0, "control_axes", "lacks the machine's axis " + a});
+        break;
+      }
+    }
+  }
+  if (!e.empty()) {
+    if (errors) *errors = e;
+    return Status::Unprocessable("invalid machine definition");
+  }
+  // Sensors and axes: those listed replace the stored ones of the same
+  // name, the others are kept.
+  for (const auto& s : d.sensors) {
+    auto it = std::find_if(m.sensors.begin(), m.sensors.end(),
+                           [&](const SensorRecord& x) { return x.name == s.name; });
+    if (it == m.sensors.end())
+      m.sensors.push_back(s);
+    else
+      *it = {it->id, s.name, s.location, s.ewma_alpha};
+  }
+  for (const auto& a : d.axes) {
+    auto it = std::find_if(m.axes.begin(), m.axes.end(),
+                           [&](const AxisRecord& x) { return x.name == a.name; });
+    if (it == m.axes.end())
+      m.axes.push_back(a);
+    else
+      *it = {it->id, a.name, a.reference_position_mm, a.inputs, a.clamp_mm};
+  }
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  Transaction tx(db_);
+  if (!tx.status().ok()) return tx.status();
+  auto created = MachineStore(db_).Upsert(m, clock_.NowMs());
+  if (!created.ok()) return created.status();
+  if (Status s = LogStore(db_).Audit(clock_.NowMs(), actor, "machine", m.name, 1); !s.ok())
+    return s;
+  if (Status s = tx.Commit(); !s.ok()) return s;
+  if (cache_ && existing)
+    cache_->InvalidateMachine(existing->id);  // the sensor list may have changed
+  return *created;
+}
+
+std::vector<MachineRecord> MachineService::List() {
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  return MachineStore(db_).List();
+}
+
+std::optional<MachineRecord> MachineService::Find(const std::string& name) {
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  return MachineStore(db_).Find(name);
+}
+
+nlohmann::json MachineService::Summary(const MachineRecord& m) {
+  std::lock_guard<std::mutex> lock(db_.mutex());
+  SampleStore samples(db_);
+  std::optional<int64_t> last;
+  for (const auto& s : m.sensors) {
+    if (auto fs = samples.LoadFilterState(s.id)) last = std::max(last.value_or(0), fs->last_ts_ms);
+  }
+  nlohmann::json active = nlohmann::json::object();
+  ModelStore models(db_);
+  for (const auto& a : m.axes) {
+    auto rec = models.Active(a.id);
+    active[a.name] = rec ? nlohmann::json(rec->version) : nullptr;
+  }
+  const CheckCounts checks = CountChecks(db_, m.id, clock_.NowMs());
+  return {{"samples", samples.CountForMachine(m.id)},
+          {"probe_points", ProbeStore(db_).CountPoints(m.id)},
+          {"last_sample_ts", last ? nlohmann::json(FormatRfc3339(*last)) : nullptr},
+          {"active_models", active},
+          {"checks", {{"pending", checks.pending}, {"overdue", checks.overdue}}},
+          {"last_column_check", LatestColumnCheckSummary(db_, m.id)}};
+}
+
+}  // namespace thermocomp

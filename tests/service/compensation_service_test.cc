@@ -1,0 +1,107 @@
+#include "service/compensation_service.h"
+
+#include <cmath>
+
+#include "tests/app_fixture.h"
+
+namespace thermocomp {
+namespace {
+
+// A machine with a known active model, so the served value can be checked
+// against the law by hand: drift = 0.001 - 0.01 * dT1 (mm).
+class CompensationServiceTest : public testing::AppFixture {
+ protected:
+  void SetUp() override {
+    AppFixture::SetUp();
+    MachineRecord m;
+    m.name = "m1";
+    m.sensors = {{0, "T1", "", 1.0}};  // alpha 1: filtered = raw, for hand checks
+    m.axes = {{0, "Y", 0.0, {"T1"}, 0.03}};
+    ASSERT_TRUE(app_->machines().Register(m, "test", nullptr).ok());
+    t0_ = clock_.NowMs() - 3600000;
+  }
+  void Temperature(int64_t ts, double v) {
+    ASSERT_TRUE(app_->ingest().AddTemperatures("m1", {{"T1", ts, v}}, "t").status.ok());
+  }
+  void Datum(int64_t ts) {
+    ProbePointInput p{"R1", 0, ts, {{"Y", {std::nullopt, 0.0}}}, {}};
+    ASSERT_TRUE(app_->ingest().AddProbePoints("m1", {p}, "t").status.ok());
+  }
+  void ActivateModel() {
+    InsertActiveModel(
+        1,
+        R"({"inputs":["T1"],"intercept":0.001,"coefficients":[-0.01],"trained_range":[[-1,3]],"clamp_mm":0.03})");
+  }
+  AxisCompensation Y() {
+    auto c = app_->compensation().Get("m1");
+    EXPECT_TRUE(c.ok());
+    return (*c)->axes.at(0);
+  }
+  int64_t t0_ = 0;
+};
+
+TEST_F(CompensationServiceTest, ReasonsUntilEverythingIsThere) {
+  EXPECT_EQ(Y().reason, "no active model");
+  ActivateModel();
+  EXPECT_EQ(Y().reason, "no datum point (k = 0) probed yet");
+  Datum(t0_);
+  EXPECT_NE(Y().reason.find("no samples from input T1"), std::string::npos);
+  Temperature(t0_, 20.0);
+  Temperature(clock_.NowMs() - 60000, 22.0);
+  AxisCompensation y = Y();
+  ASSERT_TRUE(y.valid) << y.reason;
+  EXPECT_NEAR(y.predicted_drift_mm, 0.001 - 0.01 * 2.0, 1e-12);
+  EXPECT_NEAR(y.offset_mm, 0.019, 1e-12);
+  EXPECT_FALSE(y.clamped);
+}
+
+TEST_F(CompensationServiceTest, ClampedAndExtrapolatingButFinite) {
+  ActivateModel();
+  Datum(t0_);
+  Temperature(t0_, 20.0);
+  Temperature(clock_.NowMs() - 60000, 30.0);  // dT = 10: drift -0.099 mm
+  AxisCompensation y = Y();
+  ASSERT_TRUE(y.valid);
+  EXPECT_TRUE(y.clamped);
+  EXPECT_DOUBLE_EQ(y.offset_mm, 0.03);
+  EXPECT_EQ(y.extrapolating, std::vector<std::string>{"T1"});
+}
+
+TEST_F(CompensationServiceTest, ImplausibleInputIsNotServed) {
+  ActivateModel();
+  Datum(t0_);
+  Temperature(t0_, 20.0);
+  Temperature(clock_.NowMs() - 60000, 95.0);  // outside plausible_max_c = 80
+  AxisCompensation y = Y();
+  EXPECT_FALSE(y.valid);
+  EXPECT_EQ(y.offset_mm, 0.0);
+  EXPECT_NE(y.reason.find("implausible"), std::string::npos);
+}
+
+TEST_F(CompensationServiceTest, SpikeAgainstTheFilterIsNotServed) {
+  // With a slow filter a sudden 10 degC step is a sensor fault, not heat.
+  {
+    std::lock_guard<std::mutex> lock(app_->db().mutex());
+    ASSERT_TRUE(app_->db().Exec("UPDATE sensors SET ewma_alpha = 0.1").ok());
+  }
+  ActivateModel();
+  Datum(t0_);
+  Temperature(t0_, 20.0);
+  Temperature(clock_.NowMs() - 60000, 30.0);
+  AxisCompensation y = Y();
+  EXPECT_FALSE(y.valid);
+  EXPECT_NE(y.reason.find("jumps"), std::string::npos);
+}
+
+TEST_F(CompensationServiceTest, ServedValuesAreLogged) {
+  ActivateModel();
+  Datum(t0_);
+  Temperature(t0_, 20.0);
+  Temperature(clock_.NowMs() - 60000, 21.0);
+  ASSERT_TRUE(Y().valid);
+  EXPECT_GE(Count("SELECT COUNT(*) FROM compensation_log WHERE valid = 1"), 1);
+  EXPECT_GE(Count("SELECT COUNT(*) FROM compensation_rollup"), 1);
+}
+
+}  // namespace
+}  // namespace thermocomp
