@@ -281,16 +281,10 @@ void HttpServer::Routes() {
     bool ok = IsCsv(req) ? ParseTemperaturesCsv(req.body, samples, errors)
                          : ParseTemperaturesJson(req.body, samples, errors);
     if (!ok) {
-      app_.metrics().ingest_rejected++;
+      app_.ingest().CountMalformed();
       return WriteProblem(res, Status::InvalidArgument("malformed temperatures"), errors);
     }
     IngestResult r = app_.ingest().AddTemperatures(req.matches[1], samples, Actor(req));
-    if (r.status.ok()) {
-      app_.metrics().samples_accepted += r.accepted;
-      app_.metrics().samples_duplicate += r.duplicates;
-    } else {
-      app_.metrics().ingest_rejected++;
-    }
     WriteIngest(res, r);
   });
   s.Post(m + "/probe-points", [this](const Req& req, Res& res) {
@@ -300,14 +294,10 @@ void HttpServer::Routes() {
     bool ok = IsCsv(req) ? ParseProbePointsCsv(req.body, points, errors)
                          : ParseProbePointsJson(req.body, points, errors);
     if (!ok) {
-      app_.metrics().ingest_rejected++;
+      app_.ingest().CountMalformed();
       return WriteProblem(res, Status::InvalidArgument("malformed probe points"), errors);
     }
     IngestResult r = app_.ingest().AddProbePoints(req.matches[1], points, Actor(req));
-    if (r.status.ok())
-      app_.metrics().probe_points_accepted += r.accepted;
-    else
-      app_.metrics().ingest_rejected++;
     WriteIngest(res, r);
   });
 

@@ -17,9 +17,9 @@ const std::set<std::string> kEventKinds = {"maintenance", "collision", "column_c
 
 }  // namespace
 
-IngestResult IngestService::AddSignals(const std::string& machine_name,
-                                       const std::vector<SignalInput>& samples,
-                                       const std::string& actor) {
+IngestResult IngestService::StoreSignals(const std::string& machine_name,
+                                         const std::vector<SignalInput>& samples,
+                                         const std::string& actor) {
   std::unique_lock<std::mutex> lock(db_.mutex());
   auto machine = MachineStore(db_).Find(machine_name);
   if (!machine) return Rejected({}, Status::NotFound("unknown machine '" + machine_name + "'"));
@@ -65,8 +65,8 @@ IngestResult IngestService::AddSignals(const std::string& machine_name,
                 "signal samples conflict with stored values", "signals", machine_name, actor);
 }
 
-IngestResult IngestService::AddEvent(const std::string& machine_name, const EventInput& e,
-                                     const std::string& actor) {
+IngestResult IngestService::StoreEvent(const std::string& machine_name, const EventInput& e,
+                                       const std::string& actor) {
   std::unique_lock<std::mutex> lock(db_.mutex());
   auto machine = MachineStore(db_).Find(machine_name);
   if (!machine) return Rejected({}, Status::NotFound("unknown machine '" + machine_name + "'"));

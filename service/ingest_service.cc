@@ -74,9 +74,51 @@ Status IngestService::CheckTs(int64_t ts_ms) const {
   return Status::Ok();
 }
 
-IngestResult IngestService::AddTemperatures(const std::string& machine_name,
+IngestResult IngestService::Counted(IngestResult r, std::atomic<uint64_t>* accepted,
+                                    std::atomic<uint64_t>* duplicates) {
+  if (!metrics_) return r;
+  if (!r.status.ok()) {
+    ++metrics_->ingest_rejected;
+    return r;
+  }
+  if (accepted) *accepted += r.accepted;
+  if (duplicates) *duplicates += r.duplicates;
+  return r;
+}
+
+void IngestService::CountMalformed() {
+  if (metrics_) ++metrics_->ingest_rejected;
+}
+
+IngestResult IngestService::AddTemperatures(const std::string& machine,
                                             const std::vector<TemperatureInput>& samples,
                                             const std::string& actor) {
+  return Counted(StoreTemperatures(machine, samples, actor),
+                 metrics_ ? &metrics_->samples_accepted : nullptr,
+                 metrics_ ? &metrics_->samples_duplicate : nullptr);
+}
+
+IngestResult IngestService::AddProbePoints(const std::string& machine,
+                                           const std::vector<ProbePointInput>& points,
+                                           const std::string& actor) {
+  return Counted(StoreProbePoints(machine, points, actor),
+                 metrics_ ? &metrics_->probe_points_accepted : nullptr);
+}
+
+IngestResult IngestService::AddSignals(const std::string& machine,
+                                       const std::vector<SignalInput>& samples,
+                                       const std::string& actor) {
+  return Counted(StoreSignals(machine, samples, actor), nullptr);
+}
+
+IngestResult IngestService::AddEvent(const std::string& machine, const EventInput& event,
+                                     const std::string& actor) {
+  return Counted(StoreEvent(machine, event, actor), nullptr);
+}
+
+IngestResult IngestService::StoreTemperatures(const std::string& machine_name,
+                                              const std::vector<TemperatureInput>& samples,
+                                              const std::string& actor) {
   std::unique_lock<std::mutex> lock(db_.mutex());
   auto machine = MachineStore(db_).Find(machine_name);
   if (!machine) return Rejected({}, Status::NotFound("unknown machine '" + machine_name + "'"));
@@ -169,9 +211,9 @@ IngestResult IngestService::AddTemperatures(const std::string& machine_name,
                 });
 }
 
-IngestResult IngestService::AddProbePoints(const std::string& machine_name,
-                                           const std::vector<ProbePointInput>& points,
-                                           const std::string& actor) {
+IngestResult IngestService::StoreProbePoints(const std::string& machine_name,
+                                             const std::vector<ProbePointInput>& points,
+                                             const std::string& actor) {
   std::unique_lock<std::mutex> lock(db_.mutex());
   auto machine = MachineStore(db_).Find(machine_name);
   if (!machine) return Rejected({}, Status::NotFound("unknown machine '" + machine_name + "'"));

@@ -14,6 +14,7 @@
 #include "core/ingest_inputs.h"
 #include "core/records.h"
 #include "core/status.h"
+#include "service/metrics.h"
 #include "service/probe_temperature_cache.h"
 #include "storage/database.h"
 
@@ -34,8 +35,11 @@ bool ValidAxisName(const std::string& axis);  // X Y Z A B C U V W
 class IngestService {
  public:
   using Listener = std::function<void(const std::string& machine)>;
-  IngestService(Database& db, const Clock& clock, ProbeTemperatureCache* cache = nullptr)
-      : db_(db), clock_(clock), cache_(cache) {}
+  // `metrics` (optional) counts every batch, whichever face it came through:
+  // samples and points stored, samples re-sent identically, batches refused.
+  IngestService(Database& db, const Clock& clock, ProbeTemperatureCache* cache = nullptr,
+                Metrics* metrics = nullptr)
+      : db_(db), clock_(clock), cache_(cache), metrics_(metrics) {}
 
   IngestResult AddTemperatures(const std::string& machine,
                                const std::vector<TemperatureInput>& samples,
@@ -50,8 +54,23 @@ class IngestService {
                         const std::string& actor);
   // Called after a commit that changed the machine's data.
   void SetListener(Listener listener) { listener_ = std::move(listener); }
+  // A body a face could not parse: refused as a whole like a refused batch.
+  void CountMalformed();
 
  private:
+  IngestResult StoreTemperatures(const std::string& machine,
+                                 const std::vector<TemperatureInput>& samples,
+                                 const std::string& actor);
+  IngestResult StoreProbePoints(const std::string& machine,
+                                const std::vector<ProbePointInput>& points,
+                                const std::string& actor);
+  IngestResult StoreSignals(const std::string& machine, const std::vector<SignalInput>& samples,
+                            const std::string& actor);
+  IngestResult StoreEvent(const std::string& machine, const EventInput& event,
+                          const std::string& actor);
+  // Counts a batch's outcome; returns it.
+  IngestResult Counted(IngestResult r, std::atomic<uint64_t>* accepted,
+                       std::atomic<uint64_t>* duplicates = nullptr);
   Status CheckTs(int64_t ts_ms) const;
   // The end of every batch: refused with the conflicts if there are any;
   // else the audit row, the commit, `after_commit` (still under the lock),
@@ -63,6 +82,7 @@ class IngestService {
   Database& db_;
   const Clock& clock_;
   ProbeTemperatureCache* cache_;
+  Metrics* metrics_;
   Listener listener_;
 };
 

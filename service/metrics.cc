@@ -14,7 +14,7 @@ void Metrics::ObserveRequest(double seconds) {
 
 std::string Metrics::Render(const std::string& extra) const {
   std::string out;
-  char line[200];
+  char line[400];
   auto counter = [&](const char* name, const char* help, uint64_t v) {
     std::snprintf(line, sizeof line, "# HELP %s %s\n# TYPE %s counter\n%s %llu\n", name, help, name,
                   name, static_cast<unsigned long long>(v));
@@ -24,7 +24,9 @@ std::string Metrics::Render(const std::string& extra) const {
   counter("thermocomp_samples_duplicate_total", "Temperature samples re-sent identically.",
           samples_duplicate);
   counter("thermocomp_probe_points_accepted_total", "Probe points stored.", probe_points_accepted);
-  counter("thermocomp_ingest_rejected_total", "Write requests rejected as a whole.",
+  counter("thermocomp_ingest_rejected_total",
+          "Ingest batches refused as a whole (a body that does not parse, or a batch the "
+          "ingest rules refuse), over every face.",
           ingest_rejected);
   out +=
       "# HELP thermocomp_http_request_duration_seconds HTTP request latency.\n"

@@ -203,9 +203,7 @@ void DdsBridge::Flush() {
   for (auto& [machine, samples] : e.temperatures) StoreTemperatures(machine, std::move(samples));
   for (auto& [machine, points] : e.points) {
     IngestResult r = app_.ingest().AddProbePoints(machine, points, "dds");
-    if (r.status.ok()) {
-      app_.metrics().probe_points_accepted += r.accepted;
-    } else {
+    if (!r.status.ok()) {
       const size_t i = r.errors.empty() ? 0 : r.errors[0].index;
       const auto& p = points[std::min(i, points.size() - 1)];
       PublishRejection(machine, "ProbePoint", p.run + "/" + std::to_string(p.k), r, 0);
@@ -224,7 +222,6 @@ void DdsBridge::StoreTemperatures(const std::string& machine,
   IngestResult r = app_.ingest().AddTemperatures(machine, samples, "dds");
   if (r.status.ok()) {
     samples_stored_ += r.accepted;
-    app_.metrics().samples_accepted += r.accepted;
     PublishReceipts(machine, samples);
     return;
   }
@@ -297,7 +294,6 @@ void DdsBridge::PublishReceipts(const std::string& machine,
 void DdsBridge::PublishRejection(const std::string& machine, const char* topic,
                                  const std::string& item, const IngestResult& r,
                                  size_t error_index) {
-  app_.metrics().ingest_rejected++;
   const bool has = error_index < r.errors.size();
   const std::string field = has ? r.errors[error_index].field : "";
   const std::string message = has ? r.errors[error_index].message : r.status.message();

@@ -59,6 +59,14 @@ TEST_F(DdsBridgeTest, PublishedSamplesArriveInSqlite) {
   ASSERT_TRUE(WaitFor([&] { return Count("SELECT COUNT(*) FROM samples") == 500; }))
       << Count("SELECT COUNT(*) FROM samples") << " of 500 stored";
   EXPECT_GE(Count("SELECT COUNT(*) FROM audit WHERE actor = 'dds' AND action = 'temperatures'"), 1);
+  // Counted once, in the ingest service, with the same meaning as over HTTP:
+  // the re-sent samples are duplicates.
+  EXPECT_EQ(app_->metrics().samples_accepted.load(), 500u);
+  for (int i = 0; i < 500; ++i) peer.Publish(machine_, "T1", t0 + i * 60000, 20.0 + i * 0.01);
+  EXPECT_TRUE(WaitFor([&] { return app_->metrics().samples_duplicate.load() == 500; }))
+      << app_->metrics().samples_duplicate.load();
+  EXPECT_EQ(app_->metrics().samples_accepted.load(), 500u);
+  EXPECT_EQ(app_->metrics().ingest_rejected.load(), 0u);
 }
 
 TEST_F(DdsBridgeTest, InvalidSampleIsRejectedOverDdsAndStoresNothing) {
@@ -97,6 +105,9 @@ TEST_F(DdsBridgeTest, ABadSampleIsRefusedAloneAndNoReceiptCoversIt) {
     receipted += r.samples;
   }
   EXPECT_EQ(receipted, 19);
+  // The 19 stored on the retry are counted; the refused batch once.
+  EXPECT_EQ(app_->metrics().samples_accepted.load(), 19u);
+  EXPECT_GE(app_->metrics().ingest_rejected.load(), 1u);
 }
 
 TEST_F(DdsBridgeTest, LateJoinerGetsTheCurrentCompensation) {
