@@ -61,7 +61,9 @@ TEST_F(DdsBridgeTest, PublishedSamplesArriveInSqlite) {
   EXPECT_GE(Count("SELECT COUNT(*) FROM audit WHERE actor = 'dds' AND action = 'temperatures'"), 1);
   // Counted once, in the ingest service, with the same meaning as over HTTP:
   // the re-sent samples are duplicates.
-  EXPECT_EQ(app_->metrics().samples_accepted.load(), 500u);
+  // (counted once the batch's call returns, just after its commit)
+  EXPECT_TRUE(WaitFor([&] { return app_->metrics().samples_accepted.load() == 500; }))
+      << app_->metrics().samples_accepted.load();
   for (int i = 0; i < 500; ++i) peer.Publish(machine_, "T1", t0 + i * 60000, 20.0 + i * 0.01);
   EXPECT_TRUE(WaitFor([&] { return app_->metrics().samples_duplicate.load() == 500; }))
       << app_->metrics().samples_duplicate.load();
@@ -106,7 +108,8 @@ TEST_F(DdsBridgeTest, ABadSampleIsRefusedAloneAndNoReceiptCoversIt) {
   }
   EXPECT_EQ(receipted, 19);
   // The 19 stored on the retry are counted; the refused batch once.
-  EXPECT_EQ(app_->metrics().samples_accepted.load(), 19u);
+  EXPECT_TRUE(WaitFor([&] { return app_->metrics().samples_accepted.load() == 19; }))
+      << app_->metrics().samples_accepted.load();
   EXPECT_GE(app_->metrics().ingest_rejected.load(), 1u);
 }
 
