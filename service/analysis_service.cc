@@ -188,9 +188,9 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
   if (version) {
     model_report["version"] = *version;
     model_report["analysis_id"] = *id;
-    Statement up(db_, "UPDATE models SET report_json = ? WHERE axis_id = ? AND version = ?");
-    up.Bind(1, JsonText(model_report)).Bind(2, axis_id).Bind(3, int64_t{*version});
-    if (Status s = up.Run(); !s.ok()) return s;
+    if (Status s = ModelStore(db_).SetReport(axis_id, *version, JsonText(model_report)); !s.ok()) {
+      return s;
+    }
   }
   if (Status s = LogStore(db_).Audit(context.created_ms, req.actor, "analysis", machine_name,
                                      static_cast<int>(result->effects.size()),

@@ -206,11 +206,7 @@ StatusOr<nlohmann::json> CheckService::AddColumnCheck(const std::string& machine
   if (!id.ok()) return id.status();
   out["id"] = *id;
   out["request_id"] = request ? nlohmann::json(request->id) : nullptr;
-  {
-    Statement up(db_, "UPDATE column_checks SET result_json = ? WHERE id = ?");
-    up.Bind(1, JsonText(out)).Bind(2, *id);
-    if (Status s = up.Run(); !s.ok()) return s;
-  }
+  if (Status s = store.SetColumnCheckResult(*id, JsonText(out)); !s.ok()) return s;
   if (request && !request->done_ms) {
     if (Status s = store.CloseRequest(request->id, clock_.NowMs(), *id); !s.ok()) return s;
   }
@@ -301,28 +297,20 @@ StatusOr<nlohmann::json> CheckService::AddPositioningCheck(const std::string& ma
   out["machine"] = machine_name;
   out["input"] = input;
   CheckStore store(db_);
-  Statement dup(db_,
-                "SELECT id, input_json FROM positioning_checks WHERE machine_id = ? AND axis = ?"
-                " AND ts_ms = ?");
-  dup.Bind(1, machine_id).Bind(2, in.axis).Bind(3, in.ts_ms);
-  if (dup.Step()) {
-    if (dup.Text(1) != JsonText(input)) {
+  if (auto stored = store.PositioningCheckAt(machine_id, in.axis, in.ts_ms)) {
+    if (stored->input_json != JsonText(input)) {
       return Status::Conflict("a different positioning check of " + in.axis + " at " +
                               FormatRfc3339(in.ts_ms) + " is stored already");
     }
     *created = false;
-    return nlohmann::json::parse(store.PositioningCheck(machine_id, dup.Int(0))->result_json);
+    return nlohmann::json::parse(stored->result_json);
   }
   Transaction tx(db_);
   if (!tx.status().ok()) return tx.status();
   auto id = store.InsertPositioningCheck(machine_id, {0, in.axis, in.ts_ms, JsonText(input), ""});
   if (!id.ok()) return id.status();
   out["id"] = *id;
-  {
-    Statement up(db_, "UPDATE positioning_checks SET result_json = ? WHERE id = ?");
-    up.Bind(1, JsonText(out)).Bind(2, *id);
-    if (Status s = up.Run(); !s.ok()) return s;
-  }
+  if (Status s = store.SetPositioningCheckResult(*id, JsonText(out)); !s.ok()) return s;
   if (Status s =
           LogStore(db_).Audit(clock_.NowMs(), actor, "positioning-check", machine_name, 1, in.axis);
       !s.ok()) {

@@ -234,11 +234,7 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
       models.Insert(axis->id, {0, status, reason, now, JsonText(DriftModelToJson(model)), ""});
   if (!version.ok()) return version.status();
   report["version"] = *version;
-  {
-    Statement up(db_, "UPDATE models SET report_json = ? WHERE axis_id = ? AND version = ?");
-    up.Bind(1, JsonText(report)).Bind(2, axis->id).Bind(3, int64_t{*version});
-    if (Status s = up.Run(); !s.ok()) return s;
-  }
+  if (Status s = models.SetReport(axis->id, *version, JsonText(report)); !s.ok()) return s;
   if (Status s = LogStore(db_).Audit(now, req.actor, "fit", machine_name, fit.n,
                                      axis_name + " v" + std::to_string(*version) + " " + status);
       !s.ok()) {

@@ -151,6 +151,29 @@ StatusOr<int64_t> CheckStore::InsertPositioningCheck(int64_t machine_id,
   return db_.LastInsertId();
 }
 
+std::optional<PositioningCheckRecord> CheckStore::PositioningCheckAt(int64_t machine_id,
+                                                                     const std::string& axis,
+                                                                     int64_t ts_ms) {
+  Statement q(db_,
+              "SELECT id, axis, ts_ms, input_json, result_json FROM positioning_checks"
+              " WHERE machine_id = ? AND axis = ? AND ts_ms = ?");
+  q.Bind(1, machine_id).Bind(2, axis).Bind(3, ts_ms);
+  if (!q.Step()) return std::nullopt;
+  return PositioningCheckRecord{q.Int(0), q.Text(1), q.Int(2), q.Text(3), q.Text(4)};
+}
+
+Status CheckStore::SetColumnCheckResult(int64_t id, const std::string& result_json) {
+  Statement q(db_, "UPDATE column_checks SET result_json = ? WHERE id = ?");
+  q.Bind(1, result_json).Bind(2, id);
+  return q.Run();
+}
+
+Status CheckStore::SetPositioningCheckResult(int64_t id, const std::string& result_json) {
+  Statement q(db_, "UPDATE positioning_checks SET result_json = ? WHERE id = ?");
+  q.Bind(1, result_json).Bind(2, id);
+  return q.Run();
+}
+
 std::optional<PositioningCheckRecord> CheckStore::PositioningCheck(int64_t machine_id, int64_t id) {
   Statement q(db_,
               "SELECT id, axis, ts_ms, input_json, result_json FROM positioning_checks"

@@ -57,6 +57,12 @@ class CheckStore {
 
   StatusOr<int64_t> InsertPositioningCheck(int64_t machine_id, const PositioningCheckRecord& r);
   std::optional<PositioningCheckRecord> PositioningCheck(int64_t machine_id, int64_t id);
+  // The check of `axis` at `ts_ms`, if one is stored (a re-sent check).
+  std::optional<PositioningCheckRecord> PositioningCheckAt(int64_t machine_id,
+                                                           const std::string& axis, int64_t ts_ms);
+  // A check's result, once it carries the id it was given.
+  Status SetColumnCheckResult(int64_t id, const std::string& result_json);
+  Status SetPositioningCheckResult(int64_t id, const std::string& result_json);
 
  private:
   Database& db_;

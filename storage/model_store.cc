@@ -68,6 +68,12 @@ std::optional<int64_t> ModelStore::LatestCreated(int64_t axis_id) {
   return q.Int(0);
 }
 
+Status ModelStore::SetReport(int64_t axis_id, int version, const std::string& report_json) {
+  Statement q(db_, "UPDATE models SET report_json = ? WHERE axis_id = ? AND version = ?");
+  q.Bind(1, report_json).Bind(2, axis_id).Bind(3, int64_t{version});
+  return q.Run();
+}
+
 Status ModelStore::Activate(int64_t axis_id, int version) {
   if (!Get(axis_id, version)) {
     return Status::NotFound("model version " + std::to_string(version) + " does not exist");

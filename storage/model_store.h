@@ -23,6 +23,8 @@ class ModelStore {
   std::optional<int64_t> LatestCreated(int64_t axis_id);
   // Makes `version` the active one; NotFound when it does not exist.
   Status Activate(int64_t axis_id, int version);
+  // The version's report, once it carries the version number it was given.
+  Status SetReport(int64_t axis_id, int version, const std::string& report_json);
 
  private:
   Database& db_;

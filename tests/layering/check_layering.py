@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Fails when a file includes a folder its folder may not include.
+"""Fails when a file includes a folder its folder may not include, or when
+code outside storage/ (tests and benchmarks excepted) runs SQL.
 
 Reads every #include "..." of the C++ sources under the repository root
 and checks the pair (folder of the file, folder of the include) against
@@ -15,6 +16,10 @@ import re
 import sys
 
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
+# SQL lives in storage/ only: a statement or a raw sqlite3 call elsewhere
+# (tests and benchmarks excepted) is a violation too.
+SQL = re.compile(r'\bStatement\s+\w+\s*\(|\bsqlite3_\w+\s*\(')
+SQL_ALLOWED = {"storage", "tests", "bench"}
 
 
 def load_table(path):
@@ -60,6 +65,8 @@ def main():
                     continue  # walked again under its own, longer entry
                 with open(os.path.join(root, path), encoding="utf-8", errors="replace") as f:
                     for number, line in enumerate(f, 1):
+                        if source not in SQL_ALLOWED and SQL.search(line):
+                            violations.append(f"{path}:{number}: SQL outside storage/")
                         m = INCLUDE.match(line)
                         if not m:
                             continue
@@ -73,7 +80,7 @@ def main():
                                               f"({target}/ is not below {source}/)")
     for v in violations:
         print(v)
-    print(f"{checked} includes checked, {len(violations)} pointing up")
+    print(f"{checked} includes checked; {len(violations)} violations")
     return 1 if violations else 0
 
 
