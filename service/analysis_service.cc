@@ -7,6 +7,7 @@
 #include "core/time_format.h"
 #include "model/acceptance.h"
 #include "model/drift_model.h"
+#include "model/held_out.h"
 #include "service/analysis_report.h"
 #include "service/drift_dataset.h"
 #include "service/json_text.h"
@@ -21,22 +22,6 @@
 
 namespace thermocomp {
 namespace {
-
-// RMSE of a stored model on the held-out points; nullopt when it cannot be
-// evaluated on any of them.
-std::optional<double> HeldOutRmse(const DriftModel& model, const EffectSearchInput& in) {
-  const std::vector<double> predicted = PredictAtPoints(model, in);
-  double sse = 0;
-  int n = 0;
-  for (size_t i = 0; i < in.points.size(); ++i) {
-    const double r = in.drift_mm[i] - predicted[i];
-    if (!in.holdout[i] || !std::isfinite(r)) continue;
-    sse += r * r;
-    ++n;
-  }
-  if (n == 0) return std::nullopt;
-  return std::sqrt(sse / n);
-}
 
 // The model report of the extended model, with the keys every model
 // report has (docs/api.md), pointing back at its analysis.
@@ -139,8 +124,11 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
     }
     std::optional<double> active_rmse;
     if (active) {
-      if (auto m = DriftModelFromJson(active->model_json); m.ok())
-        active_rmse = HeldOutRmse(*m, input);
+      if (auto m = DriftModelFromJson(active->model_json); m.ok()) {
+        const PredictionErrors e =
+            ErrorsOn(input.drift_mm, PredictAtPoints(*m, input), input.holdout);
+        if (e.n > 0) active_rmse = e.rmse;
+      }
     }
     if (active_rmse && result->holdout_n > 0 && result->holdout_rmse_after_mm > *active_rmse) {
       char buf[160];

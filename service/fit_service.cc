@@ -9,6 +9,7 @@
 #include "model/acceptance.h"
 #include "model/cross_validation.h"
 #include "model/drift_model.h"
+#include "model/held_out.h"
 #include "model/residual_checks.h"
 #include "model/selection.h"
 #include "service/drift_dataset.h"
@@ -21,34 +22,7 @@
 #include "storage/model_store.h"
 
 namespace thermocomp {
-namespace {
-
-struct Errors {
-  double rmse = 0, r2 = 0;
-  int n = 0;
-};
-
-// Prediction errors of `model` on observations whose columns are named.
-Errors Evaluate(const DriftModel& model, const Observations& obs) {
-  Errors e;
-  e.n = obs.rows();
-  if (e.n == 0) return e;
-  std::vector<int> cols;
-  for (const auto& in : model.inputs) cols.push_back(obs.ColumnIndex(in));
-  double sse = 0;
-  for (int i = 0; i < e.n; ++i) {
-    std::vector<double> t;
-    for (int c : cols) t.push_back(c >= 0 ? obs.x(i, c) : NAN);
-    double r = obs.y(i) - model.PredictDrift(t);
-    sse += r * r;
-  }
-  const double sst = (obs.y.array() - obs.y.mean()).square().sum();
-  e.rmse = std::sqrt(sse / e.n);
-  e.r2 = sst > 0 ? 1.0 - sse / sst : 0.0;
-  return e;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
                                          const std::string& axis_name, const FitRequest& req) {
@@ -89,14 +63,14 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
   DriftModel model = DriftModel::FromFit(fit, kept.x, kept.names, axis->clamp_mm);
   auto cv = LeaveOneRunOut(kept);
   auto checks = CheckResiduals(kept.x, kept.y, fit);
-  Errors validation = Evaluate(model, test);
+  const PredictionErrors validation = ErrorsOn(model, test);
   std::optional<double> validation_r2;
   if (validation.n > 0) validation_r2 = validation.r2;
   AcceptanceVerdict verdict = CheckAcceptance(fit, config_.acceptance, validation_r2);
 
   ModelStore models(db_);
   std::optional<int> active_version;
-  std::optional<Errors> active_errors;
+  std::optional<PredictionErrors> active_errors;
   double candidate_rmse = validation.rmse;  // on the points both models can evaluate
   if (auto active = models.Active(axis->id)) {
     active_version = active->version;
@@ -106,20 +80,10 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
       EffectSearchInput in =
           LoadTermInput(db_, *machine, axis_name, data, holdout, {},
                         int64_t{config_.stale_after_s} * 1000, RawChannels::ForModel(*m));
-      const std::vector<double> by_active = PredictAtPoints(*m, in);
-      const std::vector<double> by_candidate = PredictAtPoints(model, in);
-      double sse_active = 0, sse_candidate = 0;
-      int n = 0;
-      for (size_t i = 0; i < in.points.size(); ++i) {
-        const double ra = in.drift_mm[i] - by_active[i], rc = in.drift_mm[i] - by_candidate[i];
-        if (!in.holdout[i] || !std::isfinite(ra) || !std::isfinite(rc)) continue;
-        sse_active += ra * ra;
-        sse_candidate += rc * rc;
-        ++n;
-      }
-      if (n > 0) {
-        active_errors = Errors{std::sqrt(sse_active / n), 0.0, n};
-        candidate_rmse = std::sqrt(sse_candidate / n);
+      if (auto both = CompareOn(in.drift_mm, PredictAtPoints(*m, in), PredictAtPoints(model, in),
+                                in.holdout)) {
+        active_errors = PredictionErrors{both->rmse_a, 0.0, both->n};
+        candidate_rmse = both->rmse_b;
       }
     }
   }

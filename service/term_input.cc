@@ -89,19 +89,4 @@ EffectSearchInput LoadTermInput(Database& db, const MachineRecord& machine, cons
   return in;
 }
 
-std::vector<double> PredictAtPoints(const DriftModel& model, const EffectSearchInput& in) {
-  FeatureBuilder features(in.inputs, in.points);
-  std::vector<Eigen::VectorXd> columns;
-  for (size_t j = 0; j < model.inputs.size(); ++j) {
-    columns.push_back(features.Column(model.TermAt(j)));
-  }
-  std::vector<double> out(in.points.size());
-  std::vector<double> t(model.inputs.size());
-  for (size_t i = 0; i < in.points.size(); ++i) {
-    for (size_t j = 0; j < columns.size(); ++j) t[j] = columns[j](i);
-    out[i] = model.PredictDrift(t);
-  }
-  return out;
-}
-
 }  // namespace thermocomp

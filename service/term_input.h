@@ -10,6 +10,7 @@
 
 #include "model/drift_model.h"
 #include "model/effect_search.h"
+#include "model/held_out.h"
 #include "service/drift_dataset.h"
 #include "storage/database.h"
 
@@ -31,9 +32,5 @@ EffectSearchInput LoadTermInput(Database& db, const MachineRecord& machine, cons
                                 const DriftDataset& data, const std::vector<std::string>& holdout,
                                 const std::vector<std::string>& declared, int64_t max_gap_ms,
                                 const RawChannels& raw);
-
-// The model's predicted drift at every point of `in`; NaN where a term
-// cannot be evaluated.
-std::vector<double> PredictAtPoints(const DriftModel& model, const EffectSearchInput& in);
 
 }  // namespace thermocomp
