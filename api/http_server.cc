@@ -6,16 +6,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "api/controller_formats.h"
 #include "api/http_util.h"
-#include "api/ingest_parsers.h"
 #include "api/json_mapping.h"
 #include "api/openapi.h"
 #include "api/problem.h"
 #include "core/log.h"
-#include "core/time_format.h"
-#include "service/analysis_report.h"
-#include "service/json_fields.h"
 
 namespace thermocomp::api {
 namespace {
@@ -26,11 +21,6 @@ using Res = httplib::Response;
 
 constexpr const char* kBase = "/api/v1";
 thread_local std::chrono::steady_clock::time_point t_request_start;
-
-void WriteIngest(Res& res, const IngestResult& r) {
-  if (!r.status.ok()) return WriteProblem(res, r.status, r.errors);
-  WriteJson(res, {{"accepted", r.accepted}, {"duplicates", r.duplicates}});
-}
 
 }  // namespace
 
@@ -148,7 +138,6 @@ std::string HttpServer::CompensationBody(const std::string& machine,
 }
 
 void HttpServer::Routes() {
-  CheckRoutes();
   auto& s = server_;
   const size_t max_body = app_.config().max_body_bytes;
   s.set_pre_routing_handler([this, max_body](const Req& req, Res& res) {
@@ -247,189 +236,11 @@ void HttpServer::Routes() {
     res.set_content(app_.metrics().Render(app_.ModelGauges()), "text/plain; version=0.0.4");
   });
 
-  const std::string m = std::string(kBase) + "/machines/([A-Za-z0-9_.-]{1,64})";
-  const std::string axis = m + "/axes/([A-Z])";
-
-  s.Get(std::string(kBase) + "/machines", [this](const Req&, Res& res) {
-    json list = json::array();
-    for (const auto& mr : app_.machines().List()) list.push_back(MachineToJson(mr));
-    WriteJson(res, {{"machines", list}});
-  });
-  s.Get(m, [this](const Req& req, Res& res) {
-    auto mr = app_.machines().Find(req.matches[1]);
-    if (!mr) return WriteProblem(res, 404, "unknown machine '" + std::string(req.matches[1]) + "'");
-    json j = MachineToJson(*mr);
-    j.update(app_.machines().Summary(*mr));
-    WriteJson(res, j);
-  });
-  s.Put(m, [this](const Req& req, Res& res) {
-    if (!CheckMediaType(req, res, false)) return;
-    FieldErrors errors;
-    auto record = MachineFromJson(req.matches[1], req.body, errors);  // a MachineDefinition
-    if (!record)
-      return WriteProblem(res, Status::InvalidArgument("invalid machine definition"), errors);
-    auto created = app_.machines().Register(*record, Actor(req), &errors);
-    if (!created.ok()) return WriteProblem(res, created.status(), errors);
-    (void)app_.compensation().Recompute(record->name);
-    WriteJson(res, MachineToJson(*app_.machines().Find(record->name)), *created ? 201 : 200);
-  });
-
-  s.Post(m + "/temperatures", [this](const Req& req, Res& res) {
-    if (!CheckMediaType(req, res, true)) return;
-    std::vector<TemperatureInput> samples;
-    FieldErrors errors;
-    bool ok = IsCsv(req) ? ParseTemperaturesCsv(req.body, samples, errors)
-                         : ParseTemperaturesJson(req.body, samples, errors);
-    if (!ok) {
-      app_.ingest().CountMalformed();
-      return WriteProblem(res, Status::InvalidArgument("malformed temperatures"), errors);
-    }
-    IngestResult r = app_.ingest().AddTemperatures(req.matches[1], samples, Actor(req));
-    WriteIngest(res, r);
-  });
-  s.Post(m + "/probe-points", [this](const Req& req, Res& res) {
-    if (!CheckMediaType(req, res, true)) return;
-    std::vector<ProbePointInput> points;
-    FieldErrors errors;
-    bool ok = IsCsv(req) ? ParseProbePointsCsv(req.body, points, errors)
-                         : ParseProbePointsJson(req.body, points, errors);
-    if (!ok) {
-      app_.ingest().CountMalformed();
-      return WriteProblem(res, Status::InvalidArgument("malformed probe points"), errors);
-    }
-    IngestResult r = app_.ingest().AddProbePoints(req.matches[1], points, Actor(req));
-    WriteIngest(res, r);
-  });
-
-  s.Post(axis + "/fit", [this](const Req& req, Res& res) {
-    FitRequest fr;
-    fr.actor = Actor(req);
-    if (!req.body.empty()) {
-      auto body = JsonObjectBody(req, res);
-      if (!body) return;
-      FieldErrors errors;
-      JsonFields f(*body, errors);
-      fr.inputs = f.Strings("inputs");
-      fr.holdout_runs = f.Strings("holdout_runs");
-      if (!errors.empty())
-        return WriteProblem(res, Status::InvalidArgument("invalid fit request"), errors);
-    }
-    auto report = app_.fits().Fit(req.matches[1], req.matches[2], fr);
-    if (!report.ok()) return WriteProblem(res, report.status());
-    WriteJson(res, *report, 201);
-  });
-  s.Get(axis + "/models", [this](const Req& req, Res& res) {
-    auto list = ListModels(app_, req.matches[1], req.matches[2]);
-    if (!list.ok()) return WriteProblem(res, list.status());
-    WriteJson(res, *list);
-  });
-  s.Get(axis + "/models/([0-9]{1,9})", [this](const Req& req, Res& res) {
-    auto one = GetModel(app_, req.matches[1], req.matches[2], std::stoi(req.matches[3]));
-    if (!one.ok()) return WriteProblem(res, one.status());
-    WriteJson(res, *one);
-  });
-  s.Post(axis + "/models/([0-9]{1,9})/activate", [this](const Req& req, Res& res) {
-    const int version = std::stoi(req.matches[3]);
-    Status st = app_.fits().Activate(req.matches[1], req.matches[2], version, Actor(req));
-    if (!st.ok()) return WriteProblem(res, st);
-    auto one = GetModel(app_, req.matches[1], req.matches[2], version);
-    WriteJson(res, one.ok() ? *one : json{{"version", version}});
-  });
-
-  s.Post(m + "/signals", [this](const Req& req, Res& res) {
-    if (!CheckMediaType(req, res, true)) return;
-    std::vector<SignalInput> samples;
-    FieldErrors errors;
-    bool ok = IsCsv(req) ? ParseSignalsCsv(req.body, samples, errors)
-                         : ParseSignalsJson(req.body, samples, errors);
-    if (!ok) return WriteProblem(res, Status::InvalidArgument("malformed signals"), errors);
-    WriteIngest(res, app_.ingest().AddSignals(req.matches[1], samples, Actor(req)));
-  });
-  s.Post(m + "/events", [this](const Req& req, Res& res) {
-    if (!CheckMediaType(req, res, false)) return;
-    EventInput event;
-    FieldErrors errors;
-    if (!ParseEventJson(req.body, event, errors)) {
-      return WriteProblem(res, Status::InvalidArgument("malformed event"), errors);
-    }
-    IngestResult r = app_.ingest().AddEvent(req.matches[1], event, Actor(req));
-    if (!r.status.ok()) return WriteProblem(res, r.status, r.errors);
-    WriteJson(res, {{"id", r.id}, {"accepted", r.accepted}, {"duplicates", r.duplicates}},
-              r.accepted ? 201 : 200);
-  });
-
-  s.Post(axis + "/analysis", [this](const Req& req, Res& res) {
-    AnalysisRequest ar;
-    ar.actor = Actor(req);
-    if (!req.body.empty()) {
-      auto body = JsonObjectBody(req, res);
-      if (!body) return;
-      FieldErrors errors;
-      JsonFields f(*body, errors);
-      ar.inputs = f.Strings("inputs");
-      ar.holdout_runs = f.Strings("holdout_runs");
-      if (auto p = f.String("policy", JsonFields::kOptional, 16)) {
-        if (*p != "off" && *p != "propose" && *p != "activate") {
-          errors.push_back({0, "policy", "must be \"off\", \"propose\" or \"activate\""});
-        } else {
-          ar.policy = *p;
-        }
-      }
-      if (!errors.empty()) {
-        return WriteProblem(res, Status::InvalidArgument("invalid analysis request"), errors);
-      }
-    }
-    auto report = app_.analyses().Analyze(req.matches[1], req.matches[2], ar);
-    if (!report.ok()) return WriteProblem(res, report.status());
-    WriteJson(res, *report, 201);
-  });
-  s.Get(axis + "/analysis", [this](const Req& req, Res& res) {
-    auto list = app_.analyses().List(req.matches[1], req.matches[2]);
-    if (!list.ok()) return WriteProblem(res, list.status());
-    WriteJson(res, AnalysesToJson(*list));
-  });
-  s.Get(axis + "/analysis/([0-9]{1,18})", [this](const Req& req, Res& res) {
-    auto report = app_.analyses().Get(req.matches[1], req.matches[2], std::stoll(req.matches[3]));
-    if (!report.ok()) return WriteProblem(res, report.status());
-    WriteReport(req, res, *report, AnalysisMarkdown, AnalysisHtml);
-  });
-
-  s.Get(m + "/compensation", [this](const Req& req, Res& res) {
-    auto c = app_.compensation().Get(req.matches[1]);
-    if (!c.ok()) return WriteProblem(res, c.status());
-    std::string format = req.get_param_value("format");
-    if (format.empty() || format == "json") {
-      return res.set_content(CompensationBody(req.matches[1], *c), "application/json");
-    }
-    if (format == "native") {
-      if (!KnownControllerFormat((*c)->controller)) {
-        return WriteProblem(res, 400,
-                            "format: native: the machine's control '" + (*c)->controller +
-                                "' has no native format; use json",
-                            {{0, "format", "no native format for '" + (*c)->controller + "'"}});
-      }
-      format = (*c)->controller;
-    }
-    if (!KnownControllerFormat(format)) {
-      return WriteProblem(
-          res, 400,
-          "format: must be json, native, sinumerik, beckhoff, heidenhain, fanuc or linuxcnc",
-          {{0, "format", "unknown format '" + format + "'"}});
-    }
-    res.set_content(RenderForController(**c, format), "text/plain");
-  });
-
-  s.Get(m + "/drift", [this](const Req& req, Res& res) {
-    HistoryQuery q;
-    FieldErrors errors;
-    if (!ParseHistoryQuery(req, q, errors)) {
-      return WriteProblem(res, Status::InvalidArgument("invalid drift query"), errors);
-    }
-    q.machine = req.matches[1];
-    auto h = app_.history().Drift(q);
-    if (!h.ok()) return WriteProblem(res, h.status());
-    WriteJson(res, *h);
-  });
+  MachineRoutes();
+  IngestRoutes();
+  ModelRoutes();
+  CompensationRoutes();
+  CheckRoutes();
 }
 
 }  // namespace thermocomp::api

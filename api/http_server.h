@@ -35,8 +35,14 @@ class HttpServer {
   // The JSON body of a compensation snapshot, rendered once per snapshot.
   std::string CompensationBody(const std::string& machine,
                                const std::shared_ptr<const MachineCompensation>& c);
+  // The hooks every request passes (framing, limits, auth, logging,
+  // problems) and the routes, grouped per resource, one file each.
   void Routes();
-  void CheckRoutes();  // column and positioning checks (check_routes.cc)
+  void MachineRoutes();       // machine_routes.cc
+  void IngestRoutes();        // ingest_routes.cc
+  void ModelRoutes();         // model_routes.cc: fits, versions, analyses
+  void CompensationRoutes();  // compensation_routes.cc: compensation, drift
+  void CheckRoutes();         // check_routes.cc: column and positioning checks
   std::string Actor(const httplib::Request& req) const;
   App& app_;
   Authorizer auth_;

@@ -13,6 +13,10 @@
 
 namespace thermocomp::api {
 
+// The paths of a machine and of one of its axes, as route patterns.
+inline const std::string kMachinePath = "/api/v1/machines/([A-Za-z0-9_.-]{1,64})";
+inline const std::string kAxisPath = kMachinePath + "/axes/([A-Z])";
+
 inline void WriteJson(httplib::Response& res, const nlohmann::json& body, int status = 200) {
   res.status = status;
   res.set_content(JsonText(body), "application/json");

@@ -1,0 +1,100 @@
+// Routes of models and effect analyses: fit, versions, activation,
+// analyses and their reports.
+#include "api/http_server.h"  // first: Eigen before httplib.h
+
+#include <nlohmann/json.hpp>
+
+#include "api/controller_formats.h"
+#include "api/http_util.h"
+#include "api/ingest_parsers.h"
+#include "api/json_mapping.h"
+#include "api/problem.h"
+#include "core/time_format.h"
+#include "service/analysis_report.h"
+#include "service/json_fields.h"
+
+namespace thermocomp::api {
+namespace {
+
+using nlohmann::json;
+using Req = httplib::Request;
+using Res = httplib::Response;
+
+}  // namespace
+
+void HttpServer::ModelRoutes() {
+  auto& s = server_;
+  const std::string& axis = kAxisPath;
+  s.Post(axis + "/fit", [this](const Req& req, Res& res) {
+    FitRequest fr;
+    fr.actor = Actor(req);
+    if (!req.body.empty()) {
+      auto body = JsonObjectBody(req, res);
+      if (!body) return;
+      FieldErrors errors;
+      JsonFields f(*body, errors);
+      fr.inputs = f.Strings("inputs");
+      fr.holdout_runs = f.Strings("holdout_runs");
+      if (!errors.empty())
+        return WriteProblem(res, Status::InvalidArgument("invalid fit request"), errors);
+    }
+    auto report = app_.fits().Fit(req.matches[1], req.matches[2], fr);
+    if (!report.ok()) return WriteProblem(res, report.status());
+    WriteJson(res, *report, 201);
+  });
+  s.Get(axis + "/models", [this](const Req& req, Res& res) {
+    auto list = ListModels(app_, req.matches[1], req.matches[2]);
+    if (!list.ok()) return WriteProblem(res, list.status());
+    WriteJson(res, *list);
+  });
+  s.Get(axis + "/models/([0-9]{1,9})", [this](const Req& req, Res& res) {
+    auto one = GetModel(app_, req.matches[1], req.matches[2], std::stoi(req.matches[3]));
+    if (!one.ok()) return WriteProblem(res, one.status());
+    WriteJson(res, *one);
+  });
+  s.Post(axis + "/models/([0-9]{1,9})/activate", [this](const Req& req, Res& res) {
+    const int version = std::stoi(req.matches[3]);
+    Status st = app_.fits().Activate(req.matches[1], req.matches[2], version, Actor(req));
+    if (!st.ok()) return WriteProblem(res, st);
+    auto one = GetModel(app_, req.matches[1], req.matches[2], version);
+    WriteJson(res, one.ok() ? *one : json{{"version", version}});
+  });
+
+  s.Post(axis + "/analysis", [this](const Req& req, Res& res) {
+    AnalysisRequest ar;
+    ar.actor = Actor(req);
+    if (!req.body.empty()) {
+      auto body = JsonObjectBody(req, res);
+      if (!body) return;
+      FieldErrors errors;
+      JsonFields f(*body, errors);
+      ar.inputs = f.Strings("inputs");
+      ar.holdout_runs = f.Strings("holdout_runs");
+      if (auto p = f.String("policy", JsonFields::kOptional, 16)) {
+        if (*p != "off" && *p != "propose" && *p != "activate") {
+          errors.push_back({0, "policy", "must be \"off\", \"propose\" or \"activate\""});
+        } else {
+          ar.policy = *p;
+        }
+      }
+      if (!errors.empty()) {
+        return WriteProblem(res, Status::InvalidArgument("invalid analysis request"), errors);
+      }
+    }
+    auto report = app_.analyses().Analyze(req.matches[1], req.matches[2], ar);
+    if (!report.ok()) return WriteProblem(res, report.status());
+    WriteJson(res, *report, 201);
+  });
+  s.Get(axis + "/analysis", [this](const Req& req, Res& res) {
+    auto list = app_.analyses().List(req.matches[1], req.matches[2]);
+    if (!list.ok()) return WriteProblem(res, list.status());
+    WriteJson(res, AnalysesToJson(*list));
+  });
+  s.Get(axis + "/analysis/([0-9]{1,18})", [this](const Req& req, Res& res) {
+    auto report = app_.analyses().Get(req.matches[1], req.matches[2], std::stoll(req.matches[3]));
+    if (!report.ok()) return WriteProblem(res, report.status());
+    WriteReport(req, res, *report, AnalysisMarkdown, AnalysisHtml);
+  });
+}
+
+}  // namespace thermocomp::api
