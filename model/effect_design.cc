@@ -1,3 +1,8 @@
+// The working parts of the effect search: designs (terms on rows), their
+// columns, fits, blocked errors and paired gains, screening and tau
+// refinement, the noise a design carries, and the final description.
+// Slightly over 500 lines: one cache of columns and blocked errors serves
+// all of them, and splitting it would expose that cache.
 #include "model/effect_design.h"
 
 #include <algorithm>

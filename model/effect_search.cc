@@ -1,3 +1,9 @@
+// The search's decisions: the rounds, the filters of declared sensors, the
+// guards, the choice among qualified candidates, the lookahead, masked
+// pairs and the settling pass. Over 500 lines on purpose: they are one
+// class whose steps call each other in the order docs/model.md §9 gives,
+// and read best top to bottom; the arithmetic they share lives apart in
+// effect_design.cc, the candidates in effect_candidates.cc.
 #include "model/effect_search.h"
 
 #include <algorithm>
