@@ -25,8 +25,11 @@
 // first-order lags on a tau grid, rates, squares, position and position x
 // temperature along every axis the probe points carry, time since the
 // datum, a slow trend, steps at events, a changed sensitivity of each
-// declared sensor from each event on, auxiliary signals. Held-out runs are
-// never seen by the search; they only measure the result. Deterministic.
+// declared sensor from each event on, auxiliary signals. Two effects that
+// hide each other may enter as a pair; once nothing more qualifies, every
+// added effect must still earn its place at min_t in the final model.
+// Held-out runs are never seen by the search; they only measure the
+// result. Deterministic.
 #pragma once
 
 #include <string>
