@@ -6,11 +6,9 @@
 
 #include "api/controller_formats.h"
 #include "api/http_util.h"
-#include "api/ingest_parsers.h"
 #include "api/json_mapping.h"
 #include "api/problem.h"
 #include "core/time_format.h"
-#include "service/analysis_report.h"
 #include "service/json_fields.h"
 
 namespace thermocomp::api {
