@@ -227,10 +227,10 @@ void HttpServer::Routes() {
   s.Get(std::string(kBase) + "/openapi.json",
         [](const Req&, Res& res) { res.set_content(OpenApiJson(), "application/json"); });
   s.Get("/readyz", [this](const Req&, Res& res) {
-    if (app_.db().storage_full()) {
+    if (app_.storage().storage_full()) {
       return WriteProblem(res, 503, "not ready: the disk holding the database is full");
     }
-    WriteJson(res, {{"status", "ready"}, {"schema_version", app_.db().schema_version()}});
+    WriteJson(res, {{"status", "ready"}, {"schema_version", app_.storage().schema_version()}});
   });
   s.Get("/metrics", [this](const Req&, Res& res) {
     res.set_content(app_.metrics().Render(app_.ModelGauges()), "text/plain; version=0.0.4");

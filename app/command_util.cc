@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/open_app.h"
 #include "core/log.h"
 
 namespace thermocomp::cli {
@@ -80,7 +81,7 @@ StatusOr<std::unique_ptr<App>> OpenApp(const Args& a) {
   auto config = LoadWithOverrides(a);
   if (!config.ok()) return config.status();
   if (Status s = PrepareDatabasePath(a, config->db_path); !s.ok()) return s;
-  return App::Open(*config, clock);
+  return OpenApp(*config, clock);
 }
 
 std::string ReadFile(const std::string& path, bool& ok) {

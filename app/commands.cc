@@ -22,6 +22,7 @@
 #include "service/analysis_report.h"
 #include "sim/virtual_machine.h"
 #include "storage/machine_store.h"
+#include "storage/sqlite/sqlite_storage.h"
 
 namespace thermocomp {
 namespace {
@@ -233,9 +234,9 @@ int Backup(const Args& a) {
   DatabaseOptions options;
   options.synchronous = config->synchronous;
   options.create = false;
-  auto db = Database::Open(config->db_path, options);
-  if (!db.ok()) return Fail(db.status().message());
-  if (Status s = (*db)->Backup(a.positional[0]); !s.ok()) return Fail(s.message());
+  auto storage = SqliteStorage::OpenFile(config->db_path, options);
+  if (!storage.ok()) return Fail(storage.status().message());
+  if (Status s = (*storage)->Backup(a.positional[0]); !s.ok()) return Fail(s.message());
   std::printf("backed up %s to %s\n", config->db_path.c_str(), a.positional[0].c_str());
   return 0;
 }

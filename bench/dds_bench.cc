@@ -15,8 +15,9 @@
 #include <sqlite3.h>
 
 #include "api/dds/dds_client.h"
+#include "app/open_app.h"
 #include "core/time_format.h"
-#include "storage/database.h"
+#include "storage/sqlite/sqlite_storage.h"
 
 namespace thermocomp {
 namespace {
@@ -66,7 +67,7 @@ std::unique_ptr<App> OpenApp(const std::string& name) {
   static SystemClock clock;
   Config config;
   config.db_path = Fresh(name);
-  auto app = std::move(App::Open(config, clock)).value();
+  auto app = std::move(OpenApp(config, clock)).value();
   MachineRecord m;
   m.name = "m1";
   for (int s = 0; s < 8; ++s) m.sensors.push_back({0, "T" + std::to_string(s), "", 1.0});
@@ -103,11 +104,12 @@ void Ingest(int n) {
 void Latency(int rounds) {
   auto app = OpenApp("dds-latency.db");
   {
-    std::lock_guard<std::mutex> lock(app->db().mutex());
-    app->db().Exec(
-        R"(INSERT INTO models(axis_id, version, status, reason, created_ms, model_json, report_json)
+    static_cast<SqliteStorage&>(app->storage()).WithConnection([](Database& db) {
+      db.Exec(
+          R"(INSERT INTO models(axis_id, version, status, reason, created_ms, model_json, report_json)
       VALUES (1, 1, 'active', 'bench', 0,
       '{"inputs":["T0"],"intercept":0.0,"coefficients":[-0.001],"trained_range":[[-100,100]],"clamp_mm":0.03}', '{}'))");
+    });
   }
   const int64_t start_ms = NowUnixMs() - 60000;
   ProbePointInput datum{"R1", 0, start_ms, {{"Y", {std::nullopt, 0.0}}}, {}};

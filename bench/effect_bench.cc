@@ -17,6 +17,7 @@
 #include <benchmark/benchmark.h>
 #include <sqlite3.h>
 
+#include "app/open_app.h"
 #include "service/app.h"
 #include "sim/sim_recording.h"
 
@@ -103,7 +104,7 @@ Archive& OpenArchive() {
     x.config.synchronous = "normal";
     x.config.holdout_runs = 30;
     const bool fresh = !std::filesystem::exists(kDbPath);
-    x.app = std::move(App::Open(x.config, x.clock)).value();
+    x.app = std::move(OpenApp(x.config, x.clock)).value();
     if (fresh) {
       const SimRecording& rec = Recording();
       FieldErrors errors;

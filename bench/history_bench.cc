@@ -8,11 +8,12 @@
 
 #include <benchmark/benchmark.h>
 
+#include "app/open_app.h"
 #include "service/app.h"
 #include "service/model_codec.h"
-#include "storage/log_store.h"
-#include "storage/machine_store.h"
-#include "storage/model_store.h"
+#include "storage/sqlite/log_store.h"
+#include "storage/sqlite/model_store.h"
+#include "storage/sqlite/sqlite_storage.h"
 
 namespace thermocomp {
 namespace {
@@ -22,19 +23,22 @@ constexpr int64_t kMinute = 60000;
 constexpr int kMinutes = 365 * 1440;
 
 std::unique_ptr<App> BuildYear(const Config& config, const Clock& clock) {
-  auto app = std::move(App::Open(config, clock)).value();
-  Database& db = app->db();
-  if (db.Exec("SELECT 1 FROM machines WHERE name = 'm1'").ok()) {
-    Statement q(db.handle(), "SELECT COUNT(*) FROM machines");
-    if (q.Step() && q.Int(0) > 0) return app;
-  }
+  auto app = std::move(OpenApp(config, clock)).value();
+  // The year is written once, straight into the file (SQL no store offers).
+  auto& sqlite = static_cast<SqliteStorage&>(app->storage());
+  bool built = false;
+  sqlite.WithConnection([&](Database& db) {
+    Statement q(db, "SELECT COUNT(*) FROM machines");
+    built = q.Step() && q.Int(0) > 0;
+  });
+  if (built) return app;
   MachineRecord m;
   m.name = "m1";
   for (int i = 0; i < 8; ++i) m.sensors.push_back({0, "T" + std::to_string(i), "", 0.2});
   m.axes = {{0, "Y", 0.0, {"T0", "T1"}, 0.03}};
   app->machines().Register(m, "bench", nullptr);
-  db.Exec("BEGIN");
-  {
+  sqlite.WithConnection([&](Database& db) {
+    db.Exec("BEGIN");
     Statement ins(db.handle(), "INSERT INTO samples VALUES (?, ?, ?, ?)");
     for (int s = 1; s <= 8; ++s) {
       for (int i = 0; i < kMinutes; ++i) {
@@ -64,7 +68,7 @@ std::unique_ptr<App> BuildYear(const Config& config, const Clock& clock) {
         }
       }
     }
-    LogStore log(db);
+    SqliteLogStore log(db);
     for (int i = 0; i < kMinutes; ++i) {
       log.AppendCompensation(
           1, {kStart + i * kMinute, 0.001 * std::sin(i / 300.0), 0.0, true, false, 1});
@@ -73,9 +77,10 @@ std::unique_ptr<App> BuildYear(const Config& config, const Clock& clock) {
     model.inputs = {"T0", "T1"};
     model.coefficients = {-0.01, 0.008};
     model.trained = {{-2, 2}, {-2, 2}};
-    ModelStore(db).Insert(1, {0, "active", "bench", kStart, DriftModelToJson(model).dump(), "{}"});
-  }
-  db.Exec("COMMIT");
+    SqliteModelStore(db).Insert(
+        1, {0, "active", "bench", kStart, DriftModelToJson(model).dump(), "{}"});
+    db.Exec("COMMIT");
+  });
   return app;
 }
 

@@ -2,6 +2,7 @@
 // request, one keep-alive client) against raw batched SQLite inserts into
 // the same table layout, in the same process, with the same durability.
 //   build/bench/ingest_bench --benchmark_min_time=3
+#include "app/open_app.h"
 #include "service/app.h"  // before httplib.h (Eigen vs resolv.h)
 
 #include <filesystem>
@@ -98,7 +99,7 @@ void BM_HttpIngest(benchmark::State& state) {
   config.synchronous = kSync[state.range(1)];
   config.http_threads = 4;
   SystemClock clock;
-  auto app = App::Open(config, clock);
+  auto app = OpenApp(config, clock);
   MachineRecord m;
   m.name = "m1";
   for (int i = 0; i < 8; ++i) m.sensors.push_back({0, "T" + std::to_string(i), "", 0.2});
@@ -138,7 +139,7 @@ void BM_LateBatch(benchmark::State& state) {
   config.db_path = FreshPath("late.db");
   config.synchronous = "normal";
   SystemClock clock;
-  auto app = App::Open(config, clock);
+  auto app = OpenApp(config, clock);
   MachineRecord m;
   m.name = "m1";
   m.sensors = {{0, "T0", "", 0.2}};

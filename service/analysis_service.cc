@@ -74,8 +74,8 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
                                                   const std::string& axis_name,
                                                   const AnalysisRequest& req) {
   const std::string policy = req.policy.value_or(config_.analysis_policy);
-  std::unique_lock<std::mutex> lock(db_.mutex());
-  auto found = FindMachineAxis(db_, machine_name, axis_name);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto found = FindMachineAxis(*session, machine_name, axis_name);
   if (!found.ok()) return found.status();
   const MachineRecord* machine = &found->machine;
   const AxisRecord* axis = &found->axis();
@@ -86,17 +86,17 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
       return Status::Unprocessable("inputs: unknown sensor '" + in + "'");
   }
   const int64_t max_gap_ms = int64_t{config_.stale_after_s} * 1000;
-  DriftDataset data =
-      BuildDriftDataset(db_, *machine, axis_name, config_.gross_error_mm, max_gap_ms, cache_, true);
+  DriftDataset data = BuildDriftDataset(*session, *machine, axis_name, config_.gross_error_mm,
+                                        max_gap_ms, cache_, true);
   auto holdout = ChooseHoldoutByExtent(data, req.holdout_runs, config_.holdout_min_points,
                                        config_.holdout_min_days);
   if (!holdout.ok()) return holdout.status();
-  EffectSearchInput input = LoadTermInput(db_, *machine, axis_name, data, *holdout, inputs,
+  EffectSearchInput input = LoadTermInput(*session, *machine, axis_name, data, *holdout, inputs,
                                           max_gap_ms, RawChannels::ForSearch(config_.analysis));
-  std::optional<ModelRecord> active = ModelStore(db_).Active(axis->id);
+  std::optional<ModelRecord> active = session->models().Active(axis->id);
   const int64_t axis_id = axis->id;
   const double clamp_mm = axis->clamp_mm;
-  lock.unlock();  // the search takes seconds on a year of data; ingest goes on
+  session->Pause();  // the search takes seconds on a year of data; ingest goes on
 
   auto result = SearchEffects(input, config_.analysis);
   if (!result.ok()) return result.status();
@@ -154,12 +154,12 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
     model_report = ExtendedModelReport(*result, model, context, status, reason, verdict);
   }
 
-  lock.lock();
-  Transaction tx(db_);
+  session->Resume();
+  Transaction tx(*session);
   if (!tx.status().ok()) return tx.status();
   std::optional<int> version;
   if (model_record) {
-    auto v = ModelStore(db_).Insert(axis_id, *model_record);
+    auto v = session->models().Insert(axis_id, *model_record);
     if (!v.ok()) return v.status();
     version = *v;
     report["model"] = {
@@ -167,7 +167,7 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
   } else {
     report["model"] = nullptr;
   }
-  AnalysisStore analyses(db_);
+  AnalysisStore& analyses = session->analyses();
   auto id = analyses.Insert(axis_id, {0, context.created_ms, req.trigger,
                                       static_cast<int>(result->effects.size()), version, ""});
   if (!id.ok()) return id.status();
@@ -176,18 +176,19 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
   if (version) {
     model_report["version"] = *version;
     model_report["analysis_id"] = *id;
-    if (Status s = ModelStore(db_).SetReport(axis_id, *version, JsonText(model_report)); !s.ok()) {
+    if (Status s = session->models().SetReport(axis_id, *version, JsonText(model_report));
+        !s.ok()) {
       return s;
     }
   }
-  if (Status s = LogStore(db_).Audit(context.created_ms, req.actor, "analysis", machine_name,
-                                     static_cast<int>(result->effects.size()),
-                                     axis_name + " analysis " + std::to_string(*id));
+  if (Status s = session->log().Audit(context.created_ms, req.actor, "analysis", machine_name,
+                                      static_cast<int>(result->effects.size()),
+                                      axis_name + " analysis " + std::to_string(*id));
       !s.ok()) {
     return s;
   }
   if (Status s = tx.Commit(); !s.ok()) return s;
-  lock.unlock();
+  session->Pause();
   log::Info("effect analysis", "machine=" + machine_name + " axis=" + axis_name +
                                    " id=" + std::to_string(*id) +
                                    " effects=" + std::to_string(result->effects.size()) +
@@ -196,27 +197,27 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
   return report;
 }
 
-StatusOr<int64_t> AnalysisService::AxisId(const std::string& machine_name,
+StatusOr<int64_t> AnalysisService::AxisId(Session& session, const std::string& machine_name,
                                           const std::string& axis_name) {
-  auto found = FindMachineAxis(db_, machine_name, axis_name);
+  auto found = FindMachineAxis(session, machine_name, axis_name);
   if (!found.ok()) return found.status();
   return found->axis().id;
 }
 
 StatusOr<std::vector<AnalysisRecord>> AnalysisService::List(const std::string& machine,
                                                             const std::string& axis) {
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  auto id = AxisId(machine, axis);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto id = AxisId(*session, machine, axis);
   if (!id.ok()) return id.status();
-  return AnalysisStore(db_).List(*id, 1000);
+  return session->analyses().List(*id, 1000);
 }
 
 StatusOr<nlohmann::json> AnalysisService::Get(const std::string& machine, const std::string& axis,
                                               int64_t analysis_id) {
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  auto id = AxisId(machine, axis);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto id = AxisId(*session, machine, axis);
   if (!id.ok()) return id.status();
-  auto record = AnalysisStore(db_).Get(*id, analysis_id);
+  auto record = session->analyses().Get(*id, analysis_id);
   if (!record) {
     return Status::NotFound("no analysis " + std::to_string(analysis_id) + " for " + machine +
                             " axis " + axis);

@@ -19,7 +19,7 @@
 #include "service/config.h"
 #include "service/probe_temperature_cache.h"
 #include "storage/analysis_store.h"
-#include "storage/database.h"
+#include "storage/storage.h"
 
 namespace thermocomp {
 
@@ -34,9 +34,9 @@ struct AnalysisRequest {
 class AnalysisService {
  public:
   using Listener = std::function<void(const std::string& machine)>;
-  AnalysisService(Database& db, const Clock& clock, const Config& config,
+  AnalysisService(Storage& storage, const Clock& clock, const Config& config,
                   ProbeTemperatureCache* cache = nullptr)
-      : db_(db), clock_(clock), config_(config), cache_(cache) {}
+      : storage_(storage), clock_(clock), config_(config), cache_(cache) {}
 
   // Runs and stores an analysis; the report with its "id". NotFound for
   // unknown names, Unprocessable when there is too little data.
@@ -48,8 +48,8 @@ class AnalysisService {
   void SetListener(Listener l) { listener_ = std::move(l); }
 
  private:
-  StatusOr<int64_t> AxisId(const std::string& machine, const std::string& axis);
-  Database& db_;
+  StatusOr<int64_t> AxisId(Session& session, const std::string& machine, const std::string& axis);
+  Storage& storage_;
   const Clock& clock_;
   const Config& config_;
   ProbeTemperatureCache* cache_;

@@ -1,20 +1,15 @@
 #include "service/app.h"
 
 #include "core/log.h"
-#include "storage/machine_store.h"
-#include "storage/model_store.h"
 
 namespace thermocomp {
 
-StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& clock) {
+StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& clock,
+                                         std::unique_ptr<Storage> storage) {
+  if (!storage) return Status::InvalidArgument("no storage");
   std::unique_ptr<App> app(new App(config, clock));
-  DatabaseOptions opt;
-  opt.synchronous = config.synchronous;
-  opt.busy_timeout_ms = config.busy_timeout_ms;
-  auto db = Database::Open(config.db_path, opt);
-  if (!db.ok()) return db.status();
-  app->db_ = std::move(db).value();
-  Database& d = *app->db_;
+  app->storage_ = std::move(storage);
+  Storage& d = *app->storage_;
   const Config& c = app->config_;
   ProbeTemperatureCache* cache = &app->probe_temperatures_;
   app->machines_ = std::make_unique<MachineService>(d, clock, cache);
@@ -33,7 +28,7 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
   app->analyses_->SetListener(changed);
   compensation->Start();
   log::Info("database open",
-            "path=" + config.db_path + " schema_version=" + std::to_string(d.schema_version()));
+            "path=" + d.location() + " schema_version=" + std::to_string(d.schema_version()));
   return app;
 }
 
@@ -46,15 +41,15 @@ std::string App::ModelGauges() {
   out +=
       "# HELP thermocomp_model_age_seconds Age of the active model per axis.\n"
       "# TYPE thermocomp_model_age_seconds gauge\n";
-  std::lock_guard<std::mutex> lock(db_->mutex());
-  ModelStore models(*db_);
+  const std::unique_ptr<Session> session = storage_->Open();
+  ModelStore& models = session->models();
   const int64_t now = clock_.NowMs();
   std::string overdue =
       "# HELP thermocomp_column_checks_overdue Column-check requests past their due time.\n"
       "# TYPE thermocomp_column_checks_overdue gauge\n";
-  for (const auto& m : MachineStore(*db_).List()) {
+  for (const auto& m : session->machines().List()) {
     overdue += "thermocomp_column_checks_overdue{machine=\"" + m.name + "\"} " +
-               std::to_string(CountChecks(*db_, m.id, now).overdue) + "\n";
+               std::to_string(CountChecks(*session, m.id, now).overdue) + "\n";
     for (const auto& a : m.axes) {
       if (auto rec = models.Active(a.id)) {
         out += "thermocomp_model_age_seconds{machine=\"" + m.name + "\",axis=\"" + a.name + "\"} " +

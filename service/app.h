@@ -17,17 +17,20 @@
 #include "service/metrics.h"
 #include "service/probe_temperature_cache.h"
 #include "service/refit_scheduler.h"
-#include "storage/database.h"
+#include "storage/storage.h"
 
 namespace thermocomp {
 
 class App {
  public:
-  static StatusOr<std::unique_ptr<App>> Open(const Config& config, const Clock& clock);
+  // The services over `storage` (the backend is chosen by the caller:
+  // app/open_app.h).
+  static StatusOr<std::unique_ptr<App>> Open(const Config& config, const Clock& clock,
+                                             std::unique_ptr<Storage> storage);
 
   const Config& config() const { return config_; }
   const Clock& clock() const { return clock_; }
-  Database& db() { return *db_; }
+  Storage& storage() { return *storage_; }
   MachineService& machines() { return *machines_; }
   IngestService& ingest() { return *ingest_; }
   FitService& fits() { return *fits_; }
@@ -44,7 +47,7 @@ class App {
   App(const Config& config, const Clock& clock) : config_(config), clock_(clock) {}
   Config config_;
   const Clock& clock_;
-  std::unique_ptr<Database> db_;
+  std::unique_ptr<Storage> storage_;
   std::unique_ptr<MachineService> machines_;
   std::unique_ptr<IngestService> ingest_;
   std::unique_ptr<FitService> fits_;

@@ -20,8 +20,8 @@ const std::set<std::string> kEventKinds = {"maintenance", "collision", "column_c
 IngestResult IngestService::StoreSignals(const std::string& machine_name,
                                          const std::vector<SignalInput>& samples,
                                          const std::string& actor) {
-  std::unique_lock<std::mutex> lock(db_.mutex());
-  auto machine = MachineStore(db_).Find(machine_name);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto machine = session->machines().Find(machine_name);
   if (!machine) return Rejected({}, Status::NotFound("unknown machine '" + machine_name + "'"));
   FieldErrors bad;
   for (size_t i = 0; i < samples.size(); ++i) {
@@ -38,9 +38,9 @@ IngestResult IngestService::StoreSignals(const std::string& machine_name,
 
   IngestResult result;
   FieldErrors conflicts;
-  Transaction tx(db_);
+  Transaction tx(*session);
   if (!tx.status().ok()) return Rejected({}, tx.status());
-  AuxStore store(db_);
+  AuxStore& store = session->aux();
   std::map<std::pair<std::string, int64_t>, double> in_batch;
   for (size_t i = 0; i < samples.size(); ++i) {
     const auto& s = samples[i];
@@ -61,14 +61,14 @@ IngestResult IngestService::StoreSignals(const std::string& machine_name,
     if (Status st = store.InsertSignal(*id, s.ts_ms, s.value); !st.ok()) return Rejected({}, st);
     ++result.accepted;
   }
-  return Commit(tx, lock, result, std::move(conflicts),
+  return Commit(*session, tx, result, std::move(conflicts),
                 "signal samples conflict with stored values", "signals", machine_name, actor);
 }
 
 IngestResult IngestService::StoreEvent(const std::string& machine_name, const EventInput& e,
                                        const std::string& actor) {
-  std::unique_lock<std::mutex> lock(db_.mutex());
-  auto machine = MachineStore(db_).Find(machine_name);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto machine = session->machines().Find(machine_name);
   if (!machine) return Rejected({}, Status::NotFound("unknown machine '" + machine_name + "'"));
   FieldErrors bad;
   if (!kEventKinds.count(e.kind)) {
@@ -78,7 +78,7 @@ IngestResult IngestService::StoreEvent(const std::string& machine_name, const Ev
   if (Status st = CheckTs(e.ts_ms); !st.ok()) bad.push_back({0, "ts", st.message()});
   if (!bad.empty()) return Rejected(bad, Status::InvalidArgument("invalid event"));
 
-  AuxStore store(db_);
+  AuxStore& store = session->aux();
   IngestResult result;
   if (auto existing = store.FindEvent(machine->id, e.ts_ms, e.kind)) {
     if (existing->note != e.note) {
@@ -91,11 +91,11 @@ IngestResult IngestService::StoreEvent(const std::string& machine_name, const Ev
     result.id = existing->id;
     return result;
   }
-  Transaction tx(db_);
+  Transaction tx(*session);
   if (!tx.status().ok()) return Rejected({}, tx.status());
   auto id = store.InsertEvent(machine->id, {0, e.ts_ms, e.kind, e.note});
   if (!id.ok()) return Rejected({}, id.status());
-  if (Status st = LogStore(db_).Audit(clock_.NowMs(), actor, "event", machine_name, 1, e.kind);
+  if (Status st = session->log().Audit(clock_.NowMs(), actor, "event", machine_name, 1, e.kind);
       !st.ok()) {
     return Rejected({}, st);
   }

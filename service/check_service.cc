@@ -55,13 +55,13 @@ nlohmann::json RequestToJson(const RequestView& v) {
 StatusOr<bool> CheckService::PutArtifact(const std::string& name, const nlohmann::json& definition,
                                          const std::string& actor, FieldErrors* errors) {
   if (!ArtifactFromJson(definition, *errors)) return Status::InvalidArgument("invalid artifact");
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  CheckStore store(db_);
+  const std::unique_ptr<Session> session = storage_.Open();
+  CheckStore& store = session->checks();
   const bool created = !store.Artifact(name);
-  Transaction tx(db_);
+  Transaction tx(*session);
   if (!tx.status().ok()) return tx.status();
   if (Status s = store.PutArtifact(name, JsonText(definition), clock_.NowMs()); !s.ok()) return s;
-  if (Status s = LogStore(db_).Audit(clock_.NowMs(), actor, "artifact", "", 1, name); !s.ok()) {
+  if (Status s = session->log().Audit(clock_.NowMs(), actor, "artifact", "", 1, name); !s.ok()) {
     return s;
   }
   if (Status s = tx.Commit(); !s.ok()) return s;
@@ -71,15 +71,16 @@ StatusOr<bool> CheckService::PutArtifact(const std::string& name, const nlohmann
 StatusOr<int64_t> CheckService::RequestCheck(const std::string& machine_name,
                                              const std::string& reason, int64_t due_ms,
                                              const std::string& actor) {
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  auto machine = FindMachine(db_, machine_name);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto machine = FindMachine(*session, machine_name);
   if (!machine.ok()) return machine.status();
-  Transaction tx(db_);
+  Transaction tx(*session);
   if (!tx.status().ok()) return tx.status();
-  auto id = CheckStore(db_).InsertRequest(machine->id, {0, reason, clock_.NowMs(), due_ms, false});
+  auto id =
+      session->checks().InsertRequest(machine->id, {0, reason, clock_.NowMs(), due_ms, false});
   if (!id.ok()) return id.status();
   if (Status s =
-          LogStore(db_).Audit(clock_.NowMs(), actor, "check-request", machine_name, 1, reason);
+          session->log().Audit(clock_.NowMs(), actor, "check-request", machine_name, 1, reason);
       !s.ok()) {
     return s;
   }
@@ -89,21 +90,21 @@ StatusOr<int64_t> CheckService::RequestCheck(const std::string& machine_name,
 
 StatusOr<std::vector<RequestView>> CheckService::Requests(const std::string& machine_name,
                                                           const std::string& state) {
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  auto machine = FindMachine(db_, machine_name);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto machine = FindMachine(*session, machine_name);
   if (!machine.ok()) return machine.status();
   const int64_t now = clock_.NowMs();
   std::vector<RequestView> out;
-  for (auto& r : CheckStore(db_).Requests(machine->id)) {
+  for (auto& r : session->checks().Requests(machine->id)) {
     RequestView v{r, StateOf(r, now)};
     if (state.empty() || v.state == state) out.push_back(std::move(v));
   }
   return out;
 }
 
-CheckCounts CountChecks(Database& db, int64_t machine_id, int64_t now) {
+CheckCounts CountChecks(Session& s, int64_t machine_id, int64_t now) {
   CheckCounts c;
-  for (const auto& r : CheckStore(db).Requests(machine_id)) {
+  for (const auto& r : s.checks().Requests(machine_id)) {
     const std::string s = StateOf(r, now);
     if (s == "pending") ++c.pending;
     if (s == "overdue") ++c.overdue;
@@ -113,16 +114,16 @@ CheckCounts CountChecks(Database& db, int64_t machine_id, int64_t now) {
 
 int CheckService::EnsurePeriodicRequests() {
   if (config_.check_every_days <= 0) return 0;
-  std::lock_guard<std::mutex> lock(db_.mutex());
+  const std::unique_ptr<Session> session = storage_.Open();
   const int64_t now = clock_.NowMs();
   const int64_t period = int64_t{config_.check_every_days} * kDayMs;
   int made = 0;
-  CheckStore store(db_);
-  for (const auto& m : MachineStore(db_).List()) {
+  CheckStore& store = session->checks();
+  for (const auto& m : session->machines().List()) {
     if (!m.automatic_checks) continue;  // opted in per machine
     auto latest = store.LatestRequestOrCheck(m.id);
     if (latest && now - *latest < period) continue;
-    Transaction tx(db_);
+    Transaction tx(*session);
     if (!tx.status().ok()) continue;
     auto id = store.InsertRequest(m.id, {0, "weekly column check", now,
                                          now + int64_t{config_.check_due_after_h} * kHourMs, true});
@@ -137,10 +138,10 @@ StatusOr<nlohmann::json> CheckService::AddColumnCheck(const std::string& machine
   if (in.ts_ms > clock_.NowMs() + kDayMs) {
     return Status::InvalidArgument("ts: more than a day in the future");
   }
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  auto machine = FindMachine(db_, machine_name);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto machine = FindMachine(*session, machine_name);
   if (!machine.ok()) return machine.status();
-  CheckStore store(db_);
+  CheckStore& store = session->checks();
   auto definition = store.Artifact(in.artifact);
   if (!definition) return Status::Unprocessable("artifact: unknown artifact '" + in.artifact + "'");
   FieldErrors errors;
@@ -191,7 +192,7 @@ StatusOr<nlohmann::json> CheckService::AddColumnCheck(const std::string& machine
   }
   out["beyond_tolerance"] = beyond;
 
-  Transaction tx(db_);
+  Transaction tx(*session);
   if (!tx.status().ok()) return tx.status();
   ColumnCheckRecord rec{0,
                         request ? std::optional(request->id) : std::nullopt,
@@ -216,11 +217,11 @@ StatusOr<nlohmann::json> CheckService::AddColumnCheck(const std::string& machine
                   out["zero_change_um"]["X"].get<double>(),
                   out["zero_change_um"]["Y"].get<double>(),
                   out["zero_change_um"]["Z"].get<double>(), static_cast<long long>(*id));
-    auto event = AuxStore(db_).InsertEvent(machine->id, {0, in.ts_ms, "column_check", note});
+    auto event = session->aux().InsertEvent(machine->id, {0, in.ts_ms, "column_check", note});
     if (!event.ok()) return event.status();
   }
   if (Status s =
-          LogStore(db_).Audit(clock_.NowMs(), actor, "column-check", machine_name, 1, in.artifact);
+          session->log().Audit(clock_.NowMs(), actor, "column-check", machine_name, 1, in.artifact);
       !s.ok()) {
     return s;
   }
@@ -231,10 +232,10 @@ StatusOr<nlohmann::json> CheckService::AddColumnCheck(const std::string& machine
 }
 
 StatusOr<nlohmann::json> CheckService::ColumnChecks(const std::string& machine_name) {
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  auto machine = FindMachine(db_, machine_name);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto machine = FindMachine(*session, machine_name);
   if (!machine.ok()) return machine.status();
-  auto checks = CheckStore(db_).ColumnChecks(machine->id);
+  auto checks = session->checks().ColumnChecks(machine->id);
   nlohmann::json history = nlohmann::json::array();
   for (const auto& c : checks) history.push_back(nlohmann::json::parse(c.result_json));
   nlohmann::json trend = {{"X_um_per_week", PerWeek(checks, &ColumnCheckRecord::zero_x_mm)},
@@ -258,10 +259,10 @@ StatusOr<nlohmann::json> CheckService::ColumnChecks(const std::string& machine_n
 }
 
 StatusOr<nlohmann::json> CheckService::ColumnCheck(const std::string& machine_name, int64_t id) {
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  auto machine = FindMachine(db_, machine_name);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto machine = FindMachine(*session, machine_name);
   if (!machine.ok()) return machine.status();
-  auto rec = CheckStore(db_).ColumnCheck(machine->id, id);
+  auto rec = session->checks().ColumnCheck(machine->id, id);
   if (!rec)
     return Status::NotFound("no column check " + std::to_string(id) + " for " + machine_name);
   nlohmann::json out = nlohmann::json::parse(rec->result_json);
@@ -269,8 +270,8 @@ StatusOr<nlohmann::json> CheckService::ColumnCheck(const std::string& machine_na
   return out;
 }
 
-nlohmann::json LatestColumnCheckSummary(Database& db, int64_t machine_id) {
-  auto latest = CheckStore(db).LatestColumnCheck(machine_id);
+nlohmann::json LatestColumnCheckSummary(Session& s, int64_t machine_id) {
+  auto latest = s.checks().LatestColumnCheck(machine_id);
   if (!latest) return nullptr;
   nlohmann::json r = nlohmann::json::parse(latest->result_json);
   return {{"id", latest->id},
@@ -288,15 +289,15 @@ StatusOr<nlohmann::json> CheckService::AddPositioningCheck(const std::string& ma
   }
   auto evaluation = EvaluatePositioning(in.data, in.uncertainty);
   if (!evaluation.ok()) return evaluation.status();
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  auto found = FindMachineAxis(db_, machine_name, in.axis);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto found = FindMachineAxis(*session, machine_name, in.axis);
   if (!found.ok()) return found.status();
   const int64_t machine_id = found->machine.id;
   nlohmann::json input = PositioningInputToJson(in);
   nlohmann::json out = EvaluationToJson(*evaluation);
   out["machine"] = machine_name;
   out["input"] = input;
-  CheckStore store(db_);
+  CheckStore& store = session->checks();
   if (auto stored = store.PositioningCheckAt(machine_id, in.axis, in.ts_ms)) {
     if (stored->input_json != JsonText(input)) {
       return Status::Conflict("a different positioning check of " + in.axis + " at " +
@@ -305,14 +306,14 @@ StatusOr<nlohmann::json> CheckService::AddPositioningCheck(const std::string& ma
     *created = false;
     return nlohmann::json::parse(stored->result_json);
   }
-  Transaction tx(db_);
+  Transaction tx(*session);
   if (!tx.status().ok()) return tx.status();
   auto id = store.InsertPositioningCheck(machine_id, {0, in.axis, in.ts_ms, JsonText(input), ""});
   if (!id.ok()) return id.status();
   out["id"] = *id;
   if (Status s = store.SetPositioningCheckResult(*id, JsonText(out)); !s.ok()) return s;
-  if (Status s =
-          LogStore(db_).Audit(clock_.NowMs(), actor, "positioning-check", machine_name, 1, in.axis);
+  if (Status s = session->log().Audit(clock_.NowMs(), actor, "positioning-check", machine_name, 1,
+                                      in.axis);
       !s.ok()) {
     return s;
   }
@@ -323,10 +324,10 @@ StatusOr<nlohmann::json> CheckService::AddPositioningCheck(const std::string& ma
 
 StatusOr<nlohmann::json> CheckService::PositioningCheck(const std::string& machine_name,
                                                         int64_t id) {
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  auto machine = FindMachine(db_, machine_name);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto machine = FindMachine(*session, machine_name);
   if (!machine.ok()) return machine.status();
-  auto rec = CheckStore(db_).PositioningCheck(machine->id, id);
+  auto rec = session->checks().PositioningCheck(machine->id, id);
   if (!rec) {
     return Status::NotFound("no positioning check " + std::to_string(id) + " for " + machine_name);
   }

@@ -18,7 +18,7 @@
 #include "service/check_codec.h"
 #include "service/config.h"
 #include "storage/check_store.h"
-#include "storage/database.h"
+#include "storage/storage.h"
 
 namespace thermocomp {
 
@@ -33,8 +33,8 @@ struct CheckCounts {
 
 class CheckService {
  public:
-  CheckService(Database& db, const Clock& clock, const Config& config)
-      : db_(db), clock_(clock), config_(config) {}
+  CheckService(Storage& storage, const Clock& clock, const Config& config)
+      : storage_(storage), clock_(clock), config_(config) {}
 
   // Validates the definition; returns true when it was new.
   StatusOr<bool> PutArtifact(const std::string& name, const nlohmann::json& definition,
@@ -62,16 +62,16 @@ class CheckService {
   StatusOr<PitchTable> PitchTableOf(const std::string& machine, int64_t id, std::string* axis);
 
  private:
-  Database& db_;
+  Storage& storage_;
   const Clock& clock_;
   const Config& config_;
 };
 
 nlohmann::json RequestToJson(const RequestView& r);
-// Pending and overdue requests of a machine now. Caller holds db.mutex().
-CheckCounts CountChecks(Database& db, int64_t machine_id, int64_t now_ms);
+// Pending and overdue requests of a machine now.
+CheckCounts CountChecks(Session& s, int64_t machine_id, int64_t now_ms);
 // The newest column check's machine zero and whether it moved beyond the
-// tolerance, for the machine status; null without checks. Caller holds db.mutex().
-nlohmann::json LatestColumnCheckSummary(Database& db, int64_t machine_id);
+// tolerance, for the machine status; null without checks.
+nlohmann::json LatestColumnCheckSummary(Session& s, int64_t machine_id);
 
 }  // namespace thermocomp

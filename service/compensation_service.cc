@@ -32,17 +32,17 @@ void Invalidate(AxisCompensation& a, std::string reason) {
 }  // namespace
 
 StatusOr<MachineCompensation> CompensationService::Compute(const std::string& name) {
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  auto machine = MachineStore(db_).Find(name);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto machine = session->machines().Find(name);
   if (!machine) return Status::NotFound("unknown machine '" + name + "'");
   MachineCompensation mc;
   mc.machine = name;
   mc.controller = machine->controller;
   mc.control_axes = machine->ControlAxes();
   mc.computed_at_ms = clock_.NowMs();
-  SampleStore samples(db_);
-  ModelStore models(db_);
-  auto datum = ProbeStore(db_).LatestDatum(machine->id);
+  SampleStore& samples = session->samples();
+  ModelStore& models = session->models();
+  auto datum = session->probes().LatestDatum(machine->id);
   for (const AxisRecord& axis : machine->axes) {
     AxisCompensation a;
     a.axis = axis.name;
@@ -124,7 +124,7 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
       const double probe = live.datum_position_mm[axis_index];
       std::vector<double> positions = {pref};
       if (positional) positions = {pref, pref - kSlopeStepMm, pref + kSlopeStepMm, probe};
-      auto values = LiveTermValues(db_, *model, live, positions);
+      auto values = LiveTermValues(*session, *model, live, positions);
       if (positional && !std::isfinite(probe)) {
         Invalidate(a, "the datum has no " + axis.name + " position for position-dependent terms");
       }
@@ -160,7 +160,7 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
   }
 
   // The served-offset log: changes and a heartbeat, not every recompute.
-  LogStore log(db_);
+  LogStore& log = session->log();
   for (const AxisRecord& axis : machine->axes) {
     const AxisCompensation* a = nullptr;
     for (const auto& x : mc.axes) {

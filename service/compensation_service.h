@@ -23,7 +23,7 @@
 
 #include "core/clock.h"
 #include "service/config.h"
-#include "storage/database.h"
+#include "storage/storage.h"
 
 namespace thermocomp {
 
@@ -59,8 +59,8 @@ struct MachineCompensation {
 
 class CompensationService {
  public:
-  CompensationService(Database& db, const Clock& clock, const Config& config)
-      : db_(db), clock_(clock), config_(config) {}
+  CompensationService(Storage& storage, const Clock& clock, const Config& config)
+      : storage_(storage), clock_(clock), config_(config) {}
   ~CompensationService() { Stop(); }
 
   void Start();  // the recompute worker
@@ -90,7 +90,7 @@ class CompensationService {
   StatusOr<std::shared_ptr<const MachineCompensation>> Refresh(const std::string& machine);
   uint64_t ChangeCount(const std::string& machine);
 
-  Database& db_;
+  Storage& storage_;
   const Clock& clock_;
   const Config& config_;
   std::shared_mutex mutex_;

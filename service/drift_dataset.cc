@@ -39,7 +39,7 @@ std::vector<double> TemperaturesAt(SampleStore& samples, const MachineRecord& ma
 
 }  // namespace
 
-DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const std::string& axis,
+DriftDataset BuildDriftDataset(Session& s, const MachineRecord& machine, const std::string& axis,
                                double gross_error_mm, int64_t max_gap_ms,
                                ProbeTemperatureCache* cache, bool other_axes) {
   DriftDataset d;
@@ -47,7 +47,7 @@ DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const
   for (const auto& a : machine.axes) d.axes.push_back(a.name);
   // Every axis the probe points carry a position of, beyond the machine's
   // own: a Y error may grow with X, or with Z where Z is not compensated.
-  const std::vector<RunRecord> runs = ProbeStore(db).LoadAxisRuns(machine.id, axis, other_axes);
+  const std::vector<RunRecord> runs = s.probes().LoadAxisRuns(machine.id, axis, other_axes);
   std::set<std::string> probed;
   for (const RunRecord& run : runs) {
     for (const auto& p : run.points) {
@@ -68,7 +68,7 @@ DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const
     }
     return v;
   };
-  SampleStore samples(db);
+  SampleStore& samples = s.samples();
   for (const RunRecord& run : runs) {
     const ProbePointRecord* datum = nullptr;
     for (const auto& p : run.points) {

@@ -11,7 +11,7 @@
 #include "core/records.h"
 #include "model/observations.h"
 #include "service/probe_temperature_cache.h"
-#include "storage/database.h"
+#include "storage/storage.h"
 
 namespace thermocomp {
 
@@ -53,12 +53,12 @@ StatusOr<std::vector<std::string>> ChooseHoldoutByExtent(
 StatusOr<std::vector<std::string>> ChooseHoldout(
     const DriftDataset& data, const std::optional<std::vector<std::string>>& requested, int count);
 
-// Caller holds db.mutex(). `max_gap_ms`: an archived sample older than this
+// `max_gap_ms`: an archived sample older than this
 // at a probe time does not count as the temperature at that time. `cache`
 // (optional) holds archive temperatures at probe points between calls.
 // `other_axes`: positions on every axis the points carry (for terms that
 // read another axis' position), not only the machine's axes on `axis`.
-DriftDataset BuildDriftDataset(Database& db, const MachineRecord& machine, const std::string& axis,
+DriftDataset BuildDriftDataset(Session& s, const MachineRecord& machine, const std::string& axis,
                                double gross_error_mm, int64_t max_gap_ms,
                                ProbeTemperatureCache* cache = nullptr, bool other_axes = false);
 

@@ -26,8 +26,8 @@ namespace {}  // namespace
 
 StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
                                          const std::string& axis_name, const FitRequest& req) {
-  std::unique_lock<std::mutex> lock(db_.mutex());
-  auto found = FindMachineAxis(db_, machine_name, axis_name);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto found = FindMachineAxis(*session, machine_name, axis_name);
   if (!found.ok()) return found.status();
   const MachineRecord* machine = &found->machine;
   const AxisRecord* axis = &found->axis();
@@ -42,7 +42,7 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
 
   // Every axis' positions: the active model, compared on the held-out
   // points, may read another axis' position.
-  DriftDataset data = BuildDriftDataset(db_, *machine, axis_name, config_.gross_error_mm,
+  DriftDataset data = BuildDriftDataset(*session, *machine, axis_name, config_.gross_error_mm,
                                         int64_t{config_.stale_after_s} * 1000, cache_, true);
   auto chosen = ChooseHoldout(data, req.holdout_runs, config_.holdout_runs);
   if (!chosen.ok()) return chosen.status();
@@ -68,7 +68,7 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
   if (validation.n > 0) validation_r2 = validation.r2;
   AcceptanceVerdict verdict = CheckAcceptance(fit, config_.acceptance, validation_r2);
 
-  ModelStore models(db_);
+  ModelStore& models = session->models();
   std::optional<int> active_version;
   std::optional<PredictionErrors> active_errors;
   double candidate_rmse = validation.rmse;  // on the points both models can evaluate
@@ -78,7 +78,7 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
       // The active model may be an extended one (lags, positions, ...):
       // evaluate both through their terms on the same held-out points.
       EffectSearchInput in =
-          LoadTermInput(db_, *machine, axis_name, data, holdout, {},
+          LoadTermInput(*session, *machine, axis_name, data, holdout, {},
                         int64_t{config_.stale_after_s} * 1000, RawChannels::ForModel(*m));
       if (auto both = CompareOn(in.drift_mm, PredictAtPoints(*m, in), PredictAtPoints(model, in),
                                 in.holdout)) {
@@ -191,7 +191,7 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
         {"candidate_rmse_mm", active_errors ? FiniteOrNull(candidate_rmse) : nullptr}};
   }
 
-  Transaction tx(db_);
+  Transaction tx(*session);
   if (!tx.status().ok()) return tx.status();
   // The version is known only after the insert; the stored report carries it too.
   auto version =
@@ -199,14 +199,14 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
   if (!version.ok()) return version.status();
   report["version"] = *version;
   if (Status s = models.SetReport(axis->id, *version, JsonText(report)); !s.ok()) return s;
-  if (Status s = LogStore(db_).Audit(now, req.actor, "fit", machine_name, fit.n,
-                                     axis_name + " v" + std::to_string(*version) + " " + status);
+  if (Status s = session->log().Audit(now, req.actor, "fit", machine_name, fit.n,
+                                      axis_name + " v" + std::to_string(*version) + " " + status);
       !s.ok()) {
     return s;
   }
   if (Status s = tx.Commit(); !s.ok()) return s;
   ++fits_stored_;
-  lock.unlock();
+  session->Pause();
   log::Info("model fitted", "machine=" + machine_name + " axis=" + axis_name +
                                 " version=" + std::to_string(*version) + " status=" + status);
   if (listener_ && status == "active") listener_(machine_name);
@@ -216,15 +216,15 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
 Status FitService::Activate(const std::string& machine_name, const std::string& axis_name,
                             int version, const std::string& actor) {
   {
-    std::lock_guard<std::mutex> lock(db_.mutex());
-    auto found = FindMachineAxis(db_, machine_name, axis_name);
+    const std::unique_ptr<Session> session = storage_.Open();
+    auto found = FindMachineAxis(*session, machine_name, axis_name);
     if (!found.ok()) return found.status();
     const AxisRecord* axis = &found->axis();
-    Transaction tx(db_);
+    Transaction tx(*session);
     if (!tx.status().ok()) return tx.status();
-    if (Status s = ModelStore(db_).Activate(axis->id, version); !s.ok()) return s;
-    if (Status s = LogStore(db_).Audit(clock_.NowMs(), actor, "activate", machine_name, 1,
-                                       axis_name + " v" + std::to_string(version));
+    if (Status s = session->models().Activate(axis->id, version); !s.ok()) return s;
+    if (Status s = session->log().Audit(clock_.NowMs(), actor, "activate", machine_name, 1,
+                                        axis_name + " v" + std::to_string(version));
         !s.ok()) {
       return s;
     }
@@ -236,10 +236,10 @@ Status FitService::Activate(const std::string& machine_name, const std::string& 
 
 StatusOr<std::vector<ModelRecord>> FitService::Models(const std::string& machine_name,
                                                       const std::string& axis_name) {
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  auto found = FindMachineAxis(db_, machine_name, axis_name);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto found = FindMachineAxis(*session, machine_name, axis_name);
   if (!found.ok()) return found.status();
-  return ModelStore(db_).List(found->axis().id);
+  return session->models().List(found->axis().id);
 }
 
 StatusOr<ModelRecord> FitService::Model(const std::string& machine_name,

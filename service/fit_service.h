@@ -18,7 +18,7 @@
 #include "core/records.h"
 #include "service/config.h"
 #include "service/probe_temperature_cache.h"
-#include "storage/database.h"
+#include "storage/storage.h"
 
 namespace thermocomp {
 
@@ -32,9 +32,9 @@ struct FitRequest {
 class FitService {
  public:
   using Listener = std::function<void(const std::string& machine)>;
-  FitService(Database& db, const Clock& clock, const Config& config,
+  FitService(Storage& storage, const Clock& clock, const Config& config,
              ProbeTemperatureCache* cache = nullptr)
-      : db_(db), clock_(clock), config_(config), cache_(cache) {}
+      : storage_(storage), clock_(clock), config_(config), cache_(cache) {}
 
   // The stored report (with "version" and "status"), or NotFound /
   // Unprocessable (too few points: nothing is stored).
@@ -51,7 +51,7 @@ class FitService {
   uint64_t fits_stored() const { return fits_stored_; }
 
  private:
-  Database& db_;
+  Storage& storage_;
   const Clock& clock_;
   const Config& config_;
   ProbeTemperatureCache* cache_;

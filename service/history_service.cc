@@ -31,28 +31,28 @@ nlohmann::json Series(const std::vector<int64_t>& ts, const std::vector<double>&
 }  // namespace
 
 StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  auto found = FindMachineAxis(db_, q.machine, q.axis);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto found = FindMachineAxis(*session, q.machine, q.axis);
   if (!found.ok()) return found.status();
   const MachineRecord* machine = &found->machine;
   const AxisRecord* axis = &found->axis();
   std::optional<DriftModel> model;
   std::optional<int> version;
-  if (auto active = ModelStore(db_).Active(axis->id)) {
+  if (auto active = session->models().Active(axis->id)) {
     if (auto m = DriftModelFromJson(active->model_json); m.ok()) {
       model = *m;
       version = active->version;
     }
   }
-  DriftDataset data = BuildDriftDataset(db_, *machine, q.axis, config_.gross_error_mm,
+  DriftDataset data = BuildDriftDataset(*session, *machine, q.axis, config_.gross_error_mm,
                                         int64_t{config_.stale_after_s} * 1000, cache_,
                                         model && ReadsOtherAxes(*model, q.axis));
   // Predicted by the active model's terms, extended ones too, as in the fit.
   std::vector<double> by_model(data.rows.size(), NAN);
   if (model) {
     EffectSearchInput in =
-        LoadTermInput(db_, *machine, q.axis, data, {}, {}, int64_t{config_.stale_after_s} * 1000,
-                      RawChannels::ForModel(*model));
+        LoadTermInput(*session, *machine, q.axis, data, {}, {},
+                      int64_t{config_.stale_after_s} * 1000, RawChannels::ForModel(*model));
     by_model = PredictAtPoints(*model, in);
   }
   std::vector<int64_t> ts;
@@ -83,7 +83,7 @@ StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
   // envelope (two extreme points per hour) thinned like the raw series.
   std::vector<int64_t> served_ts;
   std::vector<double> served;
-  LogStore log(db_);
+  LogStore& log = session->log();
   std::string served_source = "log";
   auto [first, last] = log.CompensationExtent(axis->id, q.from_ms, q.to_ms);
   if (last - first > static_cast<int64_t>(q.max_points) * 3600000 / 2) {
@@ -110,7 +110,7 @@ StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
   // The machine-zero trend from column checks (docs/model.md §11): the check
   // sees the drift when it runs, the model covers the time between.
   nlohmann::json zero = nlohmann::json::array();
-  for (const auto& c : CheckStore(db_).ColumnChecks(machine->id)) {
+  for (const auto& c : session->checks().ColumnChecks(machine->id)) {
     if (c.ts_ms < q.from_ms || c.ts_ms > q.to_ms) continue;
     zero.push_back({{"ts", FormatRfc3339(c.ts_ms)},
                     {"X_mm", c.zero_x_mm},

@@ -8,7 +8,7 @@
 
 #include "service/config.h"
 #include "service/probe_temperature_cache.h"
-#include "storage/database.h"
+#include "storage/storage.h"
 
 namespace thermocomp {
 
@@ -20,12 +20,12 @@ struct HistoryQuery {
 
 class HistoryService {
  public:
-  HistoryService(Database& db, const Config& config, ProbeTemperatureCache* cache = nullptr)
-      : db_(db), config_(config), cache_(cache) {}
+  HistoryService(Storage& storage, const Config& config, ProbeTemperatureCache* cache = nullptr)
+      : storage_(storage), config_(config), cache_(cache) {}
   StatusOr<nlohmann::json> Drift(const HistoryQuery& q);
 
  private:
-  Database& db_;
+  Storage& storage_;
   const Config& config_;
   ProbeTemperatureCache* cache_;
 };

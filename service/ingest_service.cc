@@ -119,8 +119,8 @@ IngestResult IngestService::AddEvent(const std::string& machine, const EventInpu
 IngestResult IngestService::StoreTemperatures(const std::string& machine_name,
                                               const std::vector<TemperatureInput>& samples,
                                               const std::string& actor) {
-  std::unique_lock<std::mutex> lock(db_.mutex());
-  auto machine = MachineStore(db_).Find(machine_name);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto machine = session->machines().Find(machine_name);
   if (!machine) return Rejected({}, Status::NotFound("unknown machine '" + machine_name + "'"));
 
   // Validate everything before touching the database.
@@ -146,9 +146,9 @@ IngestResult IngestService::StoreTemperatures(const std::string& machine_name,
 
   IngestResult result;
   FieldErrors conflicts;
-  Transaction tx(db_);
+  Transaction tx(*session);
   if (!tx.status().ok()) return Rejected({}, tx.status());
-  SampleStore store(db_);
+  SampleStore& store = session->samples();
   for (auto& [sensor, idx] : by_sensor) {
     std::stable_sort(idx.begin(), idx.end(),
                      [&](size_t a, size_t b) { return samples[a].ts_ms < samples[b].ts_ms; });
@@ -202,7 +202,7 @@ IngestResult IngestService::StoreTemperatures(const std::string& machine_name,
       if (Status st = store.SaveFilterState(sensor->id, *state); !st.ok()) return Rejected({}, st);
     }
   }
-  return Commit(tx, lock, result, std::move(conflicts), "samples conflict with stored values",
+  return Commit(*session, tx, result, std::move(conflicts), "samples conflict with stored values",
                 "temperatures", machine_name, actor, [&] {
                   if (!cache_ || result.accepted == 0) return;
                   int64_t earliest = INT64_MAX;
@@ -214,8 +214,8 @@ IngestResult IngestService::StoreTemperatures(const std::string& machine_name,
 IngestResult IngestService::StoreProbePoints(const std::string& machine_name,
                                              const std::vector<ProbePointInput>& points,
                                              const std::string& actor) {
-  std::unique_lock<std::mutex> lock(db_.mutex());
-  auto machine = MachineStore(db_).Find(machine_name);
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto machine = session->machines().Find(machine_name);
   if (!machine) return Rejected({}, Status::NotFound("unknown machine '" + machine_name + "'"));
 
   FieldErrors bad, unknown;
@@ -262,9 +262,9 @@ IngestResult IngestService::StoreProbePoints(const std::string& machine_name,
 
   IngestResult result;
   FieldErrors conflicts;
-  Transaction tx(db_);
+  Transaction tx(*session);
   if (!tx.status().ok()) return Rejected({}, tx.status());
-  ProbeStore store(db_);
+  ProbeStore& store = session->probes();
   for (size_t i = 0; i < points.size(); ++i) {
     const auto& p = points[i];
     auto run_id = store.EnsureRun(machine->id, p.run, p.ts_ms);
@@ -283,23 +283,23 @@ IngestResult IngestService::StoreProbePoints(const std::string& machine_name,
     if (Status st = store.InsertPoint(*run_id, rec, sensor_ids); !st.ok()) return Rejected({}, st);
     ++result.accepted;
   }
-  return Commit(tx, lock, result, std::move(conflicts), "probe points conflict with stored points",
-                "probe-points", machine_name, actor);
+  return Commit(*session, tx, result, std::move(conflicts),
+                "probe points conflict with stored points", "probe-points", machine_name, actor);
 }
 
-IngestResult IngestService::Commit(Transaction& tx, std::unique_lock<std::mutex>& lock,
-                                   IngestResult result, FieldErrors conflicts,
-                                   const std::string& conflict_message, const std::string& action,
-                                   const std::string& machine, const std::string& actor,
+IngestResult IngestService::Commit(Session& s, Transaction& tx, IngestResult result,
+                                   FieldErrors conflicts, const std::string& conflict_message,
+                                   const std::string& action, const std::string& machine,
+                                   const std::string& actor,
                                    const std::function<void()>& after_commit) {
   if (!conflicts.empty()) return Rejected(conflicts, Status::Conflict(conflict_message));
-  if (Status st = LogStore(db_).Audit(clock_.NowMs(), actor, action, machine, result.accepted);
+  if (Status st = s.log().Audit(clock_.NowMs(), actor, action, machine, result.accepted);
       !st.ok()) {
     return Rejected({}, st);
   }
   if (Status st = tx.Commit(); !st.ok()) return Rejected({}, st);
   if (after_commit) after_commit();
-  lock.unlock();
+  s.Pause();
   if (listener_ && result.accepted > 0) listener_(machine);
   return result;
 }

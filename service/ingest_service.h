@@ -16,7 +16,7 @@
 #include "core/status.h"
 #include "service/metrics.h"
 #include "service/probe_temperature_cache.h"
-#include "storage/database.h"
+#include "storage/storage.h"
 
 namespace thermocomp {
 
@@ -37,9 +37,9 @@ class IngestService {
   using Listener = std::function<void(const std::string& machine)>;
   // `metrics` (optional) counts every batch, whichever face it came through:
   // samples and points stored, samples re-sent identically, batches refused.
-  IngestService(Database& db, const Clock& clock, ProbeTemperatureCache* cache = nullptr,
+  IngestService(Storage& storage, const Clock& clock, ProbeTemperatureCache* cache = nullptr,
                 Metrics* metrics = nullptr)
-      : db_(db), clock_(clock), cache_(cache), metrics_(metrics) {}
+      : storage_(storage), clock_(clock), cache_(cache), metrics_(metrics) {}
 
   IngestResult AddTemperatures(const std::string& machine,
                                const std::vector<TemperatureInput>& samples,
@@ -73,13 +73,13 @@ class IngestService {
                        std::atomic<uint64_t>* duplicates = nullptr);
   Status CheckTs(int64_t ts_ms) const;
   // The end of every batch: refused with the conflicts if there are any;
-  // else the audit row, the commit, `after_commit` (still under the lock),
-  // and the listener once the lock is released.
-  IngestResult Commit(Transaction& tx, std::unique_lock<std::mutex>& lock, IngestResult result,
-                      FieldErrors conflicts, const std::string& conflict_message,
-                      const std::string& action, const std::string& machine,
-                      const std::string& actor, const std::function<void()>& after_commit = {});
-  Database& db_;
+  // else the audit row, the commit, `after_commit` (still in the session),
+  // and the listener once the session is paused.
+  IngestResult Commit(Session& s, Transaction& tx, IngestResult result, FieldErrors conflicts,
+                      const std::string& conflict_message, const std::string& action,
+                      const std::string& machine, const std::string& actor,
+                      const std::function<void()>& after_commit = {});
+  Storage& storage_;
   const Clock& clock_;
   ProbeTemperatureCache* cache_;
   Metrics* metrics_;

@@ -38,7 +38,7 @@ bool DependsOnPosition(const DriftModel& model, const std::string& axis) {
   return false;
 }
 
-std::vector<std::vector<double>> LiveTermValues(Database& db, const DriftModel& model,
+std::vector<std::vector<double>> LiveTermValues(Session& s, const DriftModel& model,
                                                 const LiveContext& c,
                                                 const std::vector<double>& positions_mm) {
   const MachineRecord& m = *c.machine;
@@ -55,8 +55,8 @@ std::vector<std::vector<double>> LiveTermValues(Database& db, const DriftModel& 
   }
   // Raw windows only for the channels a lag, rate or signal term reads.
   in.sensor_raw.resize(m.sensors.size());
-  SampleStore samples(db);
-  AuxStore aux(db);
+  SampleStore& samples = s.samples();
+  AuxStore& aux = s.aux();
   // Signal channels are looked up only for a model that reads one: this
   // runs on every recompute of the compensation.
   bool reads_signals = false;

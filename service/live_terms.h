@@ -8,7 +8,7 @@
 
 #include "core/records.h"
 #include "model/drift_model.h"
-#include "storage/database.h"
+#include "storage/storage.h"
 
 namespace thermocomp {
 
@@ -28,8 +28,8 @@ struct LiveContext {
 };
 
 // For each position of `axis`, the model's term values (aligned with
-// model.inputs); NaN where an input is missing. Caller holds db.mutex().
-std::vector<std::vector<double>> LiveTermValues(Database& db, const DriftModel& model,
+// model.inputs); NaN where an input is missing.
+std::vector<std::vector<double>> LiveTermValues(Session& s, const DriftModel& model,
                                                 const LiveContext& context,
                                                 const std::vector<double>& positions_mm);
 

@@ -4,15 +4,15 @@
 
 namespace thermocomp {
 
-StatusOr<MachineRecord> FindMachine(Database& db, const std::string& name) {
-  auto machine = MachineStore(db).Find(name);
+StatusOr<MachineRecord> FindMachine(Session& s, const std::string& name) {
+  auto machine = s.machines().Find(name);
   if (!machine) return Status::NotFound("unknown machine '" + name + "'");
   return *machine;
 }
 
-StatusOr<MachineAxis> FindMachineAxis(Database& db, const std::string& machine_name,
+StatusOr<MachineAxis> FindMachineAxis(Session& s, const std::string& machine_name,
                                       const std::string& axis_name) {
-  auto machine = FindMachine(db, machine_name);
+  auto machine = FindMachine(s, machine_name);
   if (!machine.ok()) return machine.status();
   for (size_t i = 0; i < machine->axes.size(); ++i) {
     if (machine->axes[i].name == axis_name) return MachineAxis{std::move(machine).value(), i};

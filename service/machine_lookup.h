@@ -1,12 +1,12 @@
 // Looking up a machine and one of its axes by name, with the NotFound the
-// API reports. Caller holds db.mutex().
+// API reports.
 #pragma once
 
 #include <string>
 
 #include "core/records.h"
 #include "core/status.h"
-#include "storage/database.h"
+#include "storage/storage.h"
 
 namespace thermocomp {
 
@@ -16,8 +16,8 @@ struct MachineAxis {
   const AxisRecord& axis() const { return machine.axes[axis_index]; }
 };
 
-StatusOr<MachineRecord> FindMachine(Database& db, const std::string& machine);
-StatusOr<MachineAxis> FindMachineAxis(Database& db, const std::string& machine,
+StatusOr<MachineRecord> FindMachine(Session& s, const std::string& machine);
+StatusOr<MachineAxis> FindMachineAxis(Session& s, const std::string& machine,
                                       const std::string& axis);
 
 }  // namespace thermocomp

@@ -63,8 +63,8 @@ StatusOr<bool> MachineService::Register(const MachineDefinition& d, const std::s
   }
   std::optional<MachineRecord> existing;
   {
-    std::lock_guard<std::mutex> lock(db_.mutex());
-    existing = MachineStore(db_).Find(d.name);
+    const std::unique_ptr<Session> session = storage_.Open();
+    existing = session->machines().Find(d.name);
   }
   // The stored machine with what the definition gives applied.
   MachineRecord m = existing.value_or(MachineRecord{});
@@ -128,12 +128,12 @@ StatusOr<bool> MachineService::Register(const MachineDefinition& d, const std::s
     else
       *it = {it->id, a.name, a.reference_position_mm, a.inputs, a.clamp_mm};
   }
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  Transaction tx(db_);
+  const std::unique_ptr<Session> session = storage_.Open();
+  Transaction tx(*session);
   if (!tx.status().ok()) return tx.status();
-  auto created = MachineStore(db_).Upsert(m, clock_.NowMs());
+  auto created = session->machines().Upsert(m, clock_.NowMs());
   if (!created.ok()) return created.status();
-  if (Status s = LogStore(db_).Audit(clock_.NowMs(), actor, "machine", m.name, 1); !s.ok())
+  if (Status s = session->log().Audit(clock_.NowMs(), actor, "machine", m.name, 1); !s.ok())
     return s;
   if (Status s = tx.Commit(); !s.ok()) return s;
   if (cache_ && existing)
@@ -142,35 +142,35 @@ StatusOr<bool> MachineService::Register(const MachineDefinition& d, const std::s
 }
 
 std::vector<MachineRecord> MachineService::List() {
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  return MachineStore(db_).List();
+  const std::unique_ptr<Session> session = storage_.Open();
+  return session->machines().List();
 }
 
 std::optional<MachineRecord> MachineService::Find(const std::string& name) {
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  return MachineStore(db_).Find(name);
+  const std::unique_ptr<Session> session = storage_.Open();
+  return session->machines().Find(name);
 }
 
 nlohmann::json MachineService::Summary(const MachineRecord& m) {
-  std::lock_guard<std::mutex> lock(db_.mutex());
-  SampleStore samples(db_);
+  const std::unique_ptr<Session> session = storage_.Open();
+  SampleStore& samples = session->samples();
   std::optional<int64_t> last;
   for (const auto& s : m.sensors) {
     if (auto fs = samples.LoadFilterState(s.id)) last = std::max(last.value_or(0), fs->last_ts_ms);
   }
   nlohmann::json active = nlohmann::json::object();
-  ModelStore models(db_);
+  ModelStore& models = session->models();
   for (const auto& a : m.axes) {
     auto rec = models.Active(a.id);
     active[a.name] = rec ? nlohmann::json(rec->version) : nullptr;
   }
-  const CheckCounts checks = CountChecks(db_, m.id, clock_.NowMs());
+  const CheckCounts checks = CountChecks(*session, m.id, clock_.NowMs());
   return {{"samples", samples.CountForMachine(m.id)},
-          {"probe_points", ProbeStore(db_).CountPoints(m.id)},
+          {"probe_points", session->probes().CountPoints(m.id)},
           {"last_sample_ts", last ? nlohmann::json(FormatRfc3339(*last)) : nullptr},
           {"active_models", active},
           {"checks", {{"pending", checks.pending}, {"overdue", checks.overdue}}},
-          {"last_column_check", LatestColumnCheckSummary(db_, m.id)}};
+          {"last_column_check", LatestColumnCheckSummary(*session, m.id)}};
 }
 
 }  // namespace thermocomp

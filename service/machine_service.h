@@ -12,7 +12,7 @@
 #include "core/records.h"
 #include "service/ingest_service.h"
 #include "service/probe_temperature_cache.h"
-#include "storage/database.h"
+#include "storage/storage.h"
 
 namespace thermocomp {
 
@@ -36,8 +36,8 @@ bool KnownController(const std::string& controller);
 
 class MachineService {
  public:
-  MachineService(Database& db, const Clock& clock, ProbeTemperatureCache* cache = nullptr)
-      : db_(db), clock_(clock), cache_(cache) {}
+  MachineService(Storage& storage, const Clock& clock, ProbeTemperatureCache* cache = nullptr)
+      : storage_(storage), clock_(clock), cache_(cache) {}
 
   // Validates and stores; errors name the field. Returns true if created.
   StatusOr<bool> Register(const MachineDefinition& machine, const std::string& actor,
@@ -52,7 +52,7 @@ class MachineService {
   nlohmann::json Summary(const MachineRecord& machine);
 
  private:
-  Database& db_;
+  Storage& storage_;
   const Clock& clock_;
   ProbeTemperatureCache* cache_;
 };

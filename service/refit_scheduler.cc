@@ -25,10 +25,10 @@ int RefitScheduler::Tick() {
   std::vector<Due> due;
   const int64_t now = clock_.NowMs();
   {
-    std::lock_guard<std::mutex> lock(db_.mutex());
-    ProbeStore probes(db_);
-    ModelStore models(db_);
-    for (const MachineRecord& m : MachineStore(db_).List()) {
+    const std::unique_ptr<Session> session = storage_.Open();
+    ProbeStore& probes = session->probes();
+    ModelStore& models = session->models();
+    for (const MachineRecord& m : session->machines().List()) {
       for (const AxisRecord& a : m.axes) {
         if (a.inputs.empty()) continue;
         auto last = models.LatestCreated(a.id);

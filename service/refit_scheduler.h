@@ -19,15 +19,15 @@
 #include "service/check_service.h"
 #include "service/config.h"
 #include "service/fit_service.h"
-#include "storage/database.h"
+#include "storage/storage.h"
 
 namespace thermocomp {
 
 class RefitScheduler {
  public:
-  RefitScheduler(Database& db, FitService& fits, const Clock& clock, const Config& config,
+  RefitScheduler(Storage& storage, FitService& fits, const Clock& clock, const Config& config,
                  AnalysisService* analyses = nullptr, CheckService* checks = nullptr)
-      : db_(db),
+      : storage_(storage),
         fits_(fits),
         clock_(clock),
         config_(config),
@@ -43,7 +43,7 @@ class RefitScheduler {
  private:
   // The most recent daily refit time (fit.daily_at, UTC) at or before now.
   int64_t LastDailySlot(int64_t now_ms) const;
-  Database& db_;
+  Storage& storage_;
   FitService& fits_;
   const Clock& clock_;
   const Config& config_;

@@ -26,7 +26,7 @@ RawChannels RawChannels::ForModel(const DriftModel& model) {
   return r;
 }
 
-EffectSearchInput LoadTermInput(Database& db, const MachineRecord& machine, const std::string& axis,
+EffectSearchInput LoadTermInput(Session& s, const MachineRecord& machine, const std::string& axis,
                                 const DriftDataset& data, const std::vector<std::string>& holdout,
                                 const std::vector<std::string>& declared, int64_t max_gap_ms,
                                 const RawChannels& raw) {
@@ -44,7 +44,7 @@ EffectSearchInput LoadTermInput(Database& db, const MachineRecord& machine, cons
   for (const auto& s : machine.sensors) in.inputs.sensor_alpha.push_back(s.ewma_alpha);
   for (const auto& s : declared) in.declared.push_back(EffectTerm::Sensor(s));
   in.inputs.sensor_raw.resize(machine.sensors.size());
-  AuxStore aux(db);
+  AuxStore& aux = s.aux();
   const std::vector<SignalChannel> channels = aux.Signals(machine.id);
   for (const auto& c : channels) in.inputs.signals.push_back(c.name);
   in.inputs.signal_raw.resize(channels.size());
@@ -61,7 +61,7 @@ EffectSearchInput LoadTermInput(Database& db, const MachineRecord& machine, cons
   std::set<std::string> sensors, signals;
   for (const auto& t : raw.terms)
     (t.kind == EffectKind::kSignal ? signals : sensors).insert(t.source);
-  SampleStore samples(db);
+  SampleStore& samples = s.samples();
   for (size_t k = 0; k < machine.sensors.size(); ++k) {
     if (!raw.all && !sensors.count(machine.sensors[k].name)) continue;
     samples.ScanRaw(machine.sensors[k].id, from, last,

@@ -12,7 +12,7 @@
 #include "model/effect_search.h"
 #include "model/held_out.h"
 #include "service/drift_dataset.h"
-#include "storage/database.h"
+#include "storage/storage.h"
 
 namespace thermocomp {
 
@@ -27,8 +27,8 @@ struct RawChannels {
   static RawChannels ForModel(const DriftModel& model);
 };
 
-// Caller holds db.mutex(). `declared` become the input's declared terms.
-EffectSearchInput LoadTermInput(Database& db, const MachineRecord& machine, const std::string& axis,
+// `declared` become the input's declared terms.
+EffectSearchInput LoadTermInput(Session& s, const MachineRecord& machine, const std::string& axis,
                                 const DriftDataset& data, const std::vector<std::string>& holdout,
                                 const std::vector<std::string>& declared, int64_t max_gap_ms,
                                 const RawChannels& raw);

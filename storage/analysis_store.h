@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "storage/database.h"
+#include "core/status.h"
 
 namespace thermocomp {
 
@@ -20,16 +20,13 @@ struct AnalysisRecord {
 
 class AnalysisStore {
  public:
-  explicit AnalysisStore(Database& db) : db_(db) {}
+  virtual ~AnalysisStore() = default;
 
-  StatusOr<int64_t> Insert(int64_t axis_id, const AnalysisRecord& record);
-  Status SetReport(int64_t id, const std::string& report_json);
+  virtual StatusOr<int64_t> Insert(int64_t axis_id, const AnalysisRecord& record) = 0;
+  virtual Status SetReport(int64_t id, const std::string& report_json) = 0;
   // Newest first, without the report text.
-  std::vector<AnalysisRecord> List(int64_t axis_id, int limit);
-  std::optional<AnalysisRecord> Get(int64_t axis_id, int64_t id);
-
- private:
-  Database& db_;
+  virtual std::vector<AnalysisRecord> List(int64_t axis_id, int limit) = 0;
+  virtual std::optional<AnalysisRecord> Get(int64_t axis_id, int64_t id) = 0;
 };
 
 }  // namespace thermocomp

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "storage/database.h"
+#include "core/status.h"
 
 namespace thermocomp {
 
@@ -26,23 +26,21 @@ struct EventRecord {
 
 class AuxStore {
  public:
-  explicit AuxStore(Database& db) : db_(db) {}
+  virtual ~AuxStore() = default;
 
   // The channel's id, created on first use.
-  StatusOr<int64_t> EnsureSignal(int64_t machine_id, const std::string& name);
-  std::vector<SignalChannel> Signals(int64_t machine_id);
-  std::optional<double> SignalValueAt(int64_t signal_id, int64_t ts_ms);  // exact time
-  Status InsertSignal(int64_t signal_id, int64_t ts_ms, double value);
+  virtual StatusOr<int64_t> EnsureSignal(int64_t machine_id, const std::string& name) = 0;
+  virtual std::vector<SignalChannel> Signals(int64_t machine_id) = 0;
+  virtual std::optional<double> SignalValueAt(int64_t signal_id, int64_t ts_ms) = 0;  // exact time
+  virtual Status InsertSignal(int64_t signal_id, int64_t ts_ms, double value) = 0;
   // Calls fn(ts, value) for from <= ts <= to, ascending.
-  void ScanSignal(int64_t signal_id, int64_t from_ms, int64_t to_ms,
-                  const std::function<void(int64_t, double)>& fn);
+  virtual void ScanSignal(int64_t signal_id, int64_t from_ms, int64_t to_ms,
+                          const std::function<void(int64_t, double)>& fn) = 0;
 
-  StatusOr<int64_t> InsertEvent(int64_t machine_id, const EventRecord& event);
-  std::optional<EventRecord> FindEvent(int64_t machine_id, int64_t ts_ms, const std::string& kind);
-  std::vector<EventRecord> Events(int64_t machine_id);  // ascending in time
-
- private:
-  Database& db_;
+  virtual StatusOr<int64_t> InsertEvent(int64_t machine_id, const EventRecord& event) = 0;
+  virtual std::optional<EventRecord> FindEvent(int64_t machine_id, int64_t ts_ms,
+                                               const std::string& kind) = 0;
+  virtual std::vector<EventRecord> Events(int64_t machine_id) = 0;  // ascending in time
 };
 
 }  // namespace thermocomp

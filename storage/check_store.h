@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "storage/database.h"
+#include "core/status.h"
 
 namespace thermocomp {
 
@@ -37,35 +37,35 @@ struct PositioningCheckRecord {
 
 class CheckStore {
  public:
-  explicit CheckStore(Database& db) : db_(db) {}
+  virtual ~CheckStore() = default;
 
-  Status PutArtifact(const std::string& name, const std::string& json, int64_t now_ms);
-  std::optional<std::string> Artifact(const std::string& name);
+  virtual Status PutArtifact(const std::string& name, const std::string& json, int64_t now_ms) = 0;
+  virtual std::optional<std::string> Artifact(const std::string& name) = 0;
 
-  StatusOr<int64_t> InsertRequest(int64_t machine_id, const CheckRequestRecord& r);
-  std::vector<CheckRequestRecord> Requests(int64_t machine_id);  // newest first
-  std::optional<CheckRequestRecord> Request(int64_t machine_id, int64_t id);
-  Status CloseRequest(int64_t id, int64_t done_ms, int64_t check_id);
+  virtual StatusOr<int64_t> InsertRequest(int64_t machine_id, const CheckRequestRecord& r) = 0;
+  virtual std::vector<CheckRequestRecord> Requests(int64_t machine_id) = 0;  // newest first
+  virtual std::optional<CheckRequestRecord> Request(int64_t machine_id, int64_t id) = 0;
+  virtual Status CloseRequest(int64_t id, int64_t done_ms, int64_t check_id) = 0;
   // Newest request or check time of the machine, for the weekly request.
-  std::optional<int64_t> LatestRequestOrCheck(int64_t machine_id);
+  virtual std::optional<int64_t> LatestRequestOrCheck(int64_t machine_id) = 0;
 
-  StatusOr<int64_t> InsertColumnCheck(int64_t machine_id, const ColumnCheckRecord& r);
-  std::vector<ColumnCheckRecord> ColumnChecks(int64_t machine_id);  // oldest first
-  std::optional<ColumnCheckRecord> LatestColumnCheck(int64_t machine_id);
-  std::optional<ColumnCheckRecord> ColumnCheckAt(int64_t machine_id, int64_t ts_ms);
-  std::optional<ColumnCheckRecord> ColumnCheck(int64_t machine_id, int64_t id);
+  virtual StatusOr<int64_t> InsertColumnCheck(int64_t machine_id, const ColumnCheckRecord& r) = 0;
+  virtual std::vector<ColumnCheckRecord> ColumnChecks(int64_t machine_id) = 0;  // oldest first
+  virtual std::optional<ColumnCheckRecord> LatestColumnCheck(int64_t machine_id) = 0;
+  virtual std::optional<ColumnCheckRecord> ColumnCheckAt(int64_t machine_id, int64_t ts_ms) = 0;
+  virtual std::optional<ColumnCheckRecord> ColumnCheck(int64_t machine_id, int64_t id) = 0;
 
-  StatusOr<int64_t> InsertPositioningCheck(int64_t machine_id, const PositioningCheckRecord& r);
-  std::optional<PositioningCheckRecord> PositioningCheck(int64_t machine_id, int64_t id);
+  virtual StatusOr<int64_t> InsertPositioningCheck(int64_t machine_id,
+                                                   const PositioningCheckRecord& r) = 0;
+  virtual std::optional<PositioningCheckRecord> PositioningCheck(int64_t machine_id,
+                                                                 int64_t id) = 0;
   // The check of `axis` at `ts_ms`, if one is stored (a re-sent check).
-  std::optional<PositioningCheckRecord> PositioningCheckAt(int64_t machine_id,
-                                                           const std::string& axis, int64_t ts_ms);
+  virtual std::optional<PositioningCheckRecord> PositioningCheckAt(int64_t machine_id,
+                                                                   const std::string& axis,
+                                                                   int64_t ts_ms) = 0;
   // A check's result, once it carries the id it was given.
-  Status SetColumnCheckResult(int64_t id, const std::string& result_json);
-  Status SetPositioningCheckResult(int64_t id, const std::string& result_json);
-
- private:
-  Database& db_;
+  virtual Status SetColumnCheckResult(int64_t id, const std::string& result_json) = 0;
+  virtual Status SetPositioningCheckResult(int64_t id, const std::string& result_json) = 0;
 };
 
 }  // namespace thermocomp

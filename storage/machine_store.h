@@ -5,23 +5,20 @@
 #include <vector>
 
 #include "core/records.h"
-#include "storage/database.h"
+#include "core/status.h"
 
 namespace thermocomp {
 
 class MachineStore {
  public:
-  explicit MachineStore(Database& db) : db_(db) {}
+  virtual ~MachineStore() = default;
 
   // Inserts or updates the machine, its listed sensors and axes (matched by
   // name). Sensors and axes not listed are kept: they may own data.
   // Returns true when the machine was created.
-  StatusOr<bool> Upsert(const MachineRecord& machine, int64_t now_ms);
-  std::optional<MachineRecord> Find(const std::string& name);
-  std::vector<MachineRecord> List();
-
- private:
-  Database& db_;
+  virtual StatusOr<bool> Upsert(const MachineRecord& machine, int64_t now_ms) = 0;
+  virtual std::optional<MachineRecord> Find(const std::string& name) = 0;
+  virtual std::vector<MachineRecord> List() = 0;
 };
 
 }  // namespace thermocomp

@@ -6,28 +6,25 @@
 #include <vector>
 
 #include "core/records.h"
-#include "storage/database.h"
+#include "core/status.h"
 
 namespace thermocomp {
 
 class ModelStore {
  public:
-  explicit ModelStore(Database& db) : db_(db) {}
+  virtual ~ModelStore() = default;
 
   // Stores a new version (the next number for the axis) and returns it.
   // An "active" record retires the current active one in the same call.
-  StatusOr<int> Insert(int64_t axis_id, const ModelRecord& record);
-  std::vector<ModelRecord> List(int64_t axis_id);
-  std::optional<ModelRecord> Get(int64_t axis_id, int version);
-  std::optional<ModelRecord> Active(int64_t axis_id);
-  std::optional<int64_t> LatestCreated(int64_t axis_id);
+  virtual StatusOr<int> Insert(int64_t axis_id, const ModelRecord& record) = 0;
+  virtual std::vector<ModelRecord> List(int64_t axis_id) = 0;
+  virtual std::optional<ModelRecord> Get(int64_t axis_id, int version) = 0;
+  virtual std::optional<ModelRecord> Active(int64_t axis_id) = 0;
+  virtual std::optional<int64_t> LatestCreated(int64_t axis_id) = 0;
   // Makes `version` the active one; NotFound when it does not exist.
-  Status Activate(int64_t axis_id, int version);
+  virtual Status Activate(int64_t axis_id, int version) = 0;
   // The version's report, once it carries the version number it was given.
-  Status SetReport(int64_t axis_id, int version, const std::string& report_json);
-
- private:
-  Database& db_;
+  virtual Status SetReport(int64_t axis_id, int version, const std::string& report_json) = 0;
 };
 
 }  // namespace thermocomp

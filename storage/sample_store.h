@@ -7,38 +7,35 @@
 #include <vector>
 
 #include "core/records.h"
-#include "storage/database.h"
+#include "core/status.h"
 
 namespace thermocomp {
 
 class SampleStore {
  public:
-  explicit SampleStore(Database& db) : db_(db) {}
+  virtual ~SampleStore() = default;
 
-  std::optional<FilterState> LoadFilterState(int64_t sensor_id);
-  Status SaveFilterState(int64_t sensor_id, const FilterState& state);
+  virtual std::optional<FilterState> LoadFilterState(int64_t sensor_id) = 0;
+  virtual Status SaveFilterState(int64_t sensor_id, const FilterState& state) = 0;
 
   // Inserts a new sample; Conflict if (sensor, ts) exists already.
-  Status Insert(int64_t sensor_id, const SampleRow& row);
-  std::optional<double> ValueAt(int64_t sensor_id, int64_t ts_ms);
+  virtual Status Insert(int64_t sensor_id, const SampleRow& row) = 0;
+  virtual std::optional<double> ValueAt(int64_t sensor_id, int64_t ts_ms) = 0;
   // Newest sample strictly before ts, if any.
-  std::optional<SampleRow> Before(int64_t sensor_id, int64_t ts_ms);
+  virtual std::optional<SampleRow> Before(int64_t sensor_id, int64_t ts_ms) = 0;
   // Newest sample at or before ts, if any.
-  std::optional<SampleRow> AtOrBefore(int64_t sensor_id, int64_t ts_ms);
+  virtual std::optional<SampleRow> AtOrBefore(int64_t sensor_id, int64_t ts_ms) = 0;
   // Samples with from <= ts <= to, ascending.
-  std::vector<SampleRow> Range(int64_t sensor_id, int64_t from_ms, int64_t to_ms);
+  virtual std::vector<SampleRow> Range(int64_t sensor_id, int64_t from_ms, int64_t to_ms) = 0;
   // At most `limit` samples from `from_ms` on, ascending: a cursor that
   // does not hold a statement open while the caller updates the rows.
-  std::vector<SampleRow> From(int64_t sensor_id, int64_t from_ms, int limit);
+  virtual std::vector<SampleRow> From(int64_t sensor_id, int64_t from_ms, int limit) = 0;
   // Calls fn(ts, raw value) for from <= ts <= to, ascending, without
   // materialising the rows (a year of one sensor is half a million).
-  void ScanRaw(int64_t sensor_id, int64_t from_ms, int64_t to_ms,
-               const std::function<void(int64_t, double)>& fn);
-  Status UpdateFiltered(int64_t sensor_id, int64_t ts_ms, double filtered);
-  int64_t CountForMachine(int64_t machine_id);
-
- private:
-  Database& db_;
+  virtual void ScanRaw(int64_t sensor_id, int64_t from_ms, int64_t to_ms,
+                       const std::function<void(int64_t, double)>& fn) = 0;
+  virtual Status UpdateFiltered(int64_t sensor_id, int64_t ts_ms, double filtered) = 0;
+  virtual int64_t CountForMachine(int64_t machine_id) = 0;
 };
 
 }  // namespace thermocomp

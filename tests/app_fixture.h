@@ -11,8 +11,10 @@
 #include <gtest/gtest.h>
 
 #include "api/http_server.h"
+#include "app/open_app.h"
 #include "service/app.h"
 #include "sim/virtual_machine.h"
+#include "storage/sqlite/sqlite_storage.h"
 
 namespace thermocomp::testing {
 
@@ -35,7 +37,7 @@ class AppFixture : public ::testing::Test {
     config_.synchronous = "normal";
     config_.http_threads = 8;
     Configure(config_);
-    auto app = App::Open(config_, clock_);
+    auto app = OpenApp(config_, clock_);
     ASSERT_TRUE(app.ok()) << app.status().ToString();
     app_ = std::move(app).value();
   }
@@ -95,20 +97,23 @@ class AppFixture : public ::testing::Test {
   // test knows the law exactly.
   void InsertActiveModel(int64_t axis_id, const std::string& model_json) {
     {
-      std::lock_guard<std::mutex> lock(app_->db().mutex());
-      Statement q(app_->db(),
-                  "INSERT INTO models(axis_id, version, status, reason, created_ms, model_json,"
-                  " report_json) VALUES (?, 1, 'active', 'test', 0, ?, '{}')");
-      q.Bind(1, axis_id).Bind(2, model_json);
-      ASSERT_TRUE(q.Run().ok());
+      const std::unique_ptr<Session> session = app_->storage().Open();
+      auto version = session->models().Insert(axis_id, {0, "active", "test", 0, model_json, "{}"});
+      ASSERT_TRUE(version.ok() && *version == 1);
     }
     for (const auto& m : app_->machines().List()) app_->compensation().MarkChanged(m.name);
   }
   int64_t Count(const std::string& sql) {
-    std::lock_guard<std::mutex> lock(app_->db().mutex());
-    Statement q(app_->db().handle(), sql);
-    return q.Step() ? q.Int(0) : -1;
+    int64_t count = -1;
+    Sqlite().WithConnection([&](Database& db) {
+      Statement q(db, sql);
+      if (q.Step()) count = q.Int(0);
+    });
+    return count;
   }
+  // The app's archive is SQLite in every test; SQL no store offers goes
+  // through its connection.
+  SqliteStorage& Sqlite() { return static_cast<SqliteStorage&>(app_->storage()); }
 
   std::filesystem::path dir_;
   Config config_;

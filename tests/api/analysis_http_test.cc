@@ -124,12 +124,13 @@ TEST_F(AnalysisHttpTest, PositionDependentExpansionIsServedAsSlopeAndAtTheProbe)
   const double slope = (*y)["slope_um_per_m"].get<double>();
   double tcb = 0;
   {
-    std::lock_guard<std::mutex> lock(app_->db().mutex());
-    Statement q(app_->db(),
-                "SELECT f.state FROM filter_state f JOIN sensors s ON s.id = f.sensor_id"
-                " WHERE s.name = 'Tcb'");
-    ASSERT_TRUE(q.Step());
-    tcb = q.Double(0);
+    Sqlite().WithConnection([&](Database& db) {
+      Statement q(db,
+                  "SELECT f.state FROM filter_state f JOIN sensors s ON s.id = f.sensor_id"
+                  " WHERE s.name = 'Tcb'");
+      ASSERT_TRUE(q.Step());
+      tcb = q.Double(0);
+    });
   }
   // The fitted expansion coefficient is the simulator's, and the served
   // slope is exactly -coefficient * (Tcb - 20) in um/m.

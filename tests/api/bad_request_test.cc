@@ -42,9 +42,10 @@ class BadRequestTest : public testing::AppFixture {
       s += std::string(t) + "=" + std::to_string(Count(std::string("SELECT COUNT(*) FROM ") + t)) +
            " ";
     }
-    std::lock_guard<std::mutex> lock(app_->db().mutex());
-    Statement q(app_->db().handle(), "SELECT state FROM filter_state");
-    while (q.Step()) s += std::to_string(q.Double(0)) + " ";
+    Sqlite().WithConnection([&](Database& db) {
+      Statement q(db, "SELECT state FROM filter_state");
+      while (q.Step()) s += std::to_string(q.Double(0)) + " ";
+    });
     return s;
   }
 };

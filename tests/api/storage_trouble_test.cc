@@ -54,8 +54,9 @@ TEST_F(StorageTroubleTest, AFullDiskIsA507AndNotReadyUntilThereIsRoomAgain) {
   int64_t pages = Count("PRAGMA page_count");
   {
     // The database may not grow: as a full disk looks to SQLite.
-    std::lock_guard<std::mutex> lock(app_->db().mutex());
-    ASSERT_TRUE(app_->db().Exec("PRAGMA max_page_count = " + std::to_string(pages)).ok());
+    Sqlite().WithConnection([&](Database& db) {
+      ASSERT_TRUE(db.Exec("PRAGMA max_page_count = " + std::to_string(pages)).ok());
+    });
   }
   int status = 0;
   for (int minute = 1; minute < 5000 && status != 507; ++minute) {
@@ -83,8 +84,8 @@ TEST_F(StorageTroubleTest, AFullDiskIsA507AndNotReadyUntilThereIsRoomAgain) {
   const int64_t stored = Count("SELECT COUNT(*) FROM samples");
   EXPECT_EQ(stored % 200, 0) << "a refused batch left part of itself behind";
   {
-    std::lock_guard<std::mutex> lock(app_->db().mutex());
-    ASSERT_TRUE(app_->db().Exec("PRAGMA max_page_count = 1000000").ok());
+    Sqlite().WithConnection(
+        [](Database& db) { ASSERT_TRUE(db.Exec("PRAGMA max_page_count = 1000000").ok()); });
   }
   EXPECT_EQ(PostSample(1).value().status, 200);
   EXPECT_EQ(client_->Get("/readyz")->status, 200);

@@ -12,7 +12,7 @@
 
 #include "api/dds/dds_client.h"
 #include "core/time_format.h"
-#include "storage/database.h"
+#include "storage/sqlite/database.h"
 #include "tests/dds/dds_config.h"
 #include "tests/server_process.h"
 

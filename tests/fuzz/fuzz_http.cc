@@ -13,6 +13,7 @@
 #include <string>
 
 #include "api/http_server.h"
+#include "app/open_app.h"
 #include "core/log.h"
 #include "sim/virtual_machine.h"
 
@@ -64,7 +65,7 @@ struct Fixture {
     config.db_path = (dir / "f.db").string();
     config.synchronous = "normal";
     config.max_body_bytes = 1 << 20;
-    app = std::move(App::Open(config, clock)).value();
+    app = std::move(OpenApp(config, clock)).value();
     app->machines().Register(VirtualMachine::Definition("m1"), "fuzz", nullptr);
     std::vector<TemperatureInput> samples;
     for (int i = 0; i < 60; ++i)

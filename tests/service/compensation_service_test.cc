@@ -81,8 +81,8 @@ TEST_F(CompensationServiceTest, ImplausibleInputIsNotServed) {
 TEST_F(CompensationServiceTest, SpikeAgainstTheFilterIsNotServed) {
   // With a slow filter a sudden 10 degC step is a sensor fault, not heat.
   {
-    std::lock_guard<std::mutex> lock(app_->db().mutex());
-    ASSERT_TRUE(app_->db().Exec("UPDATE sensors SET ewma_alpha = 0.1").ok());
+    Sqlite().WithConnection(
+        [](Database& db) { ASSERT_TRUE(db.Exec("UPDATE sensors SET ewma_alpha = 0.1").ok()); });
   }
   ActivateModel();
   Datum(t0_);

@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/time_format.h"
-#include "storage/database.h"
+#include "storage/sqlite/database.h"
 #include "tests/server_process.h"
 
 namespace thermocomp {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "app/open_app.h"
 #include "model/ewma_filter.h"
 #include "storage/sample_store.h"
 #include "tests/app_fixture.h"
@@ -18,10 +19,7 @@ class IngestServiceTest : public testing::AppFixture {
     m.sensors = {{0, "T", "", 0.5}};
     ASSERT_TRUE(app_->machines().Register(m, "test", nullptr).ok());
   }
-  std::vector<SampleRow> Rows() {
-    std::lock_guard<std::mutex> lock(app_->db().mutex());
-    return SampleStore(app_->db()).Range(1, 0, INT64_MAX);
-  }
+  std::vector<SampleRow> Rows() { return app_->storage().Open()->samples().Range(1, 0, INT64_MAX); }
 };
 
 TEST_F(IngestServiceTest, FilteredValuesFollowTheEwma) {
@@ -46,8 +44,7 @@ TEST_F(IngestServiceTest, LateSampleReplaysTheFilterFromItsTime) {
   auto rows = Rows();
   ASSERT_EQ(rows.size(), 3u);
   for (const auto& row : rows) EXPECT_DOUBLE_EQ(row.filtered, f.Update(row.value));
-  std::lock_guard<std::mutex> lock(app_->db().mutex());
-  auto state = SampleStore(app_->db()).LoadFilterState(1);
+  auto state = app_->storage().Open()->samples().LoadFilterState(1);
   ASSERT_TRUE(state);
   EXPECT_DOUBLE_EQ(state->state, rows.back().filtered);
   EXPECT_EQ(state->last_ts_ms, t + 120000);
@@ -67,9 +64,14 @@ TEST_F(IngestServiceTest, ALateSampleRewritesOnlyTheRowsItChangesMeasurably) {
   ASSERT_TRUE(app_->ingest().AddTemperatures("m1", archive, "test").status.ok());
   std::vector<TemperatureInput> late;
   for (int i = 100; i < 160; ++i) late.push_back({"T", t + i * 60000LL, 25.0});
-  const int before = sqlite3_total_changes(app_->db().handle());
+  auto total_changes = [this] {
+    int n = 0;
+    Sqlite().WithConnection([&](Database& db) { n = sqlite3_total_changes(db.handle()); });
+    return n;
+  };
+  const int before = total_changes();
   ASSERT_TRUE(app_->ingest().AddTemperatures("m1", late, "test").status.ok());
-  const int changed = sqlite3_total_changes(app_->db().handle()) - before;
+  const int changed = total_changes() - before;
   // 60 inserted, the same 60 re-filtered, ~32 after them (5 degC halving to
   // 1e-9), the filter state and the audit row; the old replay rewrote 19 900.
   EXPECT_LT(changed, 60 + 60 + 40 + 5);
@@ -80,8 +82,7 @@ TEST_F(IngestServiceTest, ALateSampleRewritesOnlyTheRowsItChangesMeasurably) {
   for (const auto& row : rows)
     worst = std::max(worst, std::fabs(row.filtered - exact.Update(row.value)));
   EXPECT_LE(worst, kReplayToleranceC);
-  std::lock_guard<std::mutex> lock(app_->db().mutex());
-  auto state = SampleStore(app_->db()).LoadFilterState(1);
+  auto state = app_->storage().Open()->samples().LoadFilterState(1);
   EXPECT_NEAR(state->state, rows.back().filtered, kReplayToleranceC);
 }
 
@@ -90,7 +91,7 @@ TEST_F(IngestServiceTest, FilterStateSurvivesReopen) {
   ASSERT_TRUE(
       app_->ingest().AddTemperatures("m1", {{"T", t, 10}, {"T", t + 60000, 20}}, "t").status.ok());
   app_.reset();
-  auto app = App::Open(config_, clock_);
+  auto app = OpenApp(config_, clock_);
   ASSERT_TRUE(app.ok());
   app_ = std::move(app).value();
   ASSERT_TRUE(app_->ingest().AddTemperatures("m1", {{"T", t + 120000, 30}}, "t").status.ok());

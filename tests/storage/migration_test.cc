@@ -1,10 +1,10 @@
-#include "storage/migrator.h"
+#include "storage/sqlite/migrator.h"
 
 #include <filesystem>
 
 #include <gtest/gtest.h>
 
-#include "storage/database.h"
+#include "storage/sqlite/database.h"
 #include "tests/app_fixture.h"
 
 namespace thermocomp {

@@ -2,7 +2,7 @@
 file(GLOB FILES ${DIR}/[0-9][0-9][0-9][0-9]_*.sql)
 list(SORT FILES)
 set(body "// Generated from migrations/*.sql by embed_migrations.cmake. Do not edit.\n")
-string(APPEND body "#include \"storage/migrator.h\"\nnamespace thermocomp {\n")
+string(APPEND body "#include \"storage/sqlite/migrator.h\"\nnamespace thermocomp {\n")
 string(APPEND body "const std::vector<Migration>& EmbeddedMigrations() {\n  static const std::vector<Migration> m = {\n")
 foreach(f ${FILES})
   get_filename_component(name ${f} NAME_WE)

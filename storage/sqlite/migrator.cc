@@ -1,8 +1,8 @@
-#include "storage/migrator.h"
+#include "storage/sqlite/migrator.h"
 
 #include <chrono>
 
-#include "storage/database.h"
+#include "storage/sqlite/database.h"
 
 namespace thermocomp {
 
@@ -26,18 +26,27 @@ StatusOr<int> Migrate(Database& db, const std::vector<Migration>& migrations, in
   }
   for (const Migration& m : migrations) {
     if (m.version <= current || (up_to > 0 && m.version > up_to)) continue;
-    Transaction tx(db);
-    if (!tx.status().ok()) return tx.status();
+    // One transaction per migration: a failed one leaves the previous version.
+    if (s = db.Begin(); !s.ok()) return s;
     s = db.Exec(m.sql);
-    if (!s.ok()) return Status::Internal("migration " + m.name + ": " + s.message());
+    if (!s.ok()) {
+      db.Rollback();
+      return Status::Internal("migration " + m.name + ": " + s.message());
+    }
     Statement rec(db.handle(),
                   "INSERT INTO schema_migrations(version, name, applied_ms) VALUES (?, ?, ?)");
     const int64_t now = std::chrono::duration_cast<std::chrono::milliseconds>(
                             std::chrono::system_clock::now().time_since_epoch())
                             .count();
     rec.Bind(1, int64_t{m.version}).Bind(2, m.name).Bind(3, now);
-    if (s = rec.Run(); !s.ok()) return s;
-    if (s = tx.Commit(); !s.ok()) return s;
+    if (s = rec.Run(); !s.ok()) {
+      db.Rollback();
+      return s;
+    }
+    if (s = db.Commit(); !s.ok()) {
+      db.Rollback();
+      return s;
+    }
     current = m.version;
   }
   return current;

@@ -1,7 +1,8 @@
 // Database: one SQLite connection in WAL mode with foreign keys and a busy
-// timeout, plus the small helpers the stores use (prepared statements,
-// transactions). Not thread-safe by itself: callers hold mutex() around a
-// unit of work, which also serialises writers as SQLite requires.
+// timeout, plus the small helpers the SQLite stores use (prepared
+// statements). Not thread-safe by itself: its lock is taken only by a
+// SqliteSession (one unit of work, which also serialises writers as SQLite
+// requires), and a Statement made outside the thread holding it fails.
 #pragma once
 
 #include <atomic>
@@ -11,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <unordered_map>
 #include <vector>
 
@@ -82,7 +84,6 @@ class Database {
   Database& operator=(const Database&) = delete;
 
   sqlite3* handle() { return db_; }
-  std::mutex& mutex() { return mutex_; }
   const std::string& path() const { return path_; }
   int schema_version() const { return schema_version_; }
 
@@ -106,7 +107,14 @@ class Database {
   sqlite3_stmt* Acquire(const std::string& sql);
   void Release(const std::string& sql, sqlite3_stmt* stmt);
 
+  // Whether the calling thread holds the lock (a SqliteSession it opened).
+  bool HeldByThisThread() const { return owner_.load() == std::this_thread::get_id(); }
+
  private:
+  friend class SqliteSession;
+  void Lock();
+  void Unlock();
+
   Database() = default;
   std::unordered_map<std::string, std::vector<sqlite3_stmt*>> idle_statements_;
   sqlite3* db_ = nullptr;
@@ -114,25 +122,7 @@ class Database {
   int schema_version_ = 0;
   std::atomic<bool> storage_full_{false};
   std::mutex mutex_;
-};
-
-// Rolls back unless Commit() was called: one write request = one transaction.
-class Transaction {
- public:
-  explicit Transaction(Database& db) : db_(db), status_(db.Begin()) {}
-  ~Transaction() {
-    if (status_.ok() && !done_) db_.Rollback();
-  }
-  const Status& status() const { return status_; }
-  Status Commit() {
-    done_ = true;
-    return db_.Commit();
-  }
-
- private:
-  Database& db_;
-  Status status_;
-  bool done_ = false;
+  std::atomic<std::thread::id> owner_{};
 };
 
 }  // namespace thermocomp

@@ -1,4 +1,4 @@
-#include "storage/check_store.h"
+#include "storage/sqlite/check_store.h"
 
 namespace thermocomp {
 namespace {
@@ -37,7 +37,8 @@ constexpr const char* kCheckColumns =
 
 }  // namespace
 
-Status CheckStore::PutArtifact(const std::string& name, const std::string& json, int64_t now) {
+Status SqliteCheckStore::PutArtifact(const std::string& name, const std::string& json,
+                                     int64_t now) {
   Statement q(db_,
               "INSERT INTO artifacts(name, definition_json, updated_ms) VALUES (?, ?, ?)"
               " ON CONFLICT(name) DO UPDATE SET definition_json = excluded.definition_json,"
@@ -46,14 +47,14 @@ Status CheckStore::PutArtifact(const std::string& name, const std::string& json,
   return q.Run();
 }
 
-std::optional<std::string> CheckStore::Artifact(const std::string& name) {
+std::optional<std::string> SqliteCheckStore::Artifact(const std::string& name) {
   Statement q(db_, "SELECT definition_json FROM artifacts WHERE name = ?");
   q.Bind(1, name);
   if (!q.Step()) return std::nullopt;
   return q.Text(0);
 }
 
-StatusOr<int64_t> CheckStore::InsertRequest(int64_t machine_id, const CheckRequestRecord& r) {
+StatusOr<int64_t> SqliteCheckStore::InsertRequest(int64_t machine_id, const CheckRequestRecord& r) {
   Statement q(db_,
               "INSERT INTO check_requests(machine_id, reason, created_ms, due_ms, automatic)"
               " VALUES (?, ?, ?, ?, ?)");
@@ -63,7 +64,7 @@ StatusOr<int64_t> CheckStore::InsertRequest(int64_t machine_id, const CheckReque
   return db_.LastInsertId();
 }
 
-std::vector<CheckRequestRecord> CheckStore::Requests(int64_t machine_id) {
+std::vector<CheckRequestRecord> SqliteCheckStore::Requests(int64_t machine_id) {
   Statement q(db_, std::string(kRequestColumns) + " WHERE machine_id = ? ORDER BY id DESC");
   q.Bind(1, machine_id);
   std::vector<CheckRequestRecord> out;
@@ -71,20 +72,20 @@ std::vector<CheckRequestRecord> CheckStore::Requests(int64_t machine_id) {
   return out;
 }
 
-std::optional<CheckRequestRecord> CheckStore::Request(int64_t machine_id, int64_t id) {
+std::optional<CheckRequestRecord> SqliteCheckStore::Request(int64_t machine_id, int64_t id) {
   Statement q(db_, std::string(kRequestColumns) + " WHERE machine_id = ? AND id = ?");
   q.Bind(1, machine_id).Bind(2, id);
   if (!q.Step()) return std::nullopt;
   return ReadRequest(q);
 }
 
-Status CheckStore::CloseRequest(int64_t id, int64_t done_ms, int64_t check_id) {
+Status SqliteCheckStore::CloseRequest(int64_t id, int64_t done_ms, int64_t check_id) {
   Statement q(db_, "UPDATE check_requests SET done_ms = ?, check_id = ? WHERE id = ?");
   q.Bind(1, done_ms).Bind(2, check_id).Bind(3, id);
   return q.Run();
 }
 
-std::optional<int64_t> CheckStore::LatestRequestOrCheck(int64_t machine_id) {
+std::optional<int64_t> SqliteCheckStore::LatestRequestOrCheck(int64_t machine_id) {
   Statement q(db_,
               "SELECT MAX(t) FROM (SELECT MAX(created_ms) AS t FROM check_requests WHERE"
               " machine_id = ?1 UNION ALL SELECT MAX(ts_ms) FROM column_checks WHERE machine_id"
@@ -94,7 +95,8 @@ std::optional<int64_t> CheckStore::LatestRequestOrCheck(int64_t machine_id) {
   return q.Int(0);
 }
 
-StatusOr<int64_t> CheckStore::InsertColumnCheck(int64_t machine_id, const ColumnCheckRecord& r) {
+StatusOr<int64_t> SqliteCheckStore::InsertColumnCheck(int64_t machine_id,
+                                                      const ColumnCheckRecord& r) {
   Statement q(db_,
               "INSERT INTO column_checks(machine_id, request_id, ts_ms, artifact, temperature_c,"
               " zero_x_mm, zero_y_mm, zero_z_mm, result_json) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)");
@@ -110,7 +112,7 @@ StatusOr<int64_t> CheckStore::InsertColumnCheck(int64_t machine_id, const Column
   return db_.LastInsertId();
 }
 
-std::vector<ColumnCheckRecord> CheckStore::ColumnChecks(int64_t machine_id) {
+std::vector<ColumnCheckRecord> SqliteCheckStore::ColumnChecks(int64_t machine_id) {
   Statement q(db_, std::string(kCheckColumns) + " WHERE machine_id = ? ORDER BY ts_ms");
   q.Bind(1, machine_id);
   std::vector<ColumnCheckRecord> out;
@@ -118,7 +120,7 @@ std::vector<ColumnCheckRecord> CheckStore::ColumnChecks(int64_t machine_id) {
   return out;
 }
 
-std::optional<ColumnCheckRecord> CheckStore::LatestColumnCheck(int64_t machine_id) {
+std::optional<ColumnCheckRecord> SqliteCheckStore::LatestColumnCheck(int64_t machine_id) {
   Statement q(db_,
               std::string(kCheckColumns) + " WHERE machine_id = ? ORDER BY ts_ms DESC LIMIT 1");
   q.Bind(1, machine_id);
@@ -126,22 +128,23 @@ std::optional<ColumnCheckRecord> CheckStore::LatestColumnCheck(int64_t machine_i
   return ReadColumnCheck(q);
 }
 
-std::optional<ColumnCheckRecord> CheckStore::ColumnCheckAt(int64_t machine_id, int64_t ts_ms) {
+std::optional<ColumnCheckRecord> SqliteCheckStore::ColumnCheckAt(int64_t machine_id,
+                                                                 int64_t ts_ms) {
   Statement q(db_, std::string(kCheckColumns) + " WHERE machine_id = ? AND ts_ms = ?");
   q.Bind(1, machine_id).Bind(2, ts_ms);
   if (!q.Step()) return std::nullopt;
   return ReadColumnCheck(q);
 }
 
-std::optional<ColumnCheckRecord> CheckStore::ColumnCheck(int64_t machine_id, int64_t id) {
+std::optional<ColumnCheckRecord> SqliteCheckStore::ColumnCheck(int64_t machine_id, int64_t id) {
   Statement q(db_, std::string(kCheckColumns) + " WHERE machine_id = ? AND id = ?");
   q.Bind(1, machine_id).Bind(2, id);
   if (!q.Step()) return std::nullopt;
   return ReadColumnCheck(q);
 }
 
-StatusOr<int64_t> CheckStore::InsertPositioningCheck(int64_t machine_id,
-                                                     const PositioningCheckRecord& r) {
+StatusOr<int64_t> SqliteCheckStore::InsertPositioningCheck(int64_t machine_id,
+                                                           const PositioningCheckRecord& r) {
   Statement q(db_,
               "INSERT INTO positioning_checks(machine_id, axis, ts_ms, input_json, result_json)"
               " VALUES (?, ?, ?, ?, ?)");
@@ -151,9 +154,9 @@ StatusOr<int64_t> CheckStore::InsertPositioningCheck(int64_t machine_id,
   return db_.LastInsertId();
 }
 
-std::optional<PositioningCheckRecord> CheckStore::PositioningCheckAt(int64_t machine_id,
-                                                                     const std::string& axis,
-                                                                     int64_t ts_ms) {
+std::optional<PositioningCheckRecord> SqliteCheckStore::PositioningCheckAt(int64_t machine_id,
+                                                                           const std::string& axis,
+                                                                           int64_t ts_ms) {
   Statement q(db_,
               "SELECT id, axis, ts_ms, input_json, result_json FROM positioning_checks"
               " WHERE machine_id = ? AND axis = ? AND ts_ms = ?");
@@ -162,19 +165,20 @@ std::optional<PositioningCheckRecord> CheckStore::PositioningCheckAt(int64_t mac
   return PositioningCheckRecord{q.Int(0), q.Text(1), q.Int(2), q.Text(3), q.Text(4)};
 }
 
-Status CheckStore::SetColumnCheckResult(int64_t id, const std::string& result_json) {
+Status SqliteCheckStore::SetColumnCheckResult(int64_t id, const std::string& result_json) {
   Statement q(db_, "UPDATE column_checks SET result_json = ? WHERE id = ?");
   q.Bind(1, result_json).Bind(2, id);
   return q.Run();
 }
 
-Status CheckStore::SetPositioningCheckResult(int64_t id, const std::string& result_json) {
+Status SqliteCheckStore::SetPositioningCheckResult(int64_t id, const std::string& result_json) {
   Statement q(db_, "UPDATE positioning_checks SET result_json = ? WHERE id = ?");
   q.Bind(1, result_json).Bind(2, id);
   return q.Run();
 }
 
-std::optional<PositioningCheckRecord> CheckStore::PositioningCheck(int64_t machine_id, int64_t id) {
+std::optional<PositioningCheckRecord> SqliteCheckStore::PositioningCheck(int64_t machine_id,
+                                                                         int64_t id) {
   Statement q(db_,
               "SELECT id, axis, ts_ms, input_json, result_json FROM positioning_checks"
               " WHERE machine_id = ? AND id = ?");

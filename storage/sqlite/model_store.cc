@@ -1,4 +1,4 @@
-#include "storage/model_store.h"
+#include "storage/sqlite/model_store.h"
 
 namespace thermocomp {
 namespace {
@@ -12,7 +12,7 @@ ModelRecord Read(const Statement& q) {
 
 }  // namespace
 
-StatusOr<int> ModelStore::Insert(int64_t axis_id, const ModelRecord& r) {
+StatusOr<int> SqliteModelStore::Insert(int64_t axis_id, const ModelRecord& r) {
   int version = 1;
   {
     Statement q(db_, "SELECT COALESCE(MAX(version), 0) + 1 FROM models WHERE axis_id = ?");
@@ -39,7 +39,7 @@ StatusOr<int> ModelStore::Insert(int64_t axis_id, const ModelRecord& r) {
   return version;
 }
 
-std::vector<ModelRecord> ModelStore::List(int64_t axis_id) {
+std::vector<ModelRecord> SqliteModelStore::List(int64_t axis_id) {
   Statement q(db_, std::string(kColumns) + "WHERE axis_id = ? ORDER BY version");
   q.Bind(1, axis_id);
   std::vector<ModelRecord> out;
@@ -47,34 +47,34 @@ std::vector<ModelRecord> ModelStore::List(int64_t axis_id) {
   return out;
 }
 
-std::optional<ModelRecord> ModelStore::Get(int64_t axis_id, int version) {
+std::optional<ModelRecord> SqliteModelStore::Get(int64_t axis_id, int version) {
   Statement q(db_, std::string(kColumns) + "WHERE axis_id = ? AND version = ?");
   q.Bind(1, axis_id).Bind(2, int64_t{version});
   if (!q.Step()) return std::nullopt;
   return Read(q);
 }
 
-std::optional<ModelRecord> ModelStore::Active(int64_t axis_id) {
+std::optional<ModelRecord> SqliteModelStore::Active(int64_t axis_id) {
   Statement q(db_, std::string(kColumns) + "WHERE axis_id = ? AND status = 'active'");
   q.Bind(1, axis_id);
   if (!q.Step()) return std::nullopt;
   return Read(q);
 }
 
-std::optional<int64_t> ModelStore::LatestCreated(int64_t axis_id) {
+std::optional<int64_t> SqliteModelStore::LatestCreated(int64_t axis_id) {
   Statement q(db_, "SELECT MAX(created_ms) FROM models WHERE axis_id = ?");
   q.Bind(1, axis_id);
   if (!q.Step() || q.IsNull(0)) return std::nullopt;
   return q.Int(0);
 }
 
-Status ModelStore::SetReport(int64_t axis_id, int version, const std::string& report_json) {
+Status SqliteModelStore::SetReport(int64_t axis_id, int version, const std::string& report_json) {
   Statement q(db_, "UPDATE models SET report_json = ? WHERE axis_id = ? AND version = ?");
   q.Bind(1, report_json).Bind(2, axis_id).Bind(3, int64_t{version});
   return q.Run();
 }
 
-Status ModelStore::Activate(int64_t axis_id, int version) {
+Status SqliteModelStore::Activate(int64_t axis_id, int version) {
   if (!Get(axis_id, version)) {
     return Status::NotFound("model version " + std::to_string(version) + " does not exist");
   }

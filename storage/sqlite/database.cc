@@ -1,6 +1,6 @@
-#include "storage/database.h"
+#include "storage/sqlite/database.h"
 
-#include "storage/migrator.h"
+#include "storage/sqlite/migrator.h"
 
 namespace thermocomp {
 namespace {
@@ -36,6 +36,13 @@ Statement::Statement(sqlite3* db, std::string_view sql) : db_(db) {
 
 Statement::Statement(Database& db, std::string_view sql)
     : db_(db.handle()), cache_(&db), sql_(sql) {
+  if (!db.HeldByThisThread()) {
+    // A store used outside its session (or while it is paused) would race
+    // other threads on one connection: refuse rather than corrupt.
+    status_ = Status::Internal("database used without holding its session");
+    cache_ = nullptr;
+    return;
+  }
   stmt_ = db.Acquire(sql_);
   if (!stmt_) status_ = Status::Internal(std::string("prepare failed: ") + sqlite3_errmsg(db_));
 }
@@ -170,6 +177,16 @@ Status Database::Commit() {
   Status s = Exec("COMMIT");
   if (s.ok()) storage_full_ = false;  // a write went through: there is room again
   return s;
+}
+
+void Database::Lock() {
+  mutex_.lock();
+  owner_.store(std::this_thread::get_id());
+}
+
+void Database::Unlock() {
+  owner_.store(std::thread::id());
+  mutex_.unlock();
 }
 
 Status Database::Backup(const std::string& dest_path) {

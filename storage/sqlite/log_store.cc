@@ -1,8 +1,8 @@
-#include "storage/log_store.h"
+#include "storage/sqlite/log_store.h"
 
 namespace thermocomp {
 
-Status LogStore::AppendCompensation(int64_t axis_id, const CompensationLogRow& r) {
+Status SqliteLogStore::AppendCompensation(int64_t axis_id, const CompensationLogRow& r) {
   Statement q(
       db_,
       "INSERT OR REPLACE INTO compensation_log(axis_id, ts_ms, offset_mm, predicted_drift_mm,"
@@ -32,9 +32,9 @@ Status LogStore::AppendCompensation(int64_t axis_id, const CompensationLogRow& r
   return up.Run();
 }
 
-std::vector<std::pair<int64_t, double>> LogStore::CompensationEnvelope(int64_t axis_id,
-                                                                       int64_t from_ms,
-                                                                       int64_t to_ms) {
+std::vector<std::pair<int64_t, double>> SqliteLogStore::CompensationEnvelope(int64_t axis_id,
+                                                                             int64_t from_ms,
+                                                                             int64_t to_ms) {
   Statement q(db_,
               "SELECT min_ts_ms, min_mm, max_ts_ms, max_mm FROM compensation_rollup"
               " WHERE axis_id = ? AND bucket_ms >= ? / 3600000 * 3600000 AND bucket_ms <= ?"
@@ -52,8 +52,8 @@ std::vector<std::pair<int64_t, double>> LogStore::CompensationEnvelope(int64_t a
   return out;
 }
 
-std::vector<CompensationLogRow> LogStore::Compensation(int64_t axis_id, int64_t from_ms,
-                                                       int64_t to_ms) {
+std::vector<CompensationLogRow> SqliteLogStore::Compensation(int64_t axis_id, int64_t from_ms,
+                                                             int64_t to_ms) {
   Statement q(
       db_,
       "SELECT ts_ms, offset_mm, predicted_drift_mm, valid, clamped, model_version"
@@ -68,7 +68,7 @@ std::vector<CompensationLogRow> LogStore::Compensation(int64_t axis_id, int64_t 
   return out;
 }
 
-std::optional<CompensationLogRow> LogStore::LatestCompensation(int64_t axis_id) {
+std::optional<CompensationLogRow> SqliteLogStore::LatestCompensation(int64_t axis_id) {
   Statement q(db_,
               "SELECT ts_ms FROM compensation_log WHERE axis_id = ? ORDER BY ts_ms DESC LIMIT 1");
   q.Bind(1, axis_id);
@@ -78,8 +78,8 @@ std::optional<CompensationLogRow> LogStore::LatestCompensation(int64_t axis_id) 
   return rows.back();
 }
 
-std::pair<int64_t, int64_t> LogStore::CompensationExtent(int64_t axis_id, int64_t from_ms,
-                                                         int64_t to_ms) {
+std::pair<int64_t, int64_t> SqliteLogStore::CompensationExtent(int64_t axis_id, int64_t from_ms,
+                                                               int64_t to_ms) {
   // Two index seeks; MIN and MAX together over a range would scan it.
   Statement first(
       db_,
@@ -96,8 +96,8 @@ std::pair<int64_t, int64_t> LogStore::CompensationExtent(int64_t axis_id, int64_
   return {first.Int(0), last.Int(0)};
 }
 
-Status LogStore::Audit(int64_t ts_ms, const std::string& actor, const std::string& action,
-                       const std::string& machine, int64_t count, const std::string& detail) {
+Status SqliteLogStore::Audit(int64_t ts_ms, const std::string& actor, const std::string& action,
+                             const std::string& machine, int64_t count, const std::string& detail) {
   Statement q(
       db_,
       "INSERT INTO audit(ts_ms, actor, action, machine, count, detail) VALUES (?, ?, ?, ?, ?, ?)");

@@ -1,4 +1,4 @@
-#include "storage/analysis_store.h"
+#include "storage/sqlite/analysis_store.h"
 
 namespace thermocomp {
 namespace {
@@ -16,7 +16,7 @@ AnalysisRecord Read(Statement& q, bool with_report) {
 
 }  // namespace
 
-StatusOr<int64_t> AnalysisStore::Insert(int64_t axis_id, const AnalysisRecord& r) {
+StatusOr<int64_t> SqliteAnalysisStore::Insert(int64_t axis_id, const AnalysisRecord& r) {
   Statement q(db_,
               "INSERT INTO analyses(axis_id, created_ms, trigger, effects, model_version,"
               " report_json) VALUES (?, ?, ?, ?, ?, ?)");
@@ -31,13 +31,13 @@ StatusOr<int64_t> AnalysisStore::Insert(int64_t axis_id, const AnalysisRecord& r
   return db_.LastInsertId();
 }
 
-Status AnalysisStore::SetReport(int64_t id, const std::string& report_json) {
+Status SqliteAnalysisStore::SetReport(int64_t id, const std::string& report_json) {
   Statement q(db_, "UPDATE analyses SET report_json = ? WHERE id = ?");
   q.Bind(1, report_json).Bind(2, id);
   return q.Run();
 }
 
-std::vector<AnalysisRecord> AnalysisStore::List(int64_t axis_id, int limit) {
+std::vector<AnalysisRecord> SqliteAnalysisStore::List(int64_t axis_id, int limit) {
   Statement q(db_,
               "SELECT id, created_ms, trigger, effects, model_version FROM analyses"
               " WHERE axis_id = ? ORDER BY id DESC LIMIT ?");
@@ -47,7 +47,7 @@ std::vector<AnalysisRecord> AnalysisStore::List(int64_t axis_id, int limit) {
   return out;
 }
 
-std::optional<AnalysisRecord> AnalysisStore::Get(int64_t axis_id, int64_t id) {
+std::optional<AnalysisRecord> SqliteAnalysisStore::Get(int64_t axis_id, int64_t id) {
   Statement q(db_,
               "SELECT id, created_ms, trigger, effects, model_version, report_json FROM analyses"
               " WHERE axis_id = ? AND id = ?");

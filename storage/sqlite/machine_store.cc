@@ -1,4 +1,4 @@
-#include "storage/machine_store.h"
+#include "storage/sqlite/machine_store.h"
 
 #include <sstream>
 
@@ -23,7 +23,7 @@ std::vector<std::string> Split(const std::string& s) {
 
 }  // namespace
 
-StatusOr<bool> MachineStore::Upsert(const MachineRecord& m, int64_t now_ms) {
+StatusOr<bool> SqliteMachineStore::Upsert(const MachineRecord& m, int64_t now_ms) {
   bool created = false;
   int64_t id = 0;
   {
@@ -79,7 +79,7 @@ StatusOr<bool> MachineStore::Upsert(const MachineRecord& m, int64_t now_ms) {
   return created;
 }
 
-std::optional<MachineRecord> MachineStore::Find(const std::string& name) {
+std::optional<MachineRecord> SqliteMachineStore::Find(const std::string& name) {
   MachineRecord m;
   {
     Statement q(db_,
@@ -108,7 +108,7 @@ std::optional<MachineRecord> MachineStore::Find(const std::string& name) {
   return m;
 }
 
-std::vector<MachineRecord> MachineStore::List() {
+std::vector<MachineRecord> SqliteMachineStore::List() {
   std::vector<std::string> names;
   {
     Statement q(db_, "SELECT name FROM machines ORDER BY name");

@@ -1,8 +1,9 @@
-#include "storage/probe_store.h"
+#include "storage/sqlite/probe_store.h"
 
 namespace thermocomp {
 
-StatusOr<int64_t> ProbeStore::EnsureRun(int64_t machine_id, const std::string& run, int64_t ts_ms) {
+StatusOr<int64_t> SqliteProbeStore::EnsureRun(int64_t machine_id, const std::string& run,
+                                              int64_t ts_ms) {
   Statement q(db_, "SELECT id, first_ts_ms FROM runs WHERE machine_id = ? AND name = ?");
   q.Bind(1, machine_id).Bind(2, run);
   if (q.Step()) {
@@ -20,7 +21,7 @@ StatusOr<int64_t> ProbeStore::EnsureRun(int64_t machine_id, const std::string& r
   return db_.LastInsertId();
 }
 
-std::optional<ProbePointRecord> ProbeStore::FindPoint(int64_t run_id, int k) {
+std::optional<ProbePointRecord> SqliteProbeStore::FindPoint(int64_t run_id, int k) {
   ProbePointRecord p;
   {
     Statement q(db_, "SELECT id, ts_ms FROM probe_points WHERE run_id = ? AND k = ?");
@@ -48,8 +49,8 @@ std::optional<ProbePointRecord> ProbeStore::FindPoint(int64_t run_id, int k) {
   return p;
 }
 
-Status ProbeStore::InsertPoint(int64_t run_id, const ProbePointRecord& p,
-                               const std::map<std::string, int64_t>& sensor_ids) {
+Status SqliteProbeStore::InsertPoint(int64_t run_id, const ProbePointRecord& p,
+                                     const std::map<std::string, int64_t>& sensor_ids) {
   Statement ins(db_, "INSERT INTO probe_points(run_id, k, ts_ms) VALUES (?, ?, ?)");
   ins.Bind(1, run_id).Bind(2, int64_t{p.k}).Bind(3, p.ts_ms);
   if (Status s = ins.Run(); !s.ok()) return s;
@@ -71,8 +72,8 @@ Status ProbeStore::InsertPoint(int64_t run_id, const ProbePointRecord& p,
   return Status::Ok();
 }
 
-std::vector<RunRecord> ProbeStore::LoadAxisRuns(int64_t machine_id, const std::string& axis,
-                                                bool other_positions) {
+std::vector<RunRecord> SqliteProbeStore::LoadAxisRuns(int64_t machine_id, const std::string& axis,
+                                                      bool other_positions) {
   std::vector<RunRecord> runs;
   {
     Statement q(
@@ -130,7 +131,7 @@ std::vector<RunRecord> ProbeStore::LoadAxisRuns(int64_t machine_id, const std::s
   return runs;
 }
 
-int64_t ProbeStore::CountPoints(int64_t machine_id) {
+int64_t SqliteProbeStore::CountPoints(int64_t machine_id) {
   Statement q(db_,
               "SELECT COUNT(*) FROM probe_points p JOIN runs r ON r.id = p.run_id"
               " WHERE r.machine_id = ?");
@@ -138,13 +139,13 @@ int64_t ProbeStore::CountPoints(int64_t machine_id) {
   return q.Step() ? q.Int(0) : 0;
 }
 
-int ProbeStore::CountRunsSince(int64_t machine_id, int64_t since_ms) {
+int SqliteProbeStore::CountRunsSince(int64_t machine_id, int64_t since_ms) {
   Statement q(db_, "SELECT COUNT(*) FROM runs WHERE machine_id = ? AND first_ts_ms > ?");
   q.Bind(1, machine_id).Bind(2, since_ms);
   return q.Step() ? static_cast<int>(q.Int(0)) : 0;
 }
 
-std::optional<ProbePointRecord> ProbeStore::LatestDatum(int64_t machine_id) {
+std::optional<ProbePointRecord> SqliteProbeStore::LatestDatum(int64_t machine_id) {
   int64_t run_id = 0;
   {
     Statement q(db_,

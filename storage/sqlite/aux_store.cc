@@ -1,8 +1,8 @@
-#include "storage/aux_store.h"
+#include "storage/sqlite/aux_store.h"
 
 namespace thermocomp {
 
-StatusOr<int64_t> AuxStore::EnsureSignal(int64_t machine_id, const std::string& name) {
+StatusOr<int64_t> SqliteAuxStore::EnsureSignal(int64_t machine_id, const std::string& name) {
   {
     Statement q(db_, "SELECT id FROM signals WHERE machine_id = ? AND name = ?");
     q.Bind(1, machine_id).Bind(2, name);
@@ -14,7 +14,7 @@ StatusOr<int64_t> AuxStore::EnsureSignal(int64_t machine_id, const std::string& 
   return db_.LastInsertId();
 }
 
-std::vector<SignalChannel> AuxStore::Signals(int64_t machine_id) {
+std::vector<SignalChannel> SqliteAuxStore::Signals(int64_t machine_id) {
   Statement q(db_, "SELECT id, name FROM signals WHERE machine_id = ? ORDER BY name");
   q.Bind(1, machine_id);
   std::vector<SignalChannel> out;
@@ -22,21 +22,21 @@ std::vector<SignalChannel> AuxStore::Signals(int64_t machine_id) {
   return out;
 }
 
-std::optional<double> AuxStore::SignalValueAt(int64_t signal_id, int64_t ts_ms) {
+std::optional<double> SqliteAuxStore::SignalValueAt(int64_t signal_id, int64_t ts_ms) {
   Statement q(db_, "SELECT value FROM signal_samples WHERE signal_id = ? AND ts_ms = ?");
   q.Bind(1, signal_id).Bind(2, ts_ms);
   if (!q.Step()) return std::nullopt;
   return q.Double(0);
 }
 
-Status AuxStore::InsertSignal(int64_t signal_id, int64_t ts_ms, double value) {
+Status SqliteAuxStore::InsertSignal(int64_t signal_id, int64_t ts_ms, double value) {
   Statement q(db_, "INSERT INTO signal_samples(signal_id, ts_ms, value) VALUES (?, ?, ?)");
   q.Bind(1, signal_id).Bind(2, ts_ms).Bind(3, value);
   return q.Run();
 }
 
-void AuxStore::ScanSignal(int64_t signal_id, int64_t from_ms, int64_t to_ms,
-                          const std::function<void(int64_t, double)>& fn) {
+void SqliteAuxStore::ScanSignal(int64_t signal_id, int64_t from_ms, int64_t to_ms,
+                                const std::function<void(int64_t, double)>& fn) {
   Statement q(db_,
               "SELECT ts_ms, value FROM signal_samples WHERE signal_id = ? AND ts_ms >= ?"
               " AND ts_ms <= ? ORDER BY ts_ms");
@@ -44,15 +44,15 @@ void AuxStore::ScanSignal(int64_t signal_id, int64_t from_ms, int64_t to_ms,
   while (q.Step()) fn(q.Int(0), q.Double(1));
 }
 
-StatusOr<int64_t> AuxStore::InsertEvent(int64_t machine_id, const EventRecord& e) {
+StatusOr<int64_t> SqliteAuxStore::InsertEvent(int64_t machine_id, const EventRecord& e) {
   Statement q(db_, "INSERT INTO events(machine_id, ts_ms, kind, note) VALUES (?, ?, ?, ?)");
   q.Bind(1, machine_id).Bind(2, e.ts_ms).Bind(3, e.kind).Bind(4, e.note);
   if (Status s = q.Run(); !s.ok()) return s;
   return db_.LastInsertId();
 }
 
-std::optional<EventRecord> AuxStore::FindEvent(int64_t machine_id, int64_t ts_ms,
-                                               const std::string& kind) {
+std::optional<EventRecord> SqliteAuxStore::FindEvent(int64_t machine_id, int64_t ts_ms,
+                                                     const std::string& kind) {
   Statement q(db_,
               "SELECT id, ts_ms, kind, note FROM events WHERE machine_id = ? AND ts_ms = ?"
               " AND kind = ?");
@@ -61,7 +61,7 @@ std::optional<EventRecord> AuxStore::FindEvent(int64_t machine_id, int64_t ts_ms
   return EventRecord{q.Int(0), q.Int(1), q.Text(2), q.Text(3)};
 }
 
-std::vector<EventRecord> AuxStore::Events(int64_t machine_id) {
+std::vector<EventRecord> SqliteAuxStore::Events(int64_t machine_id) {
   Statement q(db_,
               "SELECT id, ts_ms, kind, note FROM events WHERE machine_id = ? ORDER BY ts_ms, id");
   q.Bind(1, machine_id);

@@ -1,0 +1,34 @@
+// SqliteSampleStore: SampleStore over SQLite.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "storage/sample_store.h"
+#include "storage/sqlite/database.h"
+
+namespace thermocomp {
+
+class SqliteSampleStore final : public SampleStore {
+ public:
+  explicit SqliteSampleStore(Database& db) : db_(db) {}
+
+  std::optional<FilterState> LoadFilterState(int64_t sensor_id) override;
+  Status SaveFilterState(int64_t sensor_id, const FilterState& state) override;
+  Status Insert(int64_t sensor_id, const SampleRow& row) override;
+  std::optional<double> ValueAt(int64_t sensor_id, int64_t ts_ms) override;
+  std::optional<SampleRow> Before(int64_t sensor_id, int64_t ts_ms) override;
+  std::optional<SampleRow> AtOrBefore(int64_t sensor_id, int64_t ts_ms) override;
+  std::vector<SampleRow> Range(int64_t sensor_id, int64_t from_ms, int64_t to_ms) override;
+  std::vector<SampleRow> From(int64_t sensor_id, int64_t from_ms, int limit) override;
+  void ScanRaw(int64_t sensor_id, int64_t from_ms, int64_t to_ms,
+               const std::function<void(int64_t, double)>& fn) override;
+  Status UpdateFiltered(int64_t sensor_id, int64_t ts_ms, double filtered) override;
+  int64_t CountForMachine(int64_t machine_id) override;
+
+ private:
+  Database& db_;
+};
+
+}  // namespace thermocomp

@@ -1,0 +1,32 @@
+// Storage: the archive, behind one backend (SQLite: storage/sqlite/). The
+// services see only this interface, Session and the stores; a second
+// backend implements the same three.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core/status.h"
+#include "storage/session.h"
+
+namespace thermocomp {
+
+class Storage {
+ public:
+  virtual ~Storage() = default;
+
+  // Waits for exclusive use of the archive; released with the session.
+  virtual std::unique_ptr<Session> Open() = 0;
+
+  // Whether the last write found the disk full (cleared by a successful
+  // one): the server then reports not ready.
+  virtual bool storage_full() const = 0;
+  // The schema version the archive was migrated to.
+  virtual int schema_version() const = 0;
+  // Where the archive is, for logs and status ("path" of a file).
+  virtual std::string location() const = 0;
+  // A consistent copy into `dest` while the archive stays in use.
+  virtual Status Backup(const std::string& dest) = 0;
+};
+
+}  // namespace thermocomp
