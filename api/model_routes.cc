@@ -8,6 +8,7 @@
 #include "api/json_mapping.h"
 #include "api/problem.h"
 #include "service/analysis_report.h"
+#include "service/fit_report_codec.h"
 #include "service/json_fields.h"
 
 namespace thermocomp::api {
@@ -37,7 +38,7 @@ void HttpServer::ModelRoutes() {
     }
     auto report = app_.fits().Fit(req.matches[1], req.matches[2], fr);
     if (!report.ok()) return WriteProblem(res, report.status());
-    WriteJson(res, *report, 201);
+    WriteJson(res, FitReportToJson(*report), 201);
   });
   s.Get(axis + "/models", [this](const Req& req, Res& res) {
     auto list = ListModels(app_, req.matches[1], req.matches[2]);

@@ -20,6 +20,7 @@
 #include "core/log.h"
 #include "core/time_format.h"
 #include "service/analysis_report.h"
+#include "service/fit_report_codec.h"
 #include "sim/virtual_machine.h"
 #include "storage/machine_store.h"
 #include "storage/sqlite/sqlite_storage.h"
@@ -84,7 +85,7 @@ int FitCommand(const Args& a) {
   req.actor = "cli";
   auto report = (*app)->fits().Fit(a.Get("machine"), a.Get("axis", "Y"), req);
   if (!report.ok()) return Fail(report.status().message());
-  std::printf("%s\n", report->dump(2).c_str());
+  std::printf("%s\n", FitReportToJson(*report).dump(2).c_str());
   return 0;
 }
 
@@ -206,10 +207,9 @@ int Demo(const Args& a) {
         continue;
       }
       std::printf("demo: fit %s/%s v%d %s (R2 %.3f, held-out RMSE %s mm): %s\n", m.name.c_str(),
-                  axis.name.c_str(), (*report)["version"].get<int>(),
-                  (*report)["status"].get<std::string>().c_str(), (*report)["r2"].get<double>(),
-                  (*report)["validation"]["rmse_mm"].dump().c_str(),
-                  (*report)["reason"].get<std::string>().c_str());
+                  axis.name.c_str(), report->version.value_or(0), report->status.c_str(),
+                  report->fit.r2, FitReportToJson(*report)["validation"]["rmse_mm"].dump().c_str(),
+                  report->reason.c_str());
       // Close the loop once, so the API has an analysis to show.
       AnalysisRequest ar;
       ar.actor = "demo";

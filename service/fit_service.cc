@@ -13,6 +13,7 @@
 #include "model/residual_checks.h"
 #include "model/selection.h"
 #include "service/drift_dataset.h"
+#include "service/fit_report_codec.h"
 #include "service/json_text.h"
 #include "service/machine_lookup.h"
 #include "service/model_codec.h"
@@ -22,10 +23,32 @@
 #include "storage/model_store.h"
 
 namespace thermocomp {
-namespace {}  // namespace
+namespace {
 
-StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
-                                         const std::string& axis_name, const FitRequest& req) {
+// The largest standardized residuals, named by run and point, and how many
+// exceed 2.
+FitResiduals LargestResiduals(const LinearFit& fit, const DriftDataset& data,
+                              const Observations& kept) {
+  FitResiduals out;
+  const Eigen::VectorXd& r = fit.standardized_residuals;
+  if (fit.n == 0) return out;
+  std::vector<int> by_size(fit.n);
+  for (int i = 0; i < fit.n; ++i) by_size[i] = i;
+  std::stable_sort(by_size.begin(), by_size.end(),
+                   [&](int a, int b) { return std::fabs(r(a)) > std::fabs(r(b)); });
+  for (int i = 0; i < std::min(fit.n, 5); ++i) {
+    const DriftRow& row = data.rows[kept.source[by_size[i]]];
+    out.largest.push_back({data.runs[row.run], row.k, row.ts_ms, r(by_size[i])});
+  }
+  out.standardized_max_abs = r.cwiseAbs().maxCoeff();
+  out.standardized_over_2 = (r.array().abs() > 2).count();
+  return out;
+}
+
+}  // namespace
+
+StatusOr<FitReport> FitService::Fit(const std::string& machine_name, const std::string& axis_name,
+                                    const FitRequest& req) {
   const std::unique_ptr<Session> session = storage_.Open();
   auto found = FindMachineAxis(*session, machine_name, axis_name);
   if (!found.ok()) return found.status();
@@ -103,93 +126,37 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
     reason += "; held-out RMSE not worse than active version " + std::to_string(*active_version);
   }
 
-  // The largest standardized residuals, named by run and point.
-  std::vector<int> by_size(fit.n);
-  for (int i = 0; i < fit.n; ++i) by_size[i] = i;
-  const Eigen::VectorXd& r = fit.standardized_residuals;
-  std::stable_sort(by_size.begin(), by_size.end(),
-                   [&](int a, int b) { return std::fabs(r(a)) > std::fabs(r(b)); });
-  nlohmann::json largest = nlohmann::json::array();
-  for (int i = 0; i < std::min(fit.n, 5); ++i) {
-    const DriftRow& row = data.rows[kept.source[by_size[i]]];
-    largest.push_back({{"run", data.runs[row.run]},
-                       {"k", row.k},
-                       {"ts", FormatRfc3339(row.ts_ms)},
-                       {"value", r(by_size[i])}});
-  }
-  nlohmann::json residuals = {{"standardized_max_abs", fit.n ? r.cwiseAbs().maxCoeff() : 0.0},
-                              {"standardized_over_2", (r.array().abs() > 2).count()},
-                              {"largest", largest}};
-  if (checks.ok()) {
-    residuals["skewness"] = checks->skewness;
-    residuals["excess_kurtosis"] = checks->excess_kurtosis;
-    residuals["normal"] = checks->normal;
-    residuals["goldfeld_quandt"] = {{"f", FiniteOrNull(checks->goldfeld_quandt)},
-                                    {"p", FiniteOrNull(checks->goldfeld_quandt_p)},
-                                    {"df", {checks->gq_df1, checks->gq_df2}}};
-    residuals["homoscedastic"] = checks->homoscedastic;
-  }
-
-  nlohmann::json removed_terms = nlohmann::json::array();
-  for (const auto& r : sel->removed) {
-    removed_terms.push_back({{"term", r.name},
-                             {"reason", r.reason},
-                             {"p", FiniteOrNull(r.p)},
-                             {"vif", FiniteOrNull(r.vif)}});
-  }
-  nlohmann::json coefficients = {{"intercept", model.intercept}};
-  for (size_t j = 0; j < model.inputs.size(); ++j)
-    coefficients[model.inputs[j]] = model.coefficients[j];
-  nlohmann::json ranges = nlohmann::json::object();
-  for (size_t j = 0; j < model.inputs.size(); ++j) {
-    ranges[model.inputs[j]] = {{"min", model.trained[j].min}, {"max", model.trained[j].max}};
-  }
-  const int64_t now = clock_.NowMs();
-  nlohmann::json report = {
-      {"machine", machine_name},
-      {"axis", axis_name},
-      {"status", status},
-      {"reason", reason},
-      {"trigger", req.trigger},
-      {"created_at", FormatRfc3339(now)},
-      {"declared_inputs", inputs},
-      {"inputs", model.inputs},
-      {"coefficients", coefficients},
-      {"unit", "mm per degC of temperature change since the run's datum"},
-      {"n", fit.n},
-      {"r2", fit.r2},
-      {"adj_r2", fit.adj_r2},
-      {"rmse_mm", fit.rmse},
-      {"sigma_mm", fit.sigma},
-      {"f", FiniteOrNull(fit.f)},
-      {"f_p", FiniteOrNull(fit.f_p)},
-      {"durbin_watson", fit.durbin_watson},
-      {"terms", FitTermsJson(fit)},
-      {"residuals", residuals},
-      {"removed_terms", removed_terms},
-      {"removed_outliers", sel->outlier_rows.size()},
-      {"outlier_steps", sel->outlier_steps},
-      {"skipped", {{"gross_errors", data.skipped_gross}, {"no_datum", data.skipped_no_datum}}},
-      {"training_runs", static_cast<int>(data.runs.size() - holdout.size())},
-      {"training_range", ranges},
-      {"cross_validation",
-       {{"method", "leave-one-run-out"},
-        {"folds", cv.ok() ? cv->folds : 0},
-        {"rmse_mm", cv.ok() ? FiniteOrNull(cv->rmse) : nullptr},
-        {"r2", cv.ok() ? FiniteOrNull(cv->r2) : nullptr}}},
-      {"validation",
-       {{"runs", holdout},
-        {"n", validation.n},
-        {"rmse_mm", validation.n ? FiniteOrNull(validation.rmse) : nullptr},
-        {"r2", validation.n ? FiniteOrNull(validation.r2) : nullptr}}},
-      {"acceptance", {{"passed", verdict.passed}, {"reasons", verdict.reasons}}},
-  };
+  FitReport report;
+  report.machine = machine_name;
+  report.axis = axis_name;
+  report.status = status;
+  report.reason = reason;
+  report.trigger = req.trigger;
+  report.created_ms = clock_.NowMs();
+  report.declared_inputs = inputs;
+  report.model = model;
+  report.fit = fit;
+  report.residuals = LargestResiduals(fit, data, kept);
+  if (checks.ok()) report.residuals.checks = *checks;
+  report.removed_terms = sel->removed;
+  report.removed_outliers = static_cast<int64_t>(sel->outlier_rows.size());
+  report.outlier_steps = sel->outlier_steps;
+  report.skipped_gross_errors = data.skipped_gross;
+  report.skipped_no_datum = data.skipped_no_datum;
+  report.training_runs = static_cast<int>(data.runs.size() - holdout.size());
+  if (cv.ok()) report.cross_validation = {cv->folds, cv->rmse, cv->r2};
+  report.validation_runs = holdout;
+  report.validation = {validation.n, validation.rmse, validation.r2};
+  report.accepted = verdict.passed;
+  report.acceptance_reasons = verdict.reasons;
   if (active_version) {
-    report["compared_with"] = {
-        {"version", *active_version},
-        {"validation_rmse_mm", active_errors ? FiniteOrNull(active_errors->rmse) : nullptr},
-        {"candidate_rmse_mm", active_errors ? FiniteOrNull(candidate_rmse) : nullptr}};
+    report.compared_with = ActiveComparison{*active_version};
+    if (active_errors) {
+      report.compared_with->active_rmse_mm = active_errors->rmse;
+      report.compared_with->candidate_rmse_mm = candidate_rmse;
+    }
   }
+  const int64_t now = report.created_ms;
 
   Transaction tx(*session);
   if (!tx.status().ok()) return tx.status();
@@ -197,8 +164,10 @@ StatusOr<nlohmann::json> FitService::Fit(const std::string& machine_name,
   auto version =
       models.Insert(axis->id, {0, status, reason, now, JsonText(DriftModelToJson(model)), ""});
   if (!version.ok()) return version.status();
-  report["version"] = *version;
-  if (Status s = models.SetReport(axis->id, *version, JsonText(report)); !s.ok()) return s;
+  report.version = *version;
+  if (Status s = models.SetReport(axis->id, *version, JsonText(FitReportToJson(report))); !s.ok()) {
+    return s;
+  }
   if (Status s = session->log().Audit(now, req.actor, "fit", machine_name, fit.n,
                                       axis_name + " v" + std::to_string(*version) + " " + status);
       !s.ok()) {

@@ -17,6 +17,7 @@
 #include "core/clock.h"
 #include "core/records.h"
 #include "service/config.h"
+#include "service/fit_report.h"
 #include "service/probe_temperature_cache.h"
 #include "storage/storage.h"
 
@@ -38,7 +39,7 @@ class FitService {
 
   // The stored report (with "version" and "status"), or NotFound /
   // Unprocessable (too few points: nothing is stored).
-  StatusOr<nlohmann::json> Fit(const std::string& machine, const std::string& axis,
+  StatusOr<FitReport> Fit(const std::string& machine, const std::string& axis,
                                const FitRequest& request);
   // Makes a stored version the served one (manual activation or rollback).
   Status Activate(const std::string& machine, const std::string& axis, int version,

@@ -43,12 +43,12 @@ TEST_F(RefitSchedulerTest, FailedRefitNeverReplacesTheActiveModel) {
   FitRequest good;
   auto first = app_->fits().Fit("m1", "Y", good);
   ASSERT_TRUE(first.ok());
-  ASSERT_EQ((*first)["status"], "active");
+  ASSERT_EQ(first->status, "active");
   FitRequest bad;
   bad.inputs = std::vector<std::string>{"Tenv"};
   auto second = app_->fits().Fit("m1", "Y", bad);
   ASSERT_TRUE(second.ok());
-  EXPECT_EQ((*second)["status"], "rejected");
+  EXPECT_EQ(second->status, "rejected");
   auto models = app_->fits().Models("m1", "Y");
   EXPECT_EQ((*models)[0].status, "active");
   EXPECT_EQ((*models)[1].status, "rejected");
