@@ -6,6 +6,7 @@
 #include "api/http_util.h"
 #include "api/ingest_parsers.h"
 #include "core/time_format.h"
+#include "service/check_report_codec.h"
 #include "service/json_fields.h"
 
 namespace thermocomp::api {
@@ -68,18 +69,18 @@ void HttpServer::CheckRoutes() {
     bool created = false;
     auto result = app_.checks().AddColumnCheck(req.matches[1], *input, Actor(req), &created);
     if (!result.ok()) return WriteProblem(res, result.status());
-    WriteJson(res, *result, created ? 201 : 200);
+    WriteJson(res, ColumnCheckReportToJson(*result), created ? 201 : 200);
   });
   s.Get(m + "/column-checks", [this](const Req& req, Res& res) {
     auto history = app_.checks().ColumnChecks(req.matches[1]);
     if (!history.ok()) return WriteProblem(res, history.status());
-    WriteJson(res, *history);
+    WriteJson(res, ColumnCheckHistoryToJson(*history));
   });
 
   s.Get(m + "/column-checks/([0-9]{1,18})", [this](const Req& req, Res& res) {
     auto report = app_.checks().ColumnCheck(req.matches[1], std::stoll(req.matches[2]));
     if (!report.ok()) return WriteProblem(res, report.status());
-    WriteReport(req, res, *report, ColumnCheckMarkdown, ColumnCheckHtml);
+    WriteReport(req, res, ColumnCheckReportToJson(*report), ColumnCheckMarkdown, ColumnCheckHtml);
   });
 
   s.Post(m + "/positioning-checks", [this](const Req& req, Res& res) {
@@ -104,18 +105,19 @@ void HttpServer::CheckRoutes() {
     if (!errors.empty() || !input)
       return WriteProblem(res, 400, "invalid positioning check", errors);
     if (Status v = ValidatePositioning(input->data); !v.ok()) {
-      const std::string msg = v.message();
+      const std::string& msg = v.message();
       return WriteProblem(res, 422, msg, {{0, msg.substr(0, msg.find(':')), msg}});
     }
     bool created = false;
     auto result = app_.checks().AddPositioningCheck(req.matches[1], *input, Actor(req), &created);
     if (!result.ok()) return WriteProblem(res, result.status());
-    WriteJson(res, *result, created ? 201 : 200);
+    WriteJson(res, PositioningCheckReportToJson(*result), created ? 201 : 200);
   });
   s.Get(m + "/positioning-checks/([0-9]{1,18})", [this](const Req& req, Res& res) {
     auto report = app_.checks().PositioningCheck(req.matches[1], std::stoll(req.matches[2]));
     if (!report.ok()) return WriteProblem(res, report.status());
-    WriteReport(req, res, *report, PositioningMarkdown, PositioningHtml);
+    WriteReport(req, res, PositioningCheckReportToJson(*report), PositioningMarkdown,
+                PositioningHtml);
   });
   s.Get(m + "/positioning-checks/([0-9]{1,18})/pitch-table", [this](const Req& req, Res& res) {
     std::string axis;

@@ -147,10 +147,9 @@ int Import(const Args& a) {
     auto r = (*app)->checks().AddPositioningCheck(machine, in, "import", &created);
     if (!r.ok()) return Fail("positioning: " + r.status().message());
     std::printf("positioning check %lld of %s/%s: A %.2f um, E %.2f um, R %.2f um, B %.2f um%s\n",
-                static_cast<long long>((*r)["id"].get<int64_t>()), machine.c_str(), in.axis.c_str(),
-                (*r)["iso230_2"]["A_um"].get<double>(), (*r)["iso230_2"]["E_um"].get<double>(),
-                (*r)["iso230_2"]["R_um"].get<double>(), (*r)["iso230_2"]["B_um"].get<double>(),
-                created ? "" : " (already stored)");
+                static_cast<long long>(r->id), machine.c_str(), in.axis.c_str(),
+                r->evaluation.iso.A_um, r->evaluation.iso.E_um, r->evaluation.iso.R_um,
+                r->evaluation.iso.B_um, created ? "" : " (already stored)");
   }
   if (a.Has("displacements")) {
     std::string text = ReadFile(a.Get("displacements"), ok);

@@ -6,6 +6,7 @@
 #include "core/log.h"
 #include "core/time_format.h"
 #include "core/time_units.h"
+#include "service/check_report_codec.h"
 #include "service/json_text.h"
 #include "service/machine_lookup.h"
 #include "storage/aux_store.h"
@@ -132,9 +133,9 @@ int CheckService::EnsurePeriodicRequests() {
   return made;
 }
 
-StatusOr<nlohmann::json> CheckService::AddColumnCheck(const std::string& machine_name,
-                                                      const ColumnCheckInput& in,
-                                                      const std::string& actor, bool* created) {
+StatusOr<ColumnCheckReport> CheckService::AddColumnCheck(const std::string& machine_name,
+                                                         const ColumnCheckInput& in,
+                                                         const std::string& actor, bool* created) {
   if (in.ts_ms > clock_.NowMs() + kDayMs) {
     return Status::InvalidArgument("ts: more than a day in the future");
   }
@@ -163,34 +164,38 @@ StatusOr<nlohmann::json> CheckService::AddColumnCheck(const std::string& machine
       if (!r.done_ms) request = r;
     }
   }
-  nlohmann::json out = ColumnResultToJson(*result);
-  out["ts"] = FormatRfc3339(in.ts_ms);
-  out["artifact"] = in.artifact;
-  out["artifact_temperature_c"] = in.temperature_c;
+  ColumnCheckReport out;
+  out.ts_ms = in.ts_ms;
+  out.artifact = in.artifact;
+  out.artifact_temperature_c = in.temperature_c;
+  out.result = *result;
   const auto previous = store.LatestColumnCheck(machine->id);
   if (auto existing = store.ColumnCheckAt(machine->id, in.ts_ms)) {
-    nlohmann::json stored = nlohmann::json::parse(existing->result_json);
-    stored.erase("id");
-    stored.erase("request_id");
-    stored.erase("zero_change_um");
-    stored.erase("beyond_tolerance");
-    if (stored != out) {
+    // The same check sent again is answered with what is stored; a
+    // different one at the same time is a conflict.
+    auto stored = ColumnCheckReportFromJson(nlohmann::json::parse(existing->result_json));
+    if (!stored.ok()) return Status::Internal("stored column check is unreadable");
+    ColumnCheckReport as_sent = *stored;
+    as_sent.id = 0;
+    as_sent.request_id.reset();
+    as_sent.zero_change.reset();
+    as_sent.beyond_tolerance = false;
+    if (ColumnCheckReportToJson(as_sent) != ColumnCheckReportToJson(out)) {
       return Status::Conflict("a different column check at " + FormatRfc3339(in.ts_ms) +
                               " is stored already (id " + std::to_string(existing->id) + ")");
     }
     *created = false;
-    return nlohmann::json::parse(existing->result_json);
+    return stored;
   }
-  bool beyond = false;
   if (previous && previous->ts_ms < in.ts_ms) {
-    const double dx = (result->machine_zero_mm.x - previous->zero_x_mm) * 1000;
-    const double dy = (result->machine_zero_mm.y - previous->zero_y_mm) * 1000;
-    const double dz = (result->machine_zero_mm.z - previous->zero_z_mm) * 1000;
-    out["zero_change_um"] = {
-        {"X", dx}, {"Y", dy}, {"Z", dz}, {"since", FormatRfc3339(previous->ts_ms)}};
-    beyond = std::max({std::fabs(dx), std::fabs(dy), std::fabs(dz)}) > config_.zero_tolerance_um;
+    const Vec3 change{(result->machine_zero_mm.x - previous->zero_x_mm) * 1000,
+                      (result->machine_zero_mm.y - previous->zero_y_mm) * 1000,
+                      (result->machine_zero_mm.z - previous->zero_z_mm) * 1000};
+    out.zero_change = ZeroChange{change, previous->ts_ms};
+    out.beyond_tolerance = std::max({std::fabs(change.x), std::fabs(change.y),
+                                     std::fabs(change.z)}) > config_.zero_tolerance_um;
   }
-  out["beyond_tolerance"] = beyond;
+  const bool beyond = out.beyond_tolerance;
 
   Transaction tx(*session);
   if (!tx.status().ok()) return tx.status();
@@ -205,18 +210,18 @@ StatusOr<nlohmann::json> CheckService::AddColumnCheck(const std::string& machine
                         ""};
   auto id = store.InsertColumnCheck(machine->id, rec);
   if (!id.ok()) return id.status();
-  out["id"] = *id;
-  out["request_id"] = request ? nlohmann::json(request->id) : nullptr;
-  if (Status s = store.SetColumnCheckResult(*id, JsonText(out)); !s.ok()) return s;
+  out.id = *id;
+  if (request) out.request_id = request->id;
+  if (Status s = store.SetColumnCheckResult(*id, JsonText(ColumnCheckReportToJson(out))); !s.ok())
+    return s;
   if (request && !request->done_ms) {
     if (Status s = store.CloseRequest(request->id, clock_.NowMs(), *id); !s.ok()) return s;
   }
   if (beyond) {
     char note[160];
     std::snprintf(note, sizeof note, "machine zero moved X %+.1f, Y %+.1f, Z %+.1f um (check %lld)",
-                  out["zero_change_um"]["X"].get<double>(),
-                  out["zero_change_um"]["Y"].get<double>(),
-                  out["zero_change_um"]["Z"].get<double>(), static_cast<long long>(*id));
+                  out.zero_change->change_um.x, out.zero_change->change_um.y,
+                  out.zero_change->change_um.z, static_cast<long long>(*id));
     auto event = session->aux().InsertEvent(machine->id, {0, in.ts_ms, "column_check", note});
     if (!event.ok()) return event.status();
   }
@@ -231,16 +236,22 @@ StatusOr<nlohmann::json> CheckService::AddColumnCheck(const std::string& machine
   return out;
 }
 
-StatusOr<nlohmann::json> CheckService::ColumnChecks(const std::string& machine_name) {
+StatusOr<ColumnCheckHistory> CheckService::ColumnChecks(const std::string& machine_name) {
   const std::unique_ptr<Session> session = storage_.Open();
   auto machine = FindMachine(*session, machine_name);
   if (!machine.ok()) return machine.status();
   auto checks = session->checks().ColumnChecks(machine->id);
-  nlohmann::json history = nlohmann::json::array();
-  for (const auto& c : checks) history.push_back(nlohmann::json::parse(c.result_json));
-  nlohmann::json trend = {{"X_um_per_week", PerWeek(checks, &ColumnCheckRecord::zero_x_mm)},
-                          {"Y_um_per_week", PerWeek(checks, &ColumnCheckRecord::zero_y_mm)},
-                          {"Z_um_per_week", PerWeek(checks, &ColumnCheckRecord::zero_z_mm)}};
+  ColumnCheckHistory history;
+  history.machine = machine_name;
+  for (const auto& c : checks) {
+    auto report = ColumnCheckReportFromJson(nlohmann::json::parse(c.result_json));
+    if (!report.ok()) return Status::Internal("stored column check is unreadable");
+    history.checks.push_back(std::move(report).value());
+  }
+  ZeroTrend& trend = history.trend;
+  trend.per_week_um = {PerWeek(checks, &ColumnCheckRecord::zero_x_mm),
+                       PerWeek(checks, &ColumnCheckRecord::zero_y_mm),
+                       PerWeek(checks, &ColumnCheckRecord::zero_z_mm)};
   if (!checks.empty()) {
     // How far machine zero wandered: the largest minus the smallest value.
     auto range = [&](double ColumnCheckRecord::*v) {
@@ -249,41 +260,42 @@ StatusOr<nlohmann::json> CheckService::ColumnChecks(const std::string& machine_n
           [v](const ColumnCheckRecord& a, const ColumnCheckRecord& b) { return a.*v < b.*v; });
       return ((*hi).*v - (*lo).*v) * 1000;
     };
-    trend["range_um"] = {{"X", range(&ColumnCheckRecord::zero_x_mm)},
-                         {"Y", range(&ColumnCheckRecord::zero_y_mm)},
-                         {"Z", range(&ColumnCheckRecord::zero_z_mm)}};
-    trend["latest"] = ZeroJson(checks.back());
+    trend.range_um =
+        Vec3{range(&ColumnCheckRecord::zero_x_mm), range(&ColumnCheckRecord::zero_y_mm),
+             range(&ColumnCheckRecord::zero_z_mm)};
+    const ColumnCheckRecord& latest = checks.back();
+    trend.latest_mm = Vec3{latest.zero_x_mm, latest.zero_y_mm, latest.zero_z_mm};
   }
-  return nlohmann::json{
-      {"machine", machine_name}, {"checks", history}, {"machine_zero_trend", trend}};
+  return history;
 }
 
-StatusOr<nlohmann::json> CheckService::ColumnCheck(const std::string& machine_name, int64_t id) {
+StatusOr<ColumnCheckReport> CheckService::ColumnCheck(const std::string& machine_name, int64_t id) {
   const std::unique_ptr<Session> session = storage_.Open();
   auto machine = FindMachine(*session, machine_name);
   if (!machine.ok()) return machine.status();
   auto rec = session->checks().ColumnCheck(machine->id, id);
   if (!rec)
     return Status::NotFound("no column check " + std::to_string(id) + " for " + machine_name);
-  nlohmann::json out = nlohmann::json::parse(rec->result_json);
-  out["machine"] = machine_name;
-  return out;
+  auto report = ColumnCheckReportFromJson(nlohmann::json::parse(rec->result_json));
+  if (!report.ok()) return Status::Internal("stored column check is unreadable");
+  report->machine = machine_name;
+  return report;
 }
 
 nlohmann::json LatestColumnCheckSummary(Session& s, int64_t machine_id) {
   auto latest = s.checks().LatestColumnCheck(machine_id);
   if (!latest) return nullptr;
-  nlohmann::json r = nlohmann::json::parse(latest->result_json);
+  auto report = ColumnCheckReportFromJson(nlohmann::json::parse(latest->result_json));
   return {{"id", latest->id},
           {"ts", FormatRfc3339(latest->ts_ms)},
           {"machine_zero_mm", ZeroJson(*latest)},
-          {"beyond_tolerance", r.value("beyond_tolerance", false)}};
+          {"beyond_tolerance", report.ok() && report->beyond_tolerance}};
 }
 
-StatusOr<nlohmann::json> CheckService::AddPositioningCheck(const std::string& machine_name,
-                                                           const PositioningInput& in,
-                                                           const std::string& actor,
-                                                           bool* created) {
+StatusOr<PositioningCheckReport> CheckService::AddPositioningCheck(const std::string& machine_name,
+                                                                   const PositioningInput& in,
+                                                                   const std::string& actor,
+                                                                   bool* created) {
   if (in.ts_ms > clock_.NowMs() + kDayMs) {
     return Status::InvalidArgument("ts: more than a day in the future");
   }
@@ -293,10 +305,8 @@ StatusOr<nlohmann::json> CheckService::AddPositioningCheck(const std::string& ma
   auto found = FindMachineAxis(*session, machine_name, in.axis);
   if (!found.ok()) return found.status();
   const int64_t machine_id = found->machine.id;
-  nlohmann::json input = PositioningInputToJson(in);
-  nlohmann::json out = EvaluationToJson(*evaluation);
-  out["machine"] = machine_name;
-  out["input"] = input;
+  const nlohmann::json input = PositioningInputToJson(in);
+  PositioningCheckReport out{0, machine_name, in, std::move(evaluation).value()};
   CheckStore& store = session->checks();
   if (auto stored = store.PositioningCheckAt(machine_id, in.axis, in.ts_ms)) {
     if (stored->input_json != JsonText(input)) {
@@ -304,14 +314,17 @@ StatusOr<nlohmann::json> CheckService::AddPositioningCheck(const std::string& ma
                               FormatRfc3339(in.ts_ms) + " is stored already");
     }
     *created = false;
-    return nlohmann::json::parse(stored->result_json);
+    return PositioningCheckReportFromJson(nlohmann::json::parse(stored->result_json));
   }
   Transaction tx(*session);
   if (!tx.status().ok()) return tx.status();
   auto id = store.InsertPositioningCheck(machine_id, {0, in.axis, in.ts_ms, JsonText(input), ""});
   if (!id.ok()) return id.status();
-  out["id"] = *id;
-  if (Status s = store.SetPositioningCheckResult(*id, JsonText(out)); !s.ok()) return s;
+  out.id = *id;
+  if (Status s = store.SetPositioningCheckResult(*id, JsonText(PositioningCheckReportToJson(out)));
+      !s.ok()) {
+    return s;
+  }
   if (Status s = session->log().Audit(clock_.NowMs(), actor, "positioning-check", machine_name, 1,
                                       in.axis);
       !s.ok()) {
@@ -322,8 +335,8 @@ StatusOr<nlohmann::json> CheckService::AddPositioningCheck(const std::string& ma
   return out;
 }
 
-StatusOr<nlohmann::json> CheckService::PositioningCheck(const std::string& machine_name,
-                                                        int64_t id) {
+StatusOr<PositioningCheckReport> CheckService::PositioningCheck(const std::string& machine_name,
+                                                                int64_t id) {
   const std::unique_ptr<Session> session = storage_.Open();
   auto machine = FindMachine(*session, machine_name);
   if (!machine.ok()) return machine.status();
@@ -331,20 +344,15 @@ StatusOr<nlohmann::json> CheckService::PositioningCheck(const std::string& machi
   if (!rec) {
     return Status::NotFound("no positioning check " + std::to_string(id) + " for " + machine_name);
   }
-  return nlohmann::json::parse(rec->result_json);
+  return PositioningCheckReportFromJson(nlohmann::json::parse(rec->result_json));
 }
 
 StatusOr<PitchTable> CheckService::PitchTableOf(const std::string& machine_name, int64_t id,
                                                 std::string* axis) {
   auto report = PositioningCheck(machine_name, id);
   if (!report.ok()) return report.status();
-  FieldErrors errors;
-  auto input = PositioningFromJson((*report)["input"], errors);
-  if (!input) return Status::Internal("stored positioning check is unreadable");
-  auto evaluation = EvaluatePositioning(input->data, input->uncertainty);
-  if (!evaluation.ok()) return evaluation.status();
-  *axis = input->axis;
-  return MakePitchTable(evaluation->iso);
+  *axis = report->input.axis;
+  return MakePitchTable(report->evaluation.iso);
 }
 
 }  // namespace thermocomp

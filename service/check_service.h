@@ -16,6 +16,7 @@
 #include "core/clock.h"
 #include "model/pitch_table.h"
 #include "service/check_codec.h"
+#include "service/check_reports.h"
 #include "service/config.h"
 #include "storage/check_store.h"
 #include "storage/storage.h"
@@ -49,16 +50,16 @@ class CheckService {
 
   // The stored result (with "id"); a resent identical check returns the
   // stored one with `created` false.
-  StatusOr<nlohmann::json> AddColumnCheck(const std::string& machine, const ColumnCheckInput& in,
-                                          const std::string& actor, bool* created);
+  StatusOr<ColumnCheckReport> AddColumnCheck(const std::string& machine, const ColumnCheckInput& in,
+                                             const std::string& actor, bool* created);
   // History oldest first and the machine-zero trend (um per week, least squares).
-  StatusOr<nlohmann::json> ColumnChecks(const std::string& machine);
-  StatusOr<nlohmann::json> ColumnCheck(const std::string& machine, int64_t id);
+  StatusOr<ColumnCheckHistory> ColumnChecks(const std::string& machine);
+  StatusOr<ColumnCheckReport> ColumnCheck(const std::string& machine, int64_t id);
 
-  StatusOr<nlohmann::json> AddPositioningCheck(const std::string& machine,
-                                               const PositioningInput& in, const std::string& actor,
-                                               bool* created);
-  StatusOr<nlohmann::json> PositioningCheck(const std::string& machine, int64_t id);
+  StatusOr<PositioningCheckReport> AddPositioningCheck(const std::string& machine,
+                                                       const PositioningInput& in,
+                                                       const std::string& actor, bool* created);
+  StatusOr<PositioningCheckReport> PositioningCheck(const std::string& machine, int64_t id);
   StatusOr<PitchTable> PitchTableOf(const std::string& machine, int64_t id, std::string* axis);
 
  private:
@@ -67,7 +68,7 @@ class CheckService {
   const Config& config_;
 };
 
-nlohmann::json RequestToJson(const RequestView& r);
+nlohmann::json RequestToJson(const RequestView& v);
 // Pending and overdue requests of a machine now.
 CheckCounts CountChecks(Session& s, int64_t machine_id, int64_t now_ms);
 // The newest column check's machine zero and whether it moved beyond the

@@ -9,6 +9,8 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "service/check_report_codec.h"
+
 namespace thermocomp {
 namespace {
 
@@ -24,10 +26,10 @@ class CheckHttpTest : public testing::AppFixture {
     ASSERT_TRUE(app_->machines().Register(VirtualMachine::Definition("m1"), "test", &errors).ok());
   }
   httplib::Result Post(const std::string& path, const json& body) {
-    return client_->Post(path.c_str(), body.dump(), "application/json");
+    return client_->Post(path, body.dump(), "application/json");
   }
   json Get(const std::string& path, int expect = 200) {
-    auto r = client_->Get(path.c_str());
+    auto r = client_->Get(path);
     EXPECT_TRUE(r);
     if (!r) return {};
     EXPECT_EQ(r->status, expect) << path << " " << r->body;
@@ -120,7 +122,7 @@ TEST_F(CheckHttpTest, RequestThenResultClosesTheRequest) {
   EXPECT_EQ(Get("/api/v1/machines/m1")["last_column_check"]["id"], result["id"]);
   const std::string one = "/api/v1/machines/m1/column-checks/" + result["id"].dump();
   EXPECT_EQ(Get(one)["machine_zero_mm"], result["machine_zero_mm"]);
-  auto md = client_->Get((one + "?format=markdown").c_str());
+  auto md = client_->Get(one + "?format=markdown");
   EXPECT_NE(md->body.find("| offset um | 3.00 | 4.00 | -2.00 |"), std::string::npos) << md->body;
   // The same check again is not stored twice.
   r = Post("/api/v1/machines/m1/column-checks",
@@ -205,6 +207,36 @@ TEST_F(CheckHttpTest, MachineZeroMovingBeyondToleranceIsAnEventAndInTheHistory) 
   EXPECT_EQ(drift["machine_zero"].size(), 4u);
 }
 
+TEST_F(CheckHttpTest, CheckReportsDecodeToWhatWasServed) {
+  clock_.Set(testing::kT0 + 30 * 86400000LL);
+  PutArtifact();
+  ASSERT_EQ(Post("/api/v1/machines/m1/column-checks", ColumnCheck("2026-03-09T06:00:00Z", 0, 0, 0))
+                ->status,
+            201);
+  auto r =
+      Post("/api/v1/machines/m1/column-checks", ColumnCheck("2026-03-16T06:00:00Z", 0, 0.012, 0));
+  ASSERT_EQ(r->status, 201);
+  const json posted = json::parse(r->body);
+  const json got = Get("/api/v1/machines/m1/column-checks/" + posted["id"].dump());
+  auto column = ColumnCheckReportFromJson(got);
+  ASSERT_TRUE(column.ok()) << column.status().ToString();
+  EXPECT_EQ(ColumnCheckReportToJson(*column), got);
+  EXPECT_TRUE(column->beyond_tolerance);
+  ASSERT_TRUE(column->zero_change);
+  EXPECT_NEAR(column->zero_change->change_um.y, 12.0, 1e-9);
+  json served_without_machine = got;
+  served_without_machine.erase("machine");
+  EXPECT_EQ(served_without_machine, posted);  // what POST answered is what is stored
+
+  auto p = Post("/api/v1/machines/m1/positioning-checks", Positioning());
+  ASSERT_EQ(p->status, 201);
+  const json positioning = json::parse(p->body);
+  auto decoded = PositioningCheckReportFromJson(positioning);
+  ASSERT_TRUE(decoded.ok()) << decoded.status().ToString();
+  EXPECT_EQ(PositioningCheckReportToJson(*decoded), positioning);
+  EXPECT_FALSE(PositioningCheckReportFromJson(json{{"id", 1}}).ok());
+}
+
 TEST_F(CheckHttpTest, PositioningCheckIsEvaluatedReportedAndTurnedIntoPitchTables) {
   auto r = Post("/api/v1/machines/m1/positioning-checks", Positioning());
   ASSERT_EQ(r->status, 201) << r->body;
@@ -217,21 +249,21 @@ TEST_F(CheckHttpTest, PositioningCheckIsEvaluatedReportedAndTurnedIntoPitchTable
   EXPECT_NEAR(e["uncertainty_um"]["R_up_down"].get<double>(), 2.4, 1e-9);
   const std::string base = "/api/v1/machines/m1/positioning-checks/" + e["id"].dump();
   EXPECT_EQ(Get(base), e);
-  auto html = client_->Get((base + "?format=html").c_str());
+  auto html = client_->Get(base + "?format=html");
   EXPECT_NE(html->body.find("<polyline"), std::string::npos);
-  auto md = client_->Get((base + "?format=markdown").c_str());
+  auto md = client_->Get(base + "?format=markdown");
   EXPECT_NE(md->body.find("VDI/DGQ 3441"), std::string::npos);
 
-  auto lcnc = client_->Get((base + "/pitch-table?format=linuxcnc&per_direction=true").c_str());
+  auto lcnc = client_->Get(base + "/pitch-table?format=linuxcnc&per_direction=true");
   ASSERT_EQ(lcnc->status, 200);
   // Target 0: actual forward = 0 + 2 um, backward = 0 + 1 um.
   EXPECT_NE(lcnc->body.find("0.000000 0.002000 0.001000"), std::string::npos) << lcnc->body;
-  auto sin = client_->Get((base + "/pitch-table?format=sinumerik").c_str());
+  auto sin = client_->Get(base + "/pitch-table?format=sinumerik");
   EXPECT_NE(sin->body.find("$AA_ENC_COMP[0,0,Y1]=-0.001500"), std::string::npos) << sin->body;
   EXPECT_NE(sin->body.find("$MA_BACKLASH[0,Y1]=-0.001500"), std::string::npos);
-  auto beck = client_->Get((base + "/pitch-table?format=beckhoff&per_direction=true").c_str());
+  auto beck = client_->Get(base + "/pitch-table?format=beckhoff&per_direction=true");
   EXPECT_NE(beck->body.find("kw.ssfk.table[1].pos 10"), std::string::npos) << beck->body;
-  EXPECT_EQ(client_->Get((base + "/pitch-table?format=fanuc").c_str())->status, 400);
+  EXPECT_EQ(client_->Get(base + "/pitch-table?format=fanuc")->status, 400);
 
   // The laser software's CSV gives the same evaluation.
   std::string csv = "target_mm,run,direction,deviation_um\n";
@@ -246,8 +278,8 @@ TEST_F(CheckHttpTest, PositioningCheckIsEvaluatedReportedAndTurnedIntoPitchTable
   EXPECT_EQ(ce["vdi3441"], e["vdi3441"]);
   // Without a budget the uncertainty is not stated (not a perfect 0.00).
   EXPECT_FALSE(ce["uncertainty_um"]["stated"].get<bool>());
-  auto cmd = client_->Get(
-      ("/api/v1/machines/m1/positioning-checks/" + ce["id"].dump() + "?format=markdown").c_str());
+  auto cmd = client_->Get("/api/v1/machines/m1/positioning-checks/" + ce["id"].dump() +
+                          "?format=markdown");
   EXPECT_NE(cmd->body.find("| A (accuracy) | "), std::string::npos);
   EXPECT_NE(cmd->body.find("not stated"), std::string::npos) << cmd->body;
   // The CSV carries its budget and temperatures as query parameters, and
@@ -256,7 +288,7 @@ TEST_F(CheckHttpTest, PositioningCheckIsEvaluatedReportedAndTurnedIntoPitchTable
       "?axis=Y&ts=2026-03-12T08:00:00Z&device_um_per_m=0.5&misalignment_mm=2&alpha_um_per_m_c=11.7"
       "&temperature_range_c=0.35&delta_t_c=3&alpha_range_um_per_m_c=1&e_ve_um=2"
       "&machine_temperature_c=20.6&air_temperature_c=20.4&note=laser%20XL-80";
-  c = client_->Post(("/api/v1/machines/m1/positioning-checks" + query).c_str(), csv, "text/csv");
+  c = client_->Post("/api/v1/machines/m1/positioning-checks" + query, csv, "text/csv");
   ASSERT_EQ(c->status, 201) << c->body;
   ce = json::parse(c->body);
   EXPECT_TRUE(ce["uncertainty_um"]["stated"].get<bool>());
@@ -268,8 +300,8 @@ TEST_F(CheckHttpTest, PositioningCheckIsEvaluatedReportedAndTurnedIntoPitchTable
                           "?axis=Y&ts=2026-03-13T08:00:00Z&e_ve_um=two",
                           "?axis=Y&ts=2026-03-13T08:00:00Z&compensation_active=yes",
                           "?axis=Y&ts=2026-03-13T08:00:00Z&e_ve_um=1&e_ve_um=2"}) {
-    auto r2 = client_->Post(("/api/v1/machines/m1/positioning-checks" + std::string(bad)).c_str(),
-                            csv, "text/csv");
+    auto r2 =
+        client_->Post("/api/v1/machines/m1/positioning-checks" + std::string(bad), csv, "text/csv");
     EXPECT_EQ(r2->status, 400) << bad << " " << r2->body;
   }
   EXPECT_EQ(Count("SELECT COUNT(*) FROM positioning_checks"), 3);

@@ -1,0 +1,54 @@
+// The reports of column and positioning checks, as CheckService returns and
+// stores them (JSON both ways: service/check_report_codec.h).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "model/column_check.h"
+#include "model/positioning_check.h"
+#include "service/check_codec.h"
+
+namespace thermocomp {
+
+// How far machine zero moved since the previous column check, in µm.
+struct ZeroChange {
+  Vec3 change_um;
+  int64_t since_ms = 0;
+};
+
+struct ColumnCheckReport {
+  int64_t id = 0;  // 0 until stored
+  std::optional<int64_t> request_id;
+  std::string machine;  // set when read back for one machine (GET)
+  int64_t ts_ms = 0;
+  std::string artifact;
+  double artifact_temperature_c = 20.0;
+  ColumnCheckResult result;
+  std::optional<ZeroChange> zero_change;  // none for the first check
+  bool beyond_tolerance = false;
+};
+
+// The machine-zero trend over a machine's column checks.
+struct ZeroTrend {
+  Vec3 per_week_um;              // least-squares slope per axis
+  std::optional<Vec3> range_um;  // largest minus smallest value; none without checks
+  std::optional<Vec3> latest_mm;
+};
+
+struct ColumnCheckHistory {
+  std::string machine;
+  std::vector<ColumnCheckReport> checks;  // oldest first
+  ZeroTrend trend;
+};
+
+struct PositioningCheckReport {
+  int64_t id = 0;  // 0 until stored
+  std::string machine;
+  PositioningInput input;
+  PositioningEvaluation evaluation;
+};
+
+}  // namespace thermocomp
