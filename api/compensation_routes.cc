@@ -9,6 +9,7 @@
 #include "api/json_mapping.h"
 #include "api/problem.h"
 #include "core/time_format.h"
+#include "service/drift_history_codec.h"
 #include "service/json_fields.h"
 
 namespace thermocomp::api {
@@ -57,7 +58,7 @@ void HttpServer::CompensationRoutes() {
     q.machine = req.matches[1];
     auto h = app_.history().Drift(q);
     if (!h.ok()) return WriteProblem(res, h.status());
-    WriteJson(res, *h);
+    WriteJson(res, DriftHistoryToJson(*h));
   });
 }
 

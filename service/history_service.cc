@@ -1,7 +1,5 @@
 #include "service/history_service.h"
 
-#include "storage/check_store.h"
-
 #include "core/time_format.h"
 #include "model/drift_model.h"
 #include "model/thinning.h"
@@ -10,6 +8,7 @@
 #include "service/machine_lookup.h"
 #include "service/model_codec.h"
 #include "service/term_input.h"
+#include "storage/check_store.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"
@@ -17,20 +16,18 @@
 namespace thermocomp {
 namespace {
 
-// One series as {"ts": [...], "<name>": [...]} after thinning on `values`.
-nlohmann::json Series(const std::vector<int64_t>& ts, const std::vector<double>& values,
-                      size_t max_points, std::vector<size_t>* kept = nullptr) {
+// One series thinned with LTTB on `values`.
+std::vector<TimedValue> Series(const std::vector<int64_t>& ts, const std::vector<double>& values,
+                               size_t max_points) {
   std::vector<double> x(ts.begin(), ts.end());
-  std::vector<size_t> keep = ThinLttb(x, values, max_points);
-  nlohmann::json out = nlohmann::json::array();
-  for (size_t i : keep) out.push_back({{"ts", FormatRfc3339(ts[i])}, {"value_mm", values[i]}});
-  if (kept) *kept = keep;
+  std::vector<TimedValue> out;
+  for (size_t i : ThinLttb(x, values, max_points)) out.push_back({ts[i], values[i]});
   return out;
 }
 
 }  // namespace
 
-StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
+StatusOr<DriftHistory> HistoryService::Drift(const HistoryQuery& q) {
   const std::unique_ptr<Session> session = storage_.Open();
   auto found = FindMachineAxis(*session, q.machine, q.axis);
   if (!found.ok()) return found.status();
@@ -71,13 +68,14 @@ StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
   // three series stay aligned point by point.
   std::vector<size_t> keep =
       ThinLttb(std::vector<double>(ts.begin(), ts.end()), measured, q.max_points);
-  nlohmann::json points = nlohmann::json::array();
+  DriftHistory out;
+  out.machine = q.machine;
+  out.axis = q.axis;
+  out.model_version = version;
+  out.max_points = q.max_points;
+  out.probe_points_total = ts.size();
   for (size_t i : keep) {
-    points.push_back({{"ts", FormatRfc3339(ts[i])},
-                      {"run", runs[i]},
-                      {"measured_mm", measured[i]},
-                      {"predicted_mm", FiniteOrNull(predicted[i])},
-                      {"residual_mm", FiniteOrNull(residual[i])}});
+    out.probe_points.push_back({ts[i], runs[i], measured[i], predicted[i], residual[i]});
   }
   // The served offset: raw rows when they are few enough, else the hourly
   // envelope (two extreme points per hour) thinned like the raw series.
@@ -98,26 +96,15 @@ StatusOr<nlohmann::json> HistoryService::Drift(const HistoryQuery& q) {
       served.push_back(r.offset_mm);
     }
   }
-  nlohmann::json out = {{"machine", q.machine},
-                        {"axis", q.axis},
-                        {"model_version", version ? nlohmann::json(*version) : nullptr},
-                        {"max_points", q.max_points},
-                        {"probe_points_total", ts.size()},
-                        {"probe_points", points},
-                        {"served_offset_source", served_source},
-                        {"served_offset_total", served.size()},
-                        {"served_offset", Series(served_ts, served, q.max_points)}};
+  out.served_offset_source = served_source;
+  out.served_offset_total = served.size();
+  out.served_offset = Series(served_ts, served, q.max_points);
   // The machine-zero trend from column checks (docs/model.md §11): the check
   // sees the drift when it runs, the model covers the time between.
-  nlohmann::json zero = nlohmann::json::array();
   for (const auto& c : session->checks().ColumnChecks(machine->id)) {
     if (c.ts_ms < q.from_ms || c.ts_ms > q.to_ms) continue;
-    zero.push_back({{"ts", FormatRfc3339(c.ts_ms)},
-                    {"X_mm", c.zero_x_mm},
-                    {"Y_mm", c.zero_y_mm},
-                    {"Z_mm", c.zero_z_mm}});
+    out.machine_zero.push_back({c.ts_ms, c.zero_x_mm, c.zero_y_mm, c.zero_z_mm});
   }
-  out["machine_zero"] = zero;
   return out;
 }
 

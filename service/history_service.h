@@ -4,9 +4,8 @@
 // to max_points with LTTB.
 #pragma once
 
-#include <nlohmann/json.hpp>
-
 #include "service/config.h"
+#include "service/drift_history.h"
 #include "service/probe_temperature_cache.h"
 #include "storage/storage.h"
 
@@ -22,7 +21,7 @@ class HistoryService {
  public:
   HistoryService(Storage& storage, const Config& config, ProbeTemperatureCache* cache = nullptr)
       : storage_(storage), config_(config), cache_(cache) {}
-  StatusOr<nlohmann::json> Drift(const HistoryQuery& q);
+  StatusOr<DriftHistory> Drift(const HistoryQuery& q);
 
  private:
   Storage& storage_;

@@ -8,6 +8,8 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "service/drift_history_codec.h"
+
 namespace thermocomp {
 namespace {
 
@@ -22,10 +24,10 @@ class AnalysisHttpTest : public testing::AppFixture {
   }
   httplib::Result Post(const std::string& path, const std::string& body,
                        const std::string& type = "application/json") {
-    return client_->Post(path.c_str(), body, type.c_str());
+    return client_->Post(path, body, type);
   }
   json GetJson(const std::string& path, int expect = 200) {
-    auto r = client_->Get(path.c_str());
+    auto r = client_->Get(path);
     EXPECT_TRUE(r);
     if (!r) return {};
     EXPECT_EQ(r->status, expect) << path << " " << r->body;
@@ -71,11 +73,11 @@ TEST_F(AnalysisHttpTest, FindsTheHiddenLagReportsItAndServesTheExtendedModel) {
   EXPECT_EQ(list["analyses"][0]["id"], report["id"]);
   const std::string one = base + "/" + report["id"].dump();
   EXPECT_EQ(GetJson(one), report);
-  auto md = client_->Get((one + "?format=markdown").c_str());
+  auto md = client_->Get(one + "?format=markdown");
   ASSERT_TRUE(md);
   EXPECT_NE(md->body.find("lag(Tco,"), std::string::npos);
   EXPECT_NE(md->body.find("held-out RMSE"), std::string::npos);
-  auto html = client_->Get((one + "?format=html").c_str());
+  auto html = client_->Get(one + "?format=html");
   ASSERT_TRUE(html);
   EXPECT_NE(html->body.find("<svg"), std::string::npos);
   GetJson(one + "?format=pdf", 400);
@@ -105,6 +107,11 @@ TEST_F(AnalysisHttpTest, FindsTheHiddenLagReportsItAndServesTheExtendedModel) {
     sse += p["residual_mm"].get<double>() * p["residual_mm"].get<double>();
   }
   EXPECT_LT(std::sqrt(sse / drift["probe_points"].size()), 0.0015);
+  // The history's codec reads back what it wrote.
+  auto decoded = DriftHistoryFromJson(drift);
+  ASSERT_TRUE(decoded.ok()) << decoded.status().ToString();
+  EXPECT_EQ(DriftHistoryToJson(*decoded), drift);
+  EXPECT_EQ(decoded->probe_points.size(), drift["probe_points"].size());
 }
 
 TEST_F(AnalysisHttpTest, PositionDependentExpansionIsServedAsSlopeAndAtTheProbe) {

@@ -1,0 +1,43 @@
+// DriftHistory: an axis' drift over a time range as quality staff see it
+// (HistoryService::Drift; JSON both ways: service/drift_history_codec.h).
+// Values that could not be computed are NaN (null in JSON).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace thermocomp {
+
+// A probe point: measured drift, the active model's prediction, residual.
+struct DriftPoint {
+  int64_t ts_ms = 0;
+  std::string run;
+  double measured_mm = 0, predicted_mm = 0, residual_mm = 0;
+};
+
+struct TimedValue {
+  int64_t ts_ms = 0;
+  double value = 0;
+};
+
+// Machine zero from one column check.
+struct ZeroSample {
+  int64_t ts_ms = 0;
+  double x_mm = 0, y_mm = 0, z_mm = 0;
+};
+
+struct DriftHistory {
+  std::string machine, axis;
+  std::optional<int> model_version;  // the active model that predicted
+  size_t max_points = 0;
+  size_t probe_points_total = 0;          // in the range, before thinning
+  std::vector<DriftPoint> probe_points;   // thinned together (LTTB on measured)
+  std::string served_offset_source;       // "log" or "hourly envelope"
+  size_t served_offset_total = 0;         // before thinning
+  std::vector<TimedValue> served_offset;  // thinned (LTTB)
+  std::vector<ZeroSample> machine_zero;
+};
+
+}  // namespace thermocomp
