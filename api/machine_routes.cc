@@ -7,6 +7,7 @@
 #include "api/json_mapping.h"
 #include "api/problem.h"
 #include "service/json_fields.h"
+#include "service/machine_status_codec.h"
 
 namespace thermocomp::api {
 namespace {
@@ -29,7 +30,7 @@ void HttpServer::MachineRoutes() {
     auto mr = app_.machines().Find(req.matches[1]);
     if (!mr) return WriteProblem(res, 404, "unknown machine '" + std::string(req.matches[1]) + "'");
     json j = MachineToJson(*mr);
-    j.update(app_.machines().Summary(*mr));
+    j.update(MachineStatusToJson(app_.machines().Summary(*mr)));
     WriteJson(res, j);
   });
   s.Put(m, [this](const Req& req, Res& res) {

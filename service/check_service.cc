@@ -21,10 +21,6 @@ std::string StateOf(const CheckRequestRecord& r, int64_t now) {
   return now > r.due_ms ? "overdue" : "pending";
 }
 
-nlohmann::json ZeroJson(const ColumnCheckRecord& c) {
-  return {{"X", c.zero_x_mm}, {"Y", c.zero_y_mm}, {"Z", c.zero_z_mm}};
-}
-
 // Least-squares slope of v over t, um per week.
 double PerWeek(const std::vector<ColumnCheckRecord>& checks, double ColumnCheckRecord::*v) {
   const double n = static_cast<double>(checks.size());
@@ -282,14 +278,13 @@ StatusOr<ColumnCheckReport> CheckService::ColumnCheck(const std::string& machine
   return report;
 }
 
-nlohmann::json LatestColumnCheckSummary(Session& s, int64_t machine_id) {
+std::optional<LastColumnCheck> LatestColumnCheckSummary(Session& s, int64_t machine_id) {
   auto latest = s.checks().LatestColumnCheck(machine_id);
-  if (!latest) return nullptr;
+  if (!latest) return std::nullopt;
   auto report = ColumnCheckReportFromJson(nlohmann::json::parse(latest->result_json));
-  return {{"id", latest->id},
-          {"ts", FormatRfc3339(latest->ts_ms)},
-          {"machine_zero_mm", ZeroJson(*latest)},
-          {"beyond_tolerance", report.ok() && report->beyond_tolerance}};
+  return LastColumnCheck{latest->id,        latest->ts_ms,
+                         latest->zero_x_mm, latest->zero_y_mm,
+                         latest->zero_z_mm, report.ok() && report->beyond_tolerance};
 }
 
 StatusOr<PositioningCheckReport> CheckService::AddPositioningCheck(const std::string& machine_name,

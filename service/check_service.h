@@ -18,6 +18,7 @@
 #include "service/check_codec.h"
 #include "service/check_reports.h"
 #include "service/config.h"
+#include "service/machine_status.h"
 #include "storage/check_store.h"
 #include "storage/storage.h"
 
@@ -26,10 +27,6 @@ namespace thermocomp {
 struct RequestView {
   CheckRequestRecord record;
   std::string state;  // pending | overdue | done
-};
-
-struct CheckCounts {
-  int pending = 0, overdue = 0;  // overdue ones are not counted as pending
 };
 
 class CheckService {
@@ -72,7 +69,7 @@ nlohmann::json RequestToJson(const RequestView& v);
 // Pending and overdue requests of a machine now.
 CheckCounts CountChecks(Session& s, int64_t machine_id, int64_t now_ms);
 // The newest column check's machine zero and whether it moved beyond the
-// tolerance, for the machine status; null without checks.
-nlohmann::json LatestColumnCheckSummary(Session& s, int64_t machine_id);
+// tolerance, for the machine status; none without checks.
+std::optional<LastColumnCheck> LatestColumnCheckSummary(Session& s, int64_t machine_id);
 
 }  // namespace thermocomp

@@ -41,19 +41,20 @@ MachineDefinition MachineDefinition::Of(const MachineRecord& m) {
           m.sensors, m.axes};
 }
 
-StatusOr<bool> MachineService::Register(const MachineDefinition& d, const std::string& actor,
+StatusOr<bool> MachineService::Register(const MachineDefinition& machine, const std::string& actor,
                                         FieldErrors* errors) {
   FieldErrors e;
-  if (!ValidIdentifier(d.name)) e.push_back({0, "machine", "must match [A-Za-z0-9_.-]{1,64}"});
-  if (d.controller && !ValidControllerName(*d.controller)) {
+  if (!ValidIdentifier(machine.name))
+    e.push_back({0, "machine", "must match [A-Za-z0-9_.-]{1,64}"});
+  if (machine.controller && !ValidControllerName(*machine.controller)) {
     e.push_back({0, "controller",
                  "must be a control's name of lower-case letters, digits and _.- (the five with "
                  "native formats: sinumerik, beckhoff, heidenhain, fanuc, linuxcnc; or any "
                  "other, e.g. okuma, or none)"});
   }
   std::set<std::string> sensors;
-  for (size_t i = 0; i < d.sensors.size(); ++i) {
-    const auto& s = d.sensors[i];
+  for (size_t i = 0; i < machine.sensors.size(); ++i) {
+    const auto& s = machine.sensors[i];
     if (!ValidIdentifier(s.name)) e.push_back({i, "sensors.id", "must match [A-Za-z0-9_.-]{1,64}"});
     if (!sensors.insert(s.name).second)
       e.push_back({i, "sensors.id", "duplicate sensor " + s.name});
@@ -64,19 +65,19 @@ StatusOr<bool> MachineService::Register(const MachineDefinition& d, const std::s
   std::optional<MachineRecord> existing;
   {
     const std::unique_ptr<Session> session = storage_.Open();
-    existing = session->machines().Find(d.name);
+    existing = session->machines().Find(machine.name);
   }
   // The stored machine with what the definition gives applied.
   MachineRecord m = existing.value_or(MachineRecord{});
-  m.name = d.name;
-  if (d.display_name) m.display_name = *d.display_name;
-  if (d.controller) m.controller = *d.controller;
-  if (d.control_axes) m.control_axes = *d.control_axes;
-  if (d.automatic_checks) m.automatic_checks = *d.automatic_checks;
+  m.name = machine.name;
+  if (machine.display_name) m.display_name = *machine.display_name;
+  if (machine.controller) m.controller = *machine.controller;
+  if (machine.control_axes) m.control_axes = *machine.control_axes;
+  if (machine.automatic_checks) m.automatic_checks = *machine.automatic_checks;
   for (const auto& s : m.sensors) sensors.insert(s.name);
   std::set<std::string> axes;
-  for (size_t i = 0; i < d.axes.size(); ++i) {
-    const auto& a = d.axes[i];
+  for (size_t i = 0; i < machine.axes.size(); ++i) {
+    const auto& a = machine.axes[i];
     if (!ValidAxisName(a.name))
       e.push_back({i, "axes.id", "must be an axis letter X Y Z A B C U V W"});
     if (!axes.insert(a.name).second) e.push_back({i, "axes.id", "duplicate axis " + a.name});
@@ -112,7 +113,7 @@ StatusOr<bool> MachineService::Register(const MachineDefinition& d, const std::s
   }
   // Sensors and axes: those listed replace the stored ones of the same
   // name, the others are kept.
-  for (const auto& s : d.sensors) {
+  for (const auto& s : machine.sensors) {
     auto it = std::find_if(m.sensors.begin(), m.sensors.end(),
                            [&](const SensorRecord& x) { return x.name == s.name; });
     if (it == m.sensors.end())
@@ -120,7 +121,7 @@ StatusOr<bool> MachineService::Register(const MachineDefinition& d, const std::s
     else
       *it = {it->id, s.name, s.location, s.ewma_alpha};
   }
-  for (const auto& a : d.axes) {
+  for (const auto& a : machine.axes) {
     auto it = std::find_if(m.axes.begin(), m.axes.end(),
                            [&](const AxisRecord& x) { return x.name == a.name; });
     if (it == m.axes.end())
@@ -151,26 +152,25 @@ std::optional<MachineRecord> MachineService::Find(const std::string& name) {
   return session->machines().Find(name);
 }
 
-nlohmann::json MachineService::Summary(const MachineRecord& m) {
+MachineStatus MachineService::Summary(const MachineRecord& m) {
   const std::unique_ptr<Session> session = storage_.Open();
   SampleStore& samples = session->samples();
   std::optional<int64_t> last;
   for (const auto& s : m.sensors) {
     if (auto fs = samples.LoadFilterState(s.id)) last = std::max(last.value_or(0), fs->last_ts_ms);
   }
-  nlohmann::json active = nlohmann::json::object();
+  MachineStatus status;
+  status.last_sample_ms = last;
   ModelStore& models = session->models();
   for (const auto& a : m.axes) {
     auto rec = models.Active(a.id);
-    active[a.name] = rec ? nlohmann::json(rec->version) : nullptr;
+    status.active_models[a.name] = rec ? std::optional<int>(rec->version) : std::nullopt;
   }
-  const CheckCounts checks = CountChecks(*session, m.id, clock_.NowMs());
-  return {{"samples", samples.CountForMachine(m.id)},
-          {"probe_points", session->probes().CountPoints(m.id)},
-          {"last_sample_ts", last ? nlohmann::json(FormatRfc3339(*last)) : nullptr},
-          {"active_models", active},
-          {"checks", {{"pending", checks.pending}, {"overdue", checks.overdue}}},
-          {"last_column_check", LatestColumnCheckSummary(*session, m.id)}};
+  status.checks = CountChecks(*session, m.id, clock_.NowMs());
+  status.samples = samples.CountForMachine(m.id);
+  status.probe_points = session->probes().CountPoints(m.id);
+  status.last_column_check = LatestColumnCheckSummary(*session, m.id);
+  return status;
 }
 
 }  // namespace thermocomp

@@ -11,6 +11,7 @@
 #include "core/clock.h"
 #include "core/records.h"
 #include "service/ingest_service.h"
+#include "service/machine_status.h"
 #include "service/probe_temperature_cache.h"
 #include "storage/storage.h"
 
@@ -49,7 +50,7 @@ class MachineService {
   std::vector<MachineRecord> List();
   std::optional<MachineRecord> Find(const std::string& name);
   // Counts and times for GET /machines/{m}: samples, probe points, last sample.
-  nlohmann::json Summary(const MachineRecord& machine);
+  MachineStatus Summary(const MachineRecord& machine);
 
  private:
   Storage& storage_;

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "service/check_report_codec.h"
+#include "service/machine_status_codec.h"
 
 namespace thermocomp {
 namespace {
@@ -235,6 +236,18 @@ TEST_F(CheckHttpTest, CheckReportsDecodeToWhatWasServed) {
   ASSERT_TRUE(decoded.ok()) << decoded.status().ToString();
   EXPECT_EQ(PositioningCheckReportToJson(*decoded), positioning);
   EXPECT_FALSE(PositioningCheckReportFromJson(json{{"id", 1}}).ok());
+
+  // The machine's status names the newest check and reads back the same.
+  const json machine = Get("/api/v1/machines/m1");
+  auto status = MachineStatusFromJson(machine);
+  ASSERT_TRUE(status.ok()) << status.status().ToString();
+  ASSERT_TRUE(status->last_column_check);
+  EXPECT_EQ(status->last_column_check->id, posted["id"].get<int64_t>());
+  EXPECT_TRUE(status->last_column_check->beyond_tolerance);
+  const json reencoded = MachineStatusToJson(*status);
+  for (const auto& [key, value] : reencoded.items()) {
+    EXPECT_EQ(value, machine[key]) << key;
+  }
 }
 
 TEST_F(CheckHttpTest, PositioningCheckIsEvaluatedReportedAndTurnedIntoPitchTables) {
