@@ -72,10 +72,10 @@ AuthDecision Authorizer::Decide(const std::string& method, const std::string& pa
     if (!SameSecret(t.token, secret)) continue;
     const std::string actor = "token:" + t.name;
     if (!Permitted(t, method, path)) {
-      return {403,
-              "role " + t.role + (t.machine.empty() ? "" : " of machine " + t.machine) +
-                  " may not " + method + " " + path,
-              actor};
+      std::string why = "role " + t.role;
+      if (!t.machine.empty()) why += " of machine " + t.machine;
+      why.append(" may not ").append(method).append(" ").append(path);
+      return {403, why, actor};
     }
     return {200, "", actor};
   }

@@ -23,7 +23,7 @@ long TenthsOfMicron(double mm) {
 // each with its +-2s band.
 std::string ErrorPlotSvg(const json& per) {
   const double w = 640, h = 320, left = 50, right = 10, top = 10, bottom = 30;
-  double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
+  double xmin = HUGE_VAL, xmax = -HUGE_VAL, ymin = HUGE_VAL, ymax = -HUGE_VAL;
   for (const auto& p : per) {
     const double t = p["target_mm"];
     xmin = std::min(xmin, t), xmax = std::max(xmax, t);
@@ -105,9 +105,11 @@ std::string ColumnCheckMarkdown(const json& r) {
   for (const auto& [scheme, value] : r["straightness_um"].items()) {
     std::string points;
     for (const auto& [id, v] : r["straightness_points_um"][scheme].items()) {
-      points += (points.empty() ? "" : ", ") + id + " " + F(v.get<double>());
+      if (!points.empty()) points += ", ";
+      points += id + " " + F(v.get<double>());
     }
-    md += "| " + scheme + " | " + F(value.get<double>()) + " | " + points + " |\n";
+    md += "| " + scheme + " | ";
+    md += F(value.get<double>()) + " | " + points + " |\n";
   }
   return md;
 }

@@ -144,7 +144,7 @@ void HttpServer::Routes() {
     t_request_start = std::chrono::steady_clock::now();
     // Answered before the body is read: the connection closes after the
     // response, so the unread body is never taken for the next request.
-    auto refuse = [&](int status, const std::string& detail, FieldErrors errors = {}) {
+    auto refuse = [&](int status, const std::string& detail, const FieldErrors& errors = {}) {
       if (HasBody(req)) {
         GuardedServer::CloseAfterResponse();
         res.set_header("Connection", "close");
@@ -211,7 +211,7 @@ void HttpServer::Routes() {
       res.body.clear();
     }
   });
-  s.set_exception_handler([](const Req&, Res& res, std::exception_ptr ep) {
+  s.set_exception_handler([](const Req&, Res& res, const std::exception_ptr& ep) {
     std::string what = "unexpected error";
     try {
       std::rethrow_exception(ep);

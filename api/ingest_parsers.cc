@@ -35,8 +35,8 @@ std::vector<std::vector<std::string_view>> SplitCsv(std::string_view body) {
     size_t c = 0;
     while (true) {
       size_t comma = line.find(',', c);
-      cells.push_back(
-          Trim(line.substr(c, comma == std::string_view::npos ? line.npos : comma - c)));
+      cells.push_back(Trim(
+          line.substr(c, comma == std::string_view::npos ? std::string_view::npos : comma - c)));
       if (comma == std::string_view::npos) break;
       c = comma + 1;
     }

@@ -66,7 +66,6 @@ int HttpStatus(const Status& s) {
     case Status::Code::kNotFound:
       return 404;
     case Status::Code::kConflict:
-      return 409;
     case Status::Code::kFailedPrecondition:
       return 409;
     case Status::Code::kUnprocessable:

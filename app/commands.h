@@ -8,6 +8,6 @@
 namespace thermocomp {
 
 std::string Usage();
-int RunCommand(const std::string& name, const std::vector<std::string>& args);
+int RunCommand(const std::string& name, const std::vector<std::string>& raw);
 
 }  // namespace thermocomp

@@ -57,7 +57,7 @@ class Http : public MachineLink {
          machine);
   }
   std::optional<double> OffsetY(const std::string& machine) override {
-    auto r = client_.Get(("/api/v1/machines/" + machine + "/compensation").c_str());
+    auto r = client_.Get("/api/v1/machines/" + machine + "/compensation");
     if (!r || r->status != 200) return std::nullopt;
     const auto body = nlohmann::json::parse(r->body, nullptr, false);
     if (body.is_discarded()) return std::nullopt;

@@ -7,7 +7,7 @@ packages=(
   libsqlite3-dev sqlite3 libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev
   libboost-math-dev libtomlplusplus-dev
   libgtest-dev libbenchmark-dev cyclonedds-dev cyclonedds-tools
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev clang-tidy-14
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -3,7 +3,8 @@
 # every test; then builds again with clang's AddressSanitizer and
 # UndefinedBehaviorSanitizer and runs every test there too, with each
 # libFuzzer harness for a few seconds (tests/fuzz; longer runs:
-# tests/fuzz/run_fuzzers.sh).
+# tests/fuzz/run_fuzzers.sh); last, clang-tidy over every source
+# (deploy/tidy.sh, with that build's compile commands).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash deploy/install-deps.sh
@@ -14,3 +15,4 @@ CC=clang CXX=clang++ cmake -S . -B build-sanitize -DTHERMOCOMP_SANITIZE=ON -DTHE
   -DTHERMOCOMP_FUZZ_SECONDS=10 -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
 cmake --build build-sanitize -j "$(nproc)"
 (cd build-sanitize && ctest --output-on-failure -j 2)
+bash deploy/tidy.sh

@@ -22,17 +22,17 @@ Vec3 PointExpansion::At(double t) const {
   return {beta_x * t + b_x, beta_y * t + b_y, beta_z * t + b_z};
 }
 
-StatusOr<Circle> FitCircle(const std::vector<std::pair<double, double>>& p) {
-  const int n = static_cast<int>(p.size());
+StatusOr<Circle> FitCircle(const std::vector<std::pair<double, double>>& xz) {
+  const int n = static_cast<int>(xz.size());
   if (n < 3) return Status::InvalidArgument("spheres: at least 3 B positions for a circle");
   // Centre on the mean for conditioning.
   double mx = 0, mz = 0;
-  for (const auto& [x, z] : p) mx += x / n, mz += z / n;
+  for (const auto& [x, z] : xz) mx += x / n, mz += z / n;
   // Kasa: x^2 + z^2 + D x + E z + F = 0, linear least squares.
   Eigen::MatrixXd a(n, 3);
   Eigen::VectorXd rhs(n);
   for (int i = 0; i < n; ++i) {
-    const double x = p[i].first - mx, z = p[i].second - mz;
+    const double x = xz[i].first - mx, z = xz[i].second - mz;
     a.row(i) << x, z, 1.0;
     rhs(i) = -(x * x + z * z);
   }
@@ -48,7 +48,7 @@ StatusOr<Circle> FitCircle(const std::vector<std::pair<double, double>>& p) {
     Eigen::MatrixXd j(n, 3);
     Eigen::VectorXd res(n);
     for (int i = 0; i < n; ++i) {
-      const double dx = p[i].first - mx - cx, dz = p[i].second - mz - cz;
+      const double dx = xz[i].first - mx - cx, dz = xz[i].second - mz - cz;
       const double dist = std::hypot(dx, dz);
       res(i) = dist - r;
       j.row(i) << -dx / dist, -dz / dist, -1.0;
@@ -61,7 +61,7 @@ StatusOr<Circle> FitCircle(const std::vector<std::pair<double, double>>& p) {
   }
   Circle c{cx + mx, cz + mz, r, 0.0};
   double ss = 0;
-  for (const auto& [x, z] : p) {
+  for (const auto& [x, z] : xz) {
     const double e = std::hypot(x - c.cx, z - c.cz) - c.r;
     ss += e * e;
   }
@@ -133,7 +133,7 @@ StatusOr<ColumnCheckResult> EvaluateColumnCheck(const Artifact& art, double t,
       std_ += (td.first - mt) * (td.second - md);
     }
     const double slope = stt > 0 ? std_ / stt : 0.0;
-    double lo = INFINITY, hi = -INFINITY;
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
     for (const auto& [id, td] : along) {
       const double residual = (td.second - (md + slope * (td.first - mt))) * 1000.0;
       sr.relative_um[id] = residual;

@@ -23,7 +23,7 @@ std::vector<EffectTerm> GenerateCandidates(const EffectSearchInput& in,
   // Only axes along which the probed positions vary: on a constant one a
   // position term is a scaled copy of another term, not a new explanation.
   for (size_t a = 0; a < in.inputs.axes.size(); ++a) {
-    double lo = INFINITY, hi = -INFINITY;
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
     for (const TermPoint& p : in.points) {
       if (a < p.position_mm.size() && std::isfinite(p.position_mm[a])) {
         lo = std::min(lo, p.position_mm[a]);
@@ -104,18 +104,18 @@ std::vector<EffectTerm> GenerateCandidates(const EffectSearchInput& in,
   return out;
 }
 
-ResidualStructure DescribeResiduals(const Eigen::VectorXd& e, const std::vector<int>& run) {
+ResidualStructure DescribeResiduals(const Eigen::VectorXd& residuals, const std::vector<int>& run) {
   ResidualStructure s;
-  const double ss = e.squaredNorm();
-  if (e.size() < 2 || ss <= 0) return s;
+  const double ss = residuals.squaredNorm();
+  if (residuals.size() < 2 || ss <= 0) return s;
   double lag1 = 0, dw = 0;
   std::map<int, std::pair<double, int>> by_run;
-  for (int i = 0; i < e.size(); ++i) {
+  for (int i = 0; i < residuals.size(); ++i) {
     if (i > 0) {
-      dw += (e(i) - e(i - 1)) * (e(i) - e(i - 1));
-      if (run[i] == run[i - 1]) lag1 += e(i) * e(i - 1);
+      dw += (residuals(i) - residuals(i - 1)) * (residuals(i) - residuals(i - 1));
+      if (run[i] == run[i - 1]) lag1 += residuals(i) * residuals(i - 1);
     }
-    by_run[run[i]].first += e(i);
+    by_run[run[i]].first += residuals(i);
     by_run[run[i]].second += 1;
   }
   double between = 0;

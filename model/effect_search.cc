@@ -45,7 +45,7 @@ class Search {
   std::vector<ScoredCandidate> Qualify(const Design& design, const LinearFit& fit,
                                        const BlockErrors& base,
                                        const std::vector<EffectTerm>& candidates, int* tried,
-                                       EffectSearchResult* r);
+                                       EffectSearchResult* sink);
   // A candidate that overturns a declared coefficient: the declared term it
   // can replace outright, "" when it may be added as it is, nullopt when it
   // is refused (the reason in *why).

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include <boost/math/distributions/fisher_f.hpp>
 #include <boost/math/distributions/students_t.hpp>
@@ -65,8 +66,8 @@ StatusOr<LinearFit> FitLinear(const Eigen::MatrixXd& x, const Eigen::VectorXd& y
   }
 
   // Design with intercept; drop aliased columns one at a time.
-  std::vector<int> kept;
-  for (int j = 0; j < x.cols(); ++j) kept.push_back(j);
+  std::vector<int> kept(x.cols());
+  std::iota(kept.begin(), kept.end(), 0);
   LinearFit fit;
   Eigen::MatrixXd a;
   while (true) {

@@ -24,6 +24,7 @@ Observations Observations::Subset(const std::vector<int>& rows,
   out.x.resize(rows.size(), columns.size());
   out.y.resize(rows.size());
   std::vector<int> cols;
+  cols.reserve(columns.size());
   for (const auto& c : columns) cols.push_back(ColumnIndex(c));
   for (size_t i = 0; i < rows.size(); ++i) {
     out.y(i) = y(rows[i]);

@@ -60,17 +60,17 @@ Status ValidatePositioning(const PositioningData& d) {
 }
 
 StatusOr<PositioningEvaluation> EvaluatePositioning(const PositioningData& d,
-                                                    const UncertaintyInputs& u) {
+                                                    const UncertaintyInputs& inputs) {
   if (Status s = ValidatePositioning(d); !s.ok()) return s;
   std::vector<const PositioningRun*> up, down;
   for (const auto& run : d.runs) (run.direction > 0 ? up : down).push_back(&run);
   PositioningEvaluation out;
   Iso230Result& iso = out.iso;
   iso.runs_per_direction = static_cast<int>(std::min(up.size(), down.size()));
-  double max_up_hi = -INFINITY, min_up_lo = INFINITY, max_dn_hi = -INFINITY, min_dn_lo = INFINITY;
-  double max_up = -INFINITY, min_up = INFINITY, max_dn = -INFINITY, min_dn = INFINITY;
-  double max_mean = -INFINITY, min_mean = INFINITY, sum_b = 0;
-  double p_hi = -INFINITY, p_lo = INFINITY, sum_u = 0;
+  double max_up_hi = -HUGE_VAL, min_up_lo = HUGE_VAL, max_dn_hi = -HUGE_VAL, min_dn_lo = HUGE_VAL;
+  double max_up = -HUGE_VAL, min_up = HUGE_VAL, max_dn = -HUGE_VAL, min_dn = HUGE_VAL;
+  double max_mean = -HUGE_VAL, min_mean = HUGE_VAL, sum_b = 0;
+  double p_hi = -HUGE_VAL, p_lo = HUGE_VAL, sum_u = 0;
   for (size_t i = 0; i < d.targets_mm.size(); ++i) {
     const MeanSd a = Column(up, i), b = Column(down, i);
     PositionStats p;
@@ -125,14 +125,14 @@ StatusOr<PositioningEvaluation> EvaluatePositioning(const PositioningData& d,
 
   // Expanded uncertainties (k = 2); L in m, results in um.
   PositioningUncertainty& U = out.uncertainty;
-  U.stated = u.stated;
+  U.stated = inputs.stated;
   U.length_m = (d.targets_mm.back() - d.targets_mm.front()) / 1000.0;
   const double L = U.length_m;
-  U.device_um = 0.6 * u.device_um_per_m * L;
-  U.misalignment_um = L > 0 ? 0.3 * u.misalignment_mm * u.misalignment_mm / L : 0.0;
-  U.machine_m_um = 0.6 * u.alpha_um_per_m_c * L * u.temperature_range_c;
-  U.machine_e_um = 0.6 * u.delta_t_c * L * u.alpha_range_um_per_m_c;
-  U.eve_um = 0.6 * u.e_ve_um;
+  U.device_um = 0.6 * inputs.device_um_per_m * L;
+  U.misalignment_um = L > 0 ? 0.3 * inputs.misalignment_mm * inputs.misalignment_mm / L : 0.0;
+  U.machine_m_um = 0.6 * inputs.alpha_um_per_m_c * L * inputs.temperature_range_c;
+  U.machine_e_um = 0.6 * inputs.delta_t_c * L * inputs.alpha_range_um_per_m_c;
+  U.eve_um = 0.6 * inputs.e_ve_um;
   const double components = U.device_um * U.device_um + U.misalignment_um * U.misalignment_um +
                             U.machine_m_um * U.machine_m_um + U.machine_e_um * U.machine_e_um;
   U.R_up_down_um = 2.0 * U.eve_um;

@@ -9,6 +9,21 @@
 namespace thermocomp {
 namespace {
 
+// "Since the <event> on <date> (<axis> axis, ...): <statement>."
+std::string EventStatement(const EventComparison& e, const std::string& axis,
+                           const std::string& statement) {
+  std::string out = "Since the ";
+  out += e.event.kind;
+  out += " on ";
+  out += FormatRfc3339(e.event.ts_ms).substr(0, 10);
+  out += " (";
+  out += axis;
+  out += " axis, declared model fitted on each side): ";
+  out += statement;
+  out += ".";
+  return out;
+}
+
 std::string Fixed(const nlohmann::json& v, const char* format) {
   if (!v.is_number()) return "-";
   char buf[48];
@@ -45,16 +60,16 @@ nlohmann::json GainJson(const PairedGain& g) {
           {"blocks", g.blocks}};
 }
 
-void AddEffectFindings(const AddedEffect& e, nlohmann::json& j) {
-  j["confidence"] = GainJson(e.confidence);
+void AddEffectFindings(const AddedEffect& e, nlohmann::json& effect) {
+  effect["confidence"] = GainJson(e.confidence);
   nlohmann::json alternatives = nlohmann::json::array();
   for (const auto& a : e.alternatives) {
     alternatives.push_back({{"name", a.term.Name()}, {"confidence", GainJson(a.gain)}});
   }
-  j["alternatives"] = alternatives;
-  if (!e.replaces.empty()) j["replaces"] = e.replaces;
-  if (!e.revises_declared.empty()) j["revises_declared"] = e.revises_declared;
-  if (!e.together_with.empty()) j["together_with"] = e.together_with;
+  effect["alternatives"] = alternatives;
+  if (!e.replaces.empty()) effect["replaces"] = e.replaces;
+  if (!e.revises_declared.empty()) effect["revises_declared"] = e.revises_declared;
+  if (!e.together_with.empty()) effect["together_with"] = e.together_with;
 }
 
 void AddFindings(const EffectSearchResult& r, const std::string& axis, nlohmann::json& report) {
@@ -114,32 +129,29 @@ void AddFindings(const EffectSearchResult& r, const std::string& axis, nlohmann:
       statement += (statement.empty() ? "" : "; ") + e.terms[k] + "'s sensitivity is " +
                    UmPer(e.after_mm[k], "degC") + " instead of " + UmPer(e.before_mm[k], "degC");
     }
-    events.push_back(
-        {{"event", {{"ts", FormatRfc3339(e.event.ts_ms)}, {"kind", e.event.kind}}},
-         {"runs_before", e.runs_before},
-         {"runs_after", e.runs_after},
-         {"terms", terms},
-         {"rmse_before_mm", FiniteOrNull(e.rmse_before_mm)},
-         {"rmse_after_mm", FiniteOrNull(e.rmse_after_mm)},
-         {"statement", "Since the " + e.event.kind + " on " +
-                           FormatRfc3339(e.event.ts_ms).substr(0, 10) + " (" + axis +
-                           " axis, declared model fitted on each side): " + statement + "."}});
+    events.push_back({{"event", {{"ts", FormatRfc3339(e.event.ts_ms)}, {"kind", e.event.kind}}},
+                      {"runs_before", e.runs_before},
+                      {"runs_after", e.runs_after},
+                      {"terms", terms},
+                      {"rmse_before_mm", FiniteOrNull(e.rmse_before_mm)},
+                      {"rmse_after_mm", FiniteOrNull(e.rmse_after_mm)},
+                      {"statement", EventStatement(e, axis, statement)}});
   }
   report["event_comparisons"] = events;
 }
 
-std::string FindingsMarkdown(const nlohmann::json& j) {
+std::string FindingsMarkdown(const nlohmann::json& report) {
   std::string md;
-  if (j.contains("validation") && j["validation"].is_object()) {
-    const auto& v = j["validation"];
+  if (report.contains("validation") && report["validation"].is_object()) {
+    const auto& v = report["validation"];
     md += "## Validation\n\n" + v.value("method", "") + ": " +
           std::to_string(v.value("blocks", 0)) + " blocks; RMSE " +
           Um(v.value("rmse_before_mm", nlohmann::json())) + " -> " +
           Um(v.value("rmse_after_mm", nlohmann::json())) + " um.\n\n";
   }
-  if (j.contains("effects")) {
+  if (report.contains("effects")) {
     std::string rows;
-    for (const auto& e : j["effects"]) {
+    for (const auto& e : report["effects"]) {
       if (!e.contains("confidence")) continue;
       std::string alternatives;
       for (const auto& a : e["alternatives"]) {
@@ -163,19 +175,19 @@ std::string FindingsMarkdown(const nlohmann::json& j) {
           rows + "\n";
     }
   }
-  if (j.contains("coefficient_changes") && !j["coefficient_changes"].empty()) {
+  if (report.contains("coefficient_changes") && !report["coefficient_changes"].empty()) {
     md +=
         "## Declared coefficients (um per unit)\n\n| term | declared model | extended model |\n"
         "|---|---|---|\n";
-    for (const auto& c : j["coefficient_changes"]) {
+    for (const auto& c : report["coefficient_changes"]) {
       md +=
           "| `" + c.value("term", "") + "` | " + Um(c["before"]) + " | " + Um(c["after"]) + " |\n";
     }
     md += "\n";
   }
-  if (j.contains("filters") && !j["filters"].empty()) {
+  if (report.contains("filters") && !report["filters"].empty()) {
     md += "## Filters\n\n";
-    for (const auto& f : j["filters"]) {
+    for (const auto& f : report["filters"]) {
       md += "- `" + f.value("sensor", "") + "`: white noise " + Fixed(f["noise_c"], "%.3f") +
             " degC every " + Fixed(f["interval_min"], "%.2f") + " min; read through tau " +
             Fixed(f["recommended_tau_min"], "%.1f") + " min (ewma_alpha " +
@@ -186,27 +198,27 @@ std::string FindingsMarkdown(const nlohmann::json& j) {
     }
     md += "\n";
   }
-  if (j.contains("ambiguous") && !j["ambiguous"].empty()) {
+  if (report.contains("ambiguous") && !report["ambiguous"].empty()) {
     md +=
         "## Ambiguous\n\nEqually good explanations within the validation's uncertainty; "
         "none was added: ";
     std::string list;
-    for (const auto& a : j["ambiguous"]) {
+    for (const auto& a : report["ambiguous"]) {
       list += (list.empty() ? "" : ", ") + ("`" + a.value("name", "") + "`");
     }
     md += list + ".\n\n";
   }
-  if (j.contains("set_aside") && !j["set_aside"].empty()) {
+  if (report.contains("set_aside") && !report["set_aside"].empty()) {
     md += "## Set aside\n\n";
-    for (const auto& s : j["set_aside"]) {
+    for (const auto& s : report["set_aside"]) {
       md += "- `" + s.value("name", "") + "` (" + Confidence(s["confidence"]) +
             "): " + s.value("reason", "") + ".\n";
     }
     md += "\n";
   }
-  if (j.contains("event_comparisons") && !j["event_comparisons"].empty()) {
+  if (report.contains("event_comparisons") && !report["event_comparisons"].empty()) {
     md += "## Events\n\n";
-    for (const auto& e : j["event_comparisons"]) {
+    for (const auto& e : report["event_comparisons"]) {
       md += "- " + e.value("statement", "") + " Runs " + std::to_string(e.value("runs_before", 0)) +
             " before, " + std::to_string(e.value("runs_after", 0)) + " after; RMSE " +
             Um(e["rmse_before_mm"]) + " / " + Um(e["rmse_after_mm"]) + " um.\n";

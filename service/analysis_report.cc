@@ -138,16 +138,16 @@ nlohmann::json AnalysisReportJson(const EffectSearchResult& r, const AnalysisCon
   return report;
 }
 
-std::string AnalysisMarkdown(const nlohmann::json& j) {
-  std::string md = "# Effect analysis " + std::to_string(j.value("id", 0)) + ": " +
-                   j.value("machine", "") + " axis " + j.value("axis", "") + "\n\n";
-  md += "Created " + j.value("created_at", "") + " (" + j.value("trigger", "") + "). Declared " +
-        "inputs: " + Join(j["declared_inputs"]) +
-        ". Held-out runs, never seen by the search: " + Join(j["holdout_runs"]) + ". " +
-        std::to_string(j.value("candidates", 0)) + " candidate effects, " +
-        std::to_string(j.value("training_runs", 0)) + " training runs, " +
-        std::to_string(j.value("n", 0)) + " probe points.\n\n";
-  const auto& effects = j["effects"];
+std::string AnalysisMarkdown(const nlohmann::json& report) {
+  std::string md = "# Effect analysis " + std::to_string(report.value("id", 0)) + ": " +
+                   report.value("machine", "") + " axis " + report.value("axis", "") + "\n\n";
+  md += "Created " + report.value("created_at", "") + " (" + report.value("trigger", "") +
+        "). Declared " + "inputs: " + Join(report["declared_inputs"]) +
+        ". Held-out runs, never seen by the search: " + Join(report["holdout_runs"]) + ". " +
+        std::to_string(report.value("candidates", 0)) + " candidate effects, " +
+        std::to_string(report.value("training_runs", 0)) + " training runs, " +
+        std::to_string(report.value("n", 0)) + " probe points.\n\n";
+  const auto& effects = report["effects"];
   if (effects.empty()) {
     md +=
         "**No effect passed**: no candidate explained the residual better than chance "
@@ -170,17 +170,17 @@ std::string AnalysisMarkdown(const nlohmann::json& j) {
       md += std::to_string(++i) + ". " + e.value("interpretation", "") + "\n";
     }
     md += "\n";
-    if (!j["superseded"].empty()) {
-      md += "Superseded (no longer significant once an effect was in): " + Join(j["superseded"]) +
-            ".\n\n";
+    if (!report["superseded"].empty()) {
+      md += "Superseded (no longer significant once an effect was in): " +
+            Join(report["superseded"]) + ".\n\n";
     }
   }
-  if (j.contains("closest_candidates") && !j["closest_candidates"].empty()) {
+  if (report.contains("closest_candidates") && !report["closest_candidates"].empty()) {
     md +=
         "Closest candidates that did not pass (CV RMSE with it, um; adjusted p; t of its "
         "validated gain, which must reach the configured min_t): ";
     std::string list;
-    for (const auto& c : j["closest_candidates"]) {
+    for (const auto& c : report["closest_candidates"]) {
       const nlohmann::json t = c.contains("confidence")
                                    ? c["confidence"].value("t", nlohmann::json())
                                    : nlohmann::json();
@@ -190,32 +190,33 @@ std::string AnalysisMarkdown(const nlohmann::json& j) {
     }
     md += list + ".\n\n";
   }
-  md += FindingsMarkdown(j);
+  md += FindingsMarkdown(report);
   md += "## Error before and after (um)\n\n| | declared model | extended model |\n|---|---|---|\n";
-  md += "| training RMSE | " + Um(j["train_rmse_before_mm"]) + " | " +
-        Um(j["train_rmse_after_mm"]) + " |\n";
-  if (j.contains("validation") && j["validation"].is_object()) {
-    const nlohmann::json& v = j["validation"];
+  md += "| training RMSE | " + Um(report["train_rmse_before_mm"]) + " | " +
+        Um(report["train_rmse_after_mm"]) + " |\n";
+  if (report.contains("validation") && report["validation"].is_object()) {
+    const nlohmann::json& v = report["validation"];
     md += "| blocked cross-validation RMSE | " + Um(v.value("rmse_before_mm", nlohmann::json())) +
           " | " + Um(v.value("rmse_after_mm", nlohmann::json())) + " |\n";
   }
-  md += "| leave-one-run-out RMSE | " + Um(j["cv_rmse_before_mm"]) + " | " +
-        Um(j["cv_rmse_after_mm"]) + " |\n";
-  md += "| held-out RMSE | " + Um(j["rmse_before_mm"]) + " | " + Um(j["rmse_after_mm"]) + " |\n\n";
+  md += "| leave-one-run-out RMSE | " + Um(report["cv_rmse_before_mm"]) + " | " +
+        Um(report["cv_rmse_after_mm"]) + " |\n";
+  md += "| held-out RMSE | " + Um(report["rmse_before_mm"]) + " | " + Um(report["rmse_after_mm"]) +
+        " |\n\n";
   md += "## Residual structure\n\n| | before | after |\n|---|---|---|\n";
-  const auto& rs = j["residual_structure"];
+  const auto& rs = report["residual_structure"];
   for (const char* k : {"lag1_autocorrelation", "between_run_share", "durbin_watson"}) {
     md += std::string("| ") + k + " | " + Num(rs["before"][k], "%.3f") + " | " +
           Num(rs["after"][k], "%.3f") + " |\n";
   }
-  if (j.contains("model") && j["model"].is_object()) {
-    md += "\n## Model\n\nVersion " + std::to_string(j["model"].value("version", 0)) + ": " +
-          j["model"].value("status", "") + ". " + j["model"].value("reason", "") + ".\n";
+  if (report.contains("model") && report["model"].is_object()) {
+    md += "\n## Model\n\nVersion " + std::to_string(report["model"].value("version", 0)) + ": " +
+          report["model"].value("status", "") + ". " + report["model"].value("reason", "") + ".\n";
   }
   return md;
 }
 
-std::string AnalysisHtml(const nlohmann::json& j) {
+std::string AnalysisHtml(const nlohmann::json& report) {
   // Bars of the three error measures, before (grey) and after (blue).
   std::string svg = "<svg xmlns='http://www.w3.org/2000/svg' width='420' height='130'>";
   const char* keys[3][3] = {{"training", "train_rmse_before_mm", "train_rmse_after_mm"},
@@ -224,7 +225,7 @@ std::string AnalysisHtml(const nlohmann::json& j) {
   double top = 1e-9;
   for (auto& k : keys) {
     for (int s = 1; s < 3; ++s) {
-      if (j[k[s]].is_number()) top = std::max(top, j[k[s]].get<double>());
+      if (report[k[s]].is_number()) top = std::max(top, report[k[s]].get<double>());
     }
   }
   for (int i = 0; i < 3; ++i) {
@@ -232,17 +233,17 @@ std::string AnalysisHtml(const nlohmann::json& j) {
     svg +=
         "<text x='0' y='" + std::to_string(y + 14) + "' font-size='12'>" + keys[i][0] + "</text>";
     for (int s = 1; s < 3; ++s) {
-      const double v = j[keys[i][s]].is_number() ? j[keys[i][s]].get<double>() : 0.0;
+      const double v = report[keys[i][s]].is_number() ? report[keys[i][s]].get<double>() : 0.0;
       const int w = static_cast<int>(250.0 * v / top);
       svg += "<rect x='110' y='" + std::to_string(y + (s - 1) * 14) + "' width='" +
              std::to_string(w) + "' height='12' fill='" + (s == 1 ? "#999" : "#2a6ebb") +
              "'/><text x='" + std::to_string(115 + w) + "' y='" +
-             std::to_string(y + (s - 1) * 14 + 10) + "' font-size='10'>" + Um(j[keys[i][s]]) +
+             std::to_string(y + (s - 1) * 14 + 10) + "' font-size='10'>" + Um(report[keys[i][s]]) +
              " um</text>";
     }
   }
   svg += "</svg>";
-  std::string md = AnalysisMarkdown(j);
+  std::string md = AnalysisMarkdown(report);
   return "<!doctype html><html><head><meta charset='utf-8'><title>Effect analysis</title>"
          "</head><body><pre>" +
          Escape(md) + "</pre><p>RMSE before (grey) and after (blue):</p>" + svg +

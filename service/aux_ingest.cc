@@ -61,8 +61,8 @@ IngestResult IngestService::StoreSignals(const std::string& machine_name,
     if (Status st = store.InsertSignal(*id, s.ts_ms, s.value); !st.ok()) return Rejected({}, st);
     ++result.accepted;
   }
-  return Commit(*session, tx, result, std::move(conflicts),
-                "signal samples conflict with stored values", "signals", machine_name, actor);
+  return Commit(*session, tx, result, conflicts, "signal samples conflict with stored values",
+                "signals", machine_name, actor);
 }
 
 IngestResult IngestService::StoreEvent(const std::string& machine_name, const EventInput& e,

@@ -39,7 +39,7 @@ std::optional<Vec3> XyzField(JsonFields& f, const char* key, JsonFields::Need ne
 char AxisLetter(const std::optional<std::string>& s) {
   if (!s || s->size() != 1) return 0;
   const char c = (*s)[0];
-  return c == 'X' || c == 'Y' || c == 'Z' ? c : 0;
+  return c == 'X' || c == 'Y' || c == 'Z' ? c : '\0';
 }
 
 void UncertaintyFromFields(JsonFields& u, UncertaintyInputs& ui) {

@@ -85,7 +85,7 @@ class CompensationService {
     std::shared_ptr<const MachineCompensation> value;
     uint64_t change = 0;  // changes_[machine] when it was computed
   };
-  StatusOr<MachineCompensation> Compute(const std::string& machine);
+  StatusOr<MachineCompensation> Compute(const std::string& name);
   // Computes, caches unless a newer snapshot is already there, returns it.
   StatusOr<std::shared_ptr<const MachineCompensation>> Refresh(const std::string& machine);
   uint64_t ChangeCount(const std::string& machine);

@@ -10,6 +10,15 @@
 namespace thermocomp {
 namespace {
 
+// "config PATH: WHAT", the start of every refusal of a configuration file.
+std::string ConfigError(const std::string& path, const std::string& what) {
+  std::string out = "config ";
+  out += path;
+  out += ": ";
+  out += what;
+  return out;
+}
+
 // One key of the file: how to read it into the Config. A reader fails with
 // the reason (the caller adds file and key).
 using Reader = std::function<std::string(const toml::node&, Config&)>;
@@ -51,7 +60,7 @@ Reader Int(T Config::*field, int64_t lo, int64_t hi) {
 }
 
 // A number (an integer is a number too) within [lo, hi].
-Reader Number(std::function<double&(Config&)> field, double lo, double hi) {
+Reader Number(const std::function<double&(Config&)>& field, double lo, double hi) {
   return [=](const toml::node& n, Config& c) -> std::string {
     std::optional<double> v =
         n.is_integer() ? std::optional<double>(*n.value<int64_t>()) : n.value_exact<double>();
@@ -66,7 +75,7 @@ Reader Number(double Config::*field, double lo, double hi) {
   return Number([field](Config& c) -> double& { return c.*field; }, lo, hi);
 }
 
-Reader Text(std::string Config::*field, std::set<std::string> allowed = {}) {
+Reader Text(std::string Config::*field, const std::set<std::string>& allowed = {}) {
   return [=](const toml::node& n, Config& c) -> std::string {
     auto v = n.value_exact<std::string>();
     if (!v) return "must be a string, not " + Describe(n);
@@ -332,19 +341,20 @@ StatusOr<Config> LoadConfig(const std::string& path) {
     const std::string s(section.str());
     const toml::table* table = content.as_table();
     if (!table) {
-      return Status::InvalidArgument("config " + path + ": '" + s +
-                                     "' must be a [section]; keys belong in one");
+      return Status::InvalidArgument(ConfigError(path, "'" + s + "'") +
+                                     " must be a [section]; keys belong in one");
     }
     for (const auto& [key, value] : *table) {
       const std::string name = s + "." + std::string(key.str());
       auto it = Keys().find(name);
       if (it == Keys().end()) {
         const std::string near = Nearest(name);
-        return Status::InvalidArgument("config " + path + ": unknown key " + name +
-                                       (near.empty() ? "" : " (did you mean " + near + "?)"));
+        std::string message = ConfigError(path, "unknown key " + name);
+        if (!near.empty()) message += " (did you mean " + near + "?)";
+        return Status::InvalidArgument(message);
       }
       if (std::string why = it->second(value, c); !why.empty()) {
-        return Status::InvalidArgument("config " + path + ": " + name + " " + why);
+        return Status::InvalidArgument(ConfigError(path, name) + " " + why);
       }
     }
   }

@@ -144,6 +144,7 @@ StatusOr<std::vector<std::string>> ChooseHoldoutByExtent(
     if (held[i]) runs.insert(run[i]);
   }
   std::vector<std::string> out;
+  out.reserve(runs.size());
   for (int r : runs) out.push_back(data.runs[r]);
   return out;
 }
@@ -161,6 +162,7 @@ std::vector<int> DriftDataset::RowsOfRuns(const std::vector<std::string>& names,
 Observations DriftDataset::ToObservations(const std::vector<int>& row_ids,
                                           const std::vector<std::string>& columns) const {
   std::vector<int> cols;
+  cols.reserve(columns.size());
   for (const auto& c : columns) {
     cols.push_back(
         static_cast<int>(std::find(sensors.begin(), sensors.end(), c) - sensors.begin()));

@@ -35,10 +35,10 @@ struct DriftDataset {
   int skipped_no_datum = 0;  // run without a p0 deviation on this axis
 
   // Rows of the given runs (by name), or of all other runs when `invert`.
-  std::vector<int> RowsOfRuns(const std::vector<std::string>& runs, bool invert) const;
+  std::vector<int> RowsOfRuns(const std::vector<std::string>& names, bool invert) const;
   // Observations of `rows` with the named sensor columns; rows with an
   // unknown temperature in any of them are left out.
-  Observations ToObservations(const std::vector<int>& rows,
+  Observations ToObservations(const std::vector<int>& row_ids,
                               const std::vector<std::string>& columns) const;
 };
 

@@ -202,7 +202,7 @@ IngestResult IngestService::StoreTemperatures(const std::string& machine_name,
       if (Status st = store.SaveFilterState(sensor->id, *state); !st.ok()) return Rejected({}, st);
     }
   }
-  return Commit(*session, tx, result, std::move(conflicts), "samples conflict with stored values",
+  return Commit(*session, tx, result, conflicts, "samples conflict with stored values",
                 "temperatures", machine_name, actor, [&] {
                   if (!cache_ || result.accepted == 0) return;
                   int64_t earliest = INT64_MAX;
@@ -243,8 +243,8 @@ IngestResult IngestService::StoreProbePoints(const std::string& machine_name,
         if (!std::isfinite(*v.deviation_mm) || std::fabs(*v.deviation_mm) > kMaxAbsDeviationMm) {
           bad.push_back({i, "deviation." + axis, "must be finite and within +-10 mm"});
         } else if (!machine->FindAxis(axis)) {
-          unknown.push_back(
-              {i, "deviation." + axis, "unknown axis '" + axis + "' on " + machine_name});
+          std::string why = "unknown axis '" + axis + "' on ";
+          unknown.push_back({i, "deviation." + axis, why.append(machine_name)});
         }
       }
     }
@@ -283,14 +283,14 @@ IngestResult IngestService::StoreProbePoints(const std::string& machine_name,
     if (Status st = store.InsertPoint(*run_id, rec, sensor_ids); !st.ok()) return Rejected({}, st);
     ++result.accepted;
   }
-  return Commit(*session, tx, result, std::move(conflicts),
-                "probe points conflict with stored points", "probe-points", machine_name, actor);
+  return Commit(*session, tx, result, conflicts, "probe points conflict with stored points",
+                "probe-points", machine_name, actor);
 }
 
 IngestResult IngestService::Commit(Session& s, Transaction& tx, IngestResult result,
-                                   FieldErrors conflicts, const std::string& conflict_message,
-                                   const std::string& action, const std::string& machine,
-                                   const std::string& actor,
+                                   const FieldErrors& conflicts,
+                                   const std::string& conflict_message, const std::string& action,
+                                   const std::string& machine, const std::string& actor,
                                    const std::function<void()>& after_commit) {
   if (!conflicts.empty()) return Rejected(conflicts, Status::Conflict(conflict_message));
   if (Status st = s.log().Audit(clock_.NowMs(), actor, action, machine, result.accepted);

@@ -75,10 +75,10 @@ class IngestService {
   // The end of every batch: refused with the conflicts if there are any;
   // else the audit row, the commit, `after_commit` (still in the session),
   // and the listener once the session is paused.
-  IngestResult Commit(Session& s, Transaction& tx, IngestResult result, FieldErrors conflicts,
-                      const std::string& conflict_message, const std::string& action,
-                      const std::string& machine, const std::string& actor,
-                      const std::function<void()>& after_commit = {});
+  IngestResult Commit(Session& s, Transaction& tx, IngestResult result,
+                      const FieldErrors& conflicts, const std::string& conflict_message,
+                      const std::string& action, const std::string& machine,
+                      const std::string& actor, const std::function<void()>& after_commit = {});
   Storage& storage_;
   const Clock& clock_;
   ProbeTemperatureCache* cache_;

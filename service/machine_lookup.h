@@ -16,7 +16,7 @@ struct MachineAxis {
   const AxisRecord& axis() const { return machine.axes[axis_index]; }
 };
 
-StatusOr<MachineRecord> FindMachine(Session& s, const std::string& machine);
+StatusOr<MachineRecord> FindMachine(Session& s, const std::string& name);
 StatusOr<MachineAxis> FindMachineAxis(Session& s, const std::string& machine,
                                       const std::string& axis);
 

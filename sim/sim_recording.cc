@@ -100,6 +100,7 @@ EffectSearchInput ToSearchInput(const SimRecording& rec, const std::string& axis
 
   auto temperatures = [&](int64_t ts) {
     std::vector<double> t;
+    t.reserve(filtered.size());
     for (const auto& f : filtered) t.push_back(ValueAt(f, ts, kMaxGapMs));
     return t;
   };

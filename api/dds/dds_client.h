@@ -235,6 +235,7 @@ class DdsClient {
     }
     dds_delete(reader);
     std::vector<CheckRequestSeen> out;
+    out.reserve(seen.size());
     for (auto& [id, r] : seen) out.push_back(r);
     return out;
   }

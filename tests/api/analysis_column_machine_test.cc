@@ -48,7 +48,7 @@ class ColumnMachineAnalysisTest : public testing::AppFixture {
     maintenance_ms_ = rec.extras.events.empty() ? 0 : rec.extras.events[0].ts_ms;
   }
   json Post(const std::string& path, const json& body, int expect) {
-    auto r = client_->Post(path.c_str(), body.dump(), "application/json");
+    auto r = client_->Post(path, body.dump(), "application/json");
     EXPECT_TRUE(r);
     if (!r) return {};
     EXPECT_EQ(r->status, expect) << r->body;
@@ -111,9 +111,8 @@ TEST_F(ColumnMachineAnalysisTest, NamesCrossAxisGrowthAndTheChangeAtMaintenance)
   for (const auto& c : report["coefficient_changes"]) EXPECT_TRUE(c["after"].is_number());
 
   EXPECT_LT(report["rmse_after_mm"].get<double>(), report["rmse_before_mm"].get<double>());
-  auto md = client_->Get(
-      ("/api/v1/machines/col-1/axes/Y/analysis/" + report["id"].dump() + "?format=markdown")
-          .c_str());
+  auto md = client_->Get("/api/v1/machines/col-1/axes/Y/analysis/" + report["id"].dump() +
+                         "?format=markdown");
   ASSERT_TRUE(md);
   EXPECT_NE(md->body.find("## Events"), std::string::npos);
   EXPECT_NE(md->body.find("## Confidence"), std::string::npos);

@@ -139,7 +139,7 @@ TEST_F(HostileInputTest, DeeplyNestedJsonIsRefusedByEveryJsonBody) {
       {"POST", m + "/positioning-checks"},
   };
   for (const auto& [method, path] : bodies) {
-    const std::string name = method + " " + path;
+    const std::string name = std::string(method).append(" ").append(path);
     // As the whole body and as a field's value.
     ExpectAnswered({name.c_str(), Request(method, path, "application/json", deep), 400, "body"});
     ExpectAnswered({name.c_str(),
@@ -328,8 +328,7 @@ TEST_F(HostileInputTest, ImpossibleTimesAreRefused) {
   // 29 February of a leap year is a day like any other.
   httplib::Client client("127.0.0.1", http_->port());
   clock_.Set(testing::kT0 + 800LL * 86400000);  // 2028-05
-  auto r = client.Post((m + "/temperatures").c_str(), sample("2028-02-29T00:00:00Z"),
-                       "application/json");
+  auto r = client.Post(m + "/temperatures", sample("2028-02-29T00:00:00Z"), "application/json");
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 200) << r->body;
 }

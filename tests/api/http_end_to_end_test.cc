@@ -22,7 +22,7 @@ class HttpEndToEndTest : public testing::AppFixture {
     client_ = std::make_unique<httplib::Client>("127.0.0.1", http_->port());
   }
   json GetJson(const std::string& path, int expect = 200) {
-    auto r = client_->Get(path.c_str());
+    auto r = client_->Get(path);
     EXPECT_TRUE(r);
     if (!r) return {};
     EXPECT_EQ(r->status, expect) << path << " " << r->body;
@@ -40,7 +40,7 @@ TEST_F(HttpEndToEndTest, RegisterPostFitCompensateHistory) {
   EXPECT_EQ(machine["controller"], "sinumerik");
   EXPECT_GT(machine["samples"].get<int64_t>(), 100000);
 
-  auto fit = client_->Post((base + "/axes/Y/fit").c_str(), "", "application/json");
+  auto fit = client_->Post(base + "/axes/Y/fit", "", "application/json");
   ASSERT_TRUE(fit);
   ASSERT_EQ(fit->status, 201) << fit->body;
   json report = json::parse(fit->body);
@@ -58,7 +58,7 @@ TEST_F(HttpEndToEndTest, RegisterPostFitCompensateHistory) {
   json datum = {
       {"points",
        {{{"run", "LIVE1"}, {"k", 0}, {"ts", FormatRfc3339(now)}, {"deviation", {{"Y", 0.001}}}}}}};
-  auto r = client_->Post((base + "/probe-points").c_str(), datum.dump(), "application/json");
+  auto r = client_->Post(base + "/probe-points", datum.dump(), "application/json");
   ASSERT_EQ(r->status, 200) << r->body;
   clock_.Advance(120000);
   std::string long_csv = "ts,sensor,value\n";
@@ -70,16 +70,16 @@ TEST_F(HttpEndToEndTest, RegisterPostFitCompensateHistory) {
   }
   wide_csv += FormatRfc3339(now + 180000) + ",26,26,26,26,26,26,26\n";
   clock_.Advance(120000);
-  r = client_->Post((base + "/temperatures").c_str(), samples.dump(), "application/json");
+  r = client_->Post(base + "/temperatures", samples.dump(), "application/json");
   ASSERT_EQ(r->status, 200) << r->body;
   EXPECT_EQ(json::parse(r->body)["accepted"], 7);
-  r = client_->Post((base + "/temperatures").c_str(), long_csv, "text/csv");
+  r = client_->Post(base + "/temperatures", long_csv, "text/csv");
   ASSERT_EQ(r->status, 200) << r->body;
-  r = client_->Post((base + "/temperatures").c_str(), wide_csv, "text/csv");
+  r = client_->Post(base + "/temperatures", wide_csv, "text/csv");
   ASSERT_EQ(r->status, 200) << r->body;
   EXPECT_EQ(json::parse(r->body)["accepted"], 7);
   // The same again: duplicates, nothing stored twice.
-  r = client_->Post((base + "/temperatures").c_str(), wide_csv, "text/csv");
+  r = client_->Post(base + "/temperatures", wide_csv, "text/csv");
   EXPECT_EQ(json::parse(r->body)["duplicates"], 7);
 
   json comp = GetJson(base + "/compensation");
@@ -100,18 +100,18 @@ TEST_F(HttpEndToEndTest, RegisterPostFitCompensateHistory) {
   EXPECT_NE(y["predicted_drift_mm"].get<double>(),
             report["coefficients"]["intercept"].get<double>());
 
-  auto sin = client_->Get((base + "/compensation?format=sinumerik").c_str());
+  auto sin = client_->Get(base + "/compensation?format=sinumerik");
   ASSERT_EQ(sin->status, 200);
   char expected[64];
   std::snprintf(expected, sizeof expected, "$SA_TEMP_COMP_ABS_VALUE[Y]=%.6f",
                 y["offset_mm"].get<double>());
   EXPECT_NE(sin->body.find(expected), std::string::npos) << sin->body;
   for (const char* f : {"beckhoff", "heidenhain", "fanuc", "linuxcnc"}) {
-    auto fr = client_->Get((base + "/compensation?format=" + f).c_str());
+    auto fr = client_->Get(base + "/compensation?format=" + f);
     EXPECT_EQ(fr->status, 200) << f;
     EXPECT_FALSE(fr->body.empty()) << f;
   }
-  auto fanuc = client_->Get((base + "/compensation?format=fanuc").c_str());
+  auto fanuc = client_->Get(base + "/compensation?format=fanuc");
   EXPECT_NE(fanuc->body.find("#5202="), std::string::npos);
 
   // Compensation becomes stale without new temperatures.
@@ -149,7 +149,7 @@ TEST_F(HttpEndToEndTest, RegisterPostFitCompensateHistory) {
 
 TEST_F(HttpEndToEndTest, AnyControlCanBeRegisteredAndFormatsFollowIt) {
   auto put = [&](const std::string& m, const std::string& body) {
-    return client_->Put(("/api/v1/machines/" + m).c_str(), body, "application/json");
+    return client_->Put("/api/v1/machines/" + m, body, "application/json");
   };
   // An unknown control, and none at all: both registrable for logging,
   // fits and checks; JSON is their format.
@@ -185,11 +185,11 @@ TEST_F(HttpEndToEndTest, AnyControlCanBeRegisteredAndFormatsFollowIt) {
 TEST_F(HttpEndToEndTest, RejectedRefitKeepsActiveModelAndRollbackWorks) {
   Simulate("m3", 12);
   const std::string base = "/api/v1/machines/m3/axes/Y";
-  auto first = client_->Post((base + "/fit").c_str(), "", "application/json");
+  auto first = client_->Post(base + "/fit", "", "application/json");
   ASSERT_EQ(first->status, 201);
   ASSERT_EQ(json::parse(first->body)["status"], "active");
   // A model from the ambient sensor alone cannot pass: stored as rejected.
-  auto bad = client_->Post((base + "/fit").c_str(), R"({"inputs": ["Tbase"]})", "application/json");
+  auto bad = client_->Post(base + "/fit", R"({"inputs": ["Tbase"]})", "application/json");
   ASSERT_EQ(bad->status, 201) << bad->body;
   json rejected = json::parse(bad->body);
   EXPECT_EQ(rejected["status"], "rejected");
@@ -198,13 +198,12 @@ TEST_F(HttpEndToEndTest, RejectedRefitKeepsActiveModelAndRollbackWorks) {
   EXPECT_EQ(models["models"][0]["status"], "active");
   EXPECT_EQ(models["models"][1]["status"], "rejected");
   // Manual activation (e.g. a rollback) makes v2 active and retires v1.
-  auto act = client_->Post((base + "/models/2/activate").c_str(), "", "application/json");
+  auto act = client_->Post(base + "/models/2/activate", "", "application/json");
   ASSERT_EQ(act->status, 200) << act->body;
   models = GetJson(base + "/models");
   EXPECT_EQ(models["models"][0]["status"], "retired");
   EXPECT_EQ(models["models"][1]["status"], "active");
-  EXPECT_EQ(client_->Post((base + "/models/9/activate").c_str(), "", "application/json")->status,
-            404);
+  EXPECT_EQ(client_->Post(base + "/models/9/activate", "", "application/json")->status, 404);
 }
 
 }  // namespace

@@ -31,7 +31,7 @@ void SimulateInto(const std::string& db, const std::string& machine, int days) {
 
 // The machine's archived sample count, as GET /machines/{m} reports it.
 int64_t Samples(httplib::Client& http, const std::string& machine) {
-  auto r = http.Get(("/api/v1/machines/" + machine).c_str());
+  auto r = http.Get("/api/v1/machines/" + machine);
   return r && r->status == 200 ? json::parse(r->body)["samples"].get<int64_t>() : -1;
 }
 
@@ -71,7 +71,7 @@ TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
   httplib::Client http("127.0.0.1", port);
   const std::string base = "/api/v1/machines/" + machine;
   auto active_y = [&] {
-    auto r = http.Get((base + "/axes/Y/models").c_str());
+    auto r = http.Get(base + "/axes/Y/models");
     if (!r || r->status != 200) return false;
     const json body = json::parse(r->body);  // the loop must not run over a temporary
     for (const auto& m : body["models"]) {
@@ -82,7 +82,7 @@ TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
   for (int i = 0; i < 200 && !active_y(); ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   ASSERT_TRUE(active_y()) << [&] {
-    auto r = http.Get((base + "/axes/Y/models").c_str());
+    auto r = http.Get(base + "/axes/Y/models");
     return r ? r->body : std::string("no answer");
   }();
 
@@ -108,7 +108,7 @@ TEST(DdsTwoProcessTest, IngestLateJoinAndRepublishAfterRestart) {
 
   // A late joiner gets what HTTP serves.
   auto served = [&] {
-    const json body = json::parse(http.Get((base + "/compensation").c_str())->body);
+    const json body = json::parse(http.Get(base + "/compensation")->body);
     for (const auto& a : body["axes"]) {
       if (a["axis"] == "Y") return a;
     }
@@ -154,7 +154,7 @@ TEST(DdsTwoProcessTest, ReceiptedSamplesSurviveKill9) {
   testing::ServerGuard server(testing::StartServer(db, port, DdsArgs()));
   ASSERT_GT(server.pid(), 0);
   httplib::Client http("127.0.0.1", port);
-  ASSERT_EQ(http.Put(("/api/v1/machines/" + machine).c_str(),
+  ASSERT_EQ(http.Put("/api/v1/machines/" + machine,
                      R"({"sensors": [{"id": "T1"}, {"id": "T2"}], "axes": [{"id": "Y"}]})",
                      "application/json")
                 ->status,
@@ -169,7 +169,7 @@ TEST(DdsTwoProcessTest, ReceiptedSamplesSurviveKill9) {
   };
   std::vector<dds::DdsClient::Receipt> covered_before_kill;
   std::map<std::string, std::set<int64_t>> unreceipted;
-  auto absorb = [&](std::vector<dds::DdsClient::Receipt> receipts, bool before_kill) {
+  auto absorb = [&](const std::vector<dds::DdsClient::Receipt>& receipts, bool before_kill) {
     for (const auto& r : receipts) {
       if (r.machine != machine) continue;
       auto& open = unreceipted[r.sensor];
@@ -304,7 +304,7 @@ TEST(DdsTwoProcessTest, AcceleratedLiveSimulatorRunsAhead) {
   // About 110 new simulated minutes (the first ten were stored already), 7 sensors.
   const int64_t after = WaitForSamples(http, machine, before + 7 * 100);
   EXPECT_GE(after - before, 7 * 100);
-  const std::string last = json::parse(http.Get(base.c_str())->body)["last_sample_ts"];
+  const std::string last = json::parse(http.Get(base)->body)["last_sample_ts"];
   EXPECT_GT(ParseRfc3339(last).value_or(0), NowUnixMs() + 60 * 60000)
       << "ahead of the clock: " << last;
   server.Kill(SIGTERM);

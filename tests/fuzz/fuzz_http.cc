@@ -68,6 +68,7 @@ struct Fixture {
     app = std::move(OpenApp(config, clock)).value();
     app->machines().Register(VirtualMachine::Definition("m1"), "fuzz", nullptr);
     std::vector<TemperatureInput> samples;
+    samples.reserve(60);
     for (int i = 0; i < 60; ++i)
       samples.push_back({"Tcb", clock.NowMs() - (60 - i) * 60000LL, 21.0});
     app->ingest().AddTemperatures("m1", samples, "fuzz");

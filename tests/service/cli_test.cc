@@ -59,11 +59,10 @@ TEST(CliTest, UnknownOptionsAndStrayArgumentsAreUsageErrors) {
 
 TEST(CliTest, AMistypedDatabasePathCreatesNothing) {
   const std::string dir = "/tmp/thermocomp-cli-typo-" + std::to_string(getpid());
-  for (const std::string& cmd :
-       {"backup " + dir + "/copy.db --db " + dir + "/nonexist.db",
-        "fit --machine m1 --db " + dir + "/nonexist.db",
-        "analyze --machine m1 --db " + dir + "/nonexist.db",
-        "import --machine m1 --temperatures /dev/null --db " + dir + "/nonexist.db"}) {
+  const std::string db = " --db " + dir + "/nonexist.db";
+  const std::string backup = "backup " + dir + "/copy.db";
+  for (const std::string& cmd : {backup + db, "fit --machine m1" + db, "analyze --machine m1" + db,
+                                 "import --machine m1 --temperatures /dev/null" + db}) {
     auto [code, out] = RunThermocomp(cmd);
     EXPECT_EQ(code, 1) << cmd;
     EXPECT_NE(out.find("does not exist"), std::string::npos) << cmd << ": " << out;

@@ -38,6 +38,7 @@ TEST(CrashTest, AcknowledgedSamplesSurviveKill9) {
   const int64_t t0 = NowUnixMs() - 20LL * 86400000;
   std::atomic<int> acked_batches[2] = {0, 0};
   std::vector<std::thread> writers;
+  writers.reserve(2);
   for (int w = 0; w < 2; ++w) {
     writers.emplace_back([&, w] {
       httplib::Client c("127.0.0.1", port);
