@@ -113,6 +113,18 @@ void HttpServer::CheckRoutes() {
     if (!result.ok()) return WriteProblem(res, result.status());
     WriteJson(res, PositioningCheckReportToJson(*result), created ? 201 : 200);
   });
+  s.Get(m + "/positioning-checks", [this](const Req& req, Res& res) {
+    for (const auto& [name, value] : req.params) {
+      if (name != "axis") {
+        return WriteProblem(res, 400, "unknown query parameter '" + name + "'",
+                            {{0, name, "this route takes only axis"}});
+      }
+    }
+    const std::string axis = req.get_param_value("axis");
+    auto list = app_.checks().PositioningChecks(req.matches[1], axis);
+    if (!list.ok()) return WriteProblem(res, list.status());
+    WriteJson(res, PositioningCheckListToJson(req.matches[1], *list));
+  });
   s.Get(m + "/positioning-checks/([0-9]{1,18})", [this](const Req& req, Res& res) {
     auto report = app_.checks().PositioningCheck(req.matches[1], std::stoll(req.matches[2]));
     if (!report.ok()) return WriteProblem(res, report.status());

@@ -126,4 +126,22 @@ StatusOr<PositioningCheckReport> PositioningCheckReportFromJson(const json& j) {
   return r;
 }
 
+json PositioningCheckListToJson(const std::string& machine,
+                                const std::vector<PositioningCheckSummary>& checks) {
+  json list = json::array();
+  for (const auto& c : checks) {
+    list.push_back({{"id", c.id},
+                    {"axis", c.axis},
+                    {"ts", FormatRfc3339(c.ts_ms)},
+                    {"compensation_active", c.compensation_active},
+                    {"travel_mm", c.travel_mm},
+                    {"A_um", c.a_um},
+                    {"E_um", c.e_um},
+                    {"R_um", c.r_um},
+                    {"B_um", c.b_um},
+                    {"P_um", c.p_um}});
+  }
+  return {{"machine", machine}, {"checks", list}};
+}
+
 }  // namespace thermocomp

@@ -18,4 +18,8 @@ nlohmann::json ColumnCheckHistoryToJson(const ColumnCheckHistory& h);
 nlohmann::json PositioningCheckReportToJson(const PositioningCheckReport& r);
 StatusOr<PositioningCheckReport> PositioningCheckReportFromJson(const nlohmann::json& j);
 
+// The list of GET .../positioning-checks: {"machine", "checks": [...]}.
+nlohmann::json PositioningCheckListToJson(const std::string& machine,
+                                          const std::vector<PositioningCheckSummary>& checks);
+
 }  // namespace thermocomp

@@ -51,4 +51,15 @@ struct PositioningCheckReport {
   PositioningEvaluation evaluation;
 };
 
+// One positioning check in a list: what it measured and its main results.
+struct PositioningCheckSummary {
+  int64_t id = 0;
+  std::string axis;
+  int64_t ts_ms = 0;
+  bool compensation_active = false;
+  double travel_mm = 0;                           // first to last target
+  double a_um = 0, e_um = 0, r_um = 0, b_um = 0;  // ISO 230-2 A, E, R, B
+  double p_um = 0;                                // VDI/DGQ 3441 P
+};
+
 }  // namespace thermocomp

@@ -342,6 +342,30 @@ StatusOr<PositioningCheckReport> CheckService::PositioningCheck(const std::strin
   return PositioningCheckReportFromJson(nlohmann::json::parse(rec->result_json));
 }
 
+StatusOr<std::vector<PositioningCheckSummary>> CheckService::PositioningChecks(
+    const std::string& machine_name, const std::string& axis) {
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto machine = FindMachine(*session, machine_name);
+  if (!machine.ok()) return machine.status();
+  if (!axis.empty()) {
+    if (auto found = FindMachineAxis(*session, machine_name, axis); !found.ok()) {
+      return found.status();
+    }
+  }
+  std::vector<PositioningCheckSummary> out;
+  for (const auto& rec : session->checks().PositioningChecks(machine->id)) {
+    if (!axis.empty() && rec.axis != axis) continue;
+    auto report = PositioningCheckReportFromJson(nlohmann::json::parse(rec.result_json));
+    if (!report.ok()) return Status::Internal("stored positioning check is unreadable");
+    const Iso230Result& iso = report->evaluation.iso;
+    const std::vector<double>& targets = report->input.data.targets_mm;
+    out.push_back({rec.id, rec.axis, rec.ts_ms, report->input.compensation_active,
+                   targets.empty() ? 0.0 : targets.back() - targets.front(), iso.A_um, iso.E_um,
+                   iso.R_um, iso.B_um, report->evaluation.vdi.P_um});
+  }
+  return out;
+}
+
 StatusOr<PitchTable> CheckService::PitchTableOf(const std::string& machine_name, int64_t id,
                                                 std::string* axis) {
   auto report = PositioningCheck(machine_name, id);

@@ -57,6 +57,10 @@ class CheckService {
                                                        const PositioningInput& in,
                                                        const std::string& actor, bool* created);
   StatusOr<PositioningCheckReport> PositioningCheck(const std::string& machine, int64_t id);
+  // The machine's positioning checks, oldest first; of one axis when `axis`
+  // is not empty.
+  StatusOr<std::vector<PositioningCheckSummary>> PositioningChecks(const std::string& machine,
+                                                                   const std::string& axis);
   StatusOr<PitchTable> PitchTableOf(const std::string& machine, int64_t id, std::string* axis);
 
  private:

@@ -59,6 +59,8 @@ class CheckStore {
                                                    const PositioningCheckRecord& r) = 0;
   virtual std::optional<PositioningCheckRecord> PositioningCheck(int64_t machine_id,
                                                                  int64_t id) = 0;
+  // The machine's checks, oldest first.
+  virtual std::vector<PositioningCheckRecord> PositioningChecks(int64_t machine_id) = 0;
   // The check of `axis` at `ts_ms`, if one is stored (a re-sent check).
   virtual std::optional<PositioningCheckRecord> PositioningCheckAt(int64_t machine_id,
                                                                    const std::string& axis,

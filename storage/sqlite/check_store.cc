@@ -187,4 +187,14 @@ std::optional<PositioningCheckRecord> SqliteCheckStore::PositioningCheck(int64_t
   return PositioningCheckRecord{q.Int(0), q.Text(1), q.Int(2), q.Text(3), q.Text(4)};
 }
 
+std::vector<PositioningCheckRecord> SqliteCheckStore::PositioningChecks(int64_t machine_id) {
+  Statement q(db_,
+              "SELECT id, axis, ts_ms, input_json, result_json FROM positioning_checks"
+              " WHERE machine_id = ? ORDER BY ts_ms, id");
+  q.Bind(1, machine_id);
+  std::vector<PositioningCheckRecord> out;
+  while (q.Step()) out.push_back({q.Int(0), q.Text(1), q.Int(2), q.Text(3), q.Text(4)});
+  return out;
+}
+
 }  // namespace thermocomp

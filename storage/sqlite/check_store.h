@@ -29,6 +29,7 @@ class SqliteCheckStore final : public CheckStore {
   StatusOr<int64_t> InsertPositioningCheck(int64_t machine_id,
                                            const PositioningCheckRecord& r) override;
   std::optional<PositioningCheckRecord> PositioningCheck(int64_t machine_id, int64_t id) override;
+  std::vector<PositioningCheckRecord> PositioningChecks(int64_t machine_id) override;
   std::optional<PositioningCheckRecord> PositioningCheckAt(int64_t machine_id,
                                                            const std::string& axis,
                                                            int64_t ts_ms) override;

@@ -318,6 +318,21 @@ TEST_F(CheckHttpTest, PositioningCheckIsEvaluatedReportedAndTurnedIntoPitchTable
     EXPECT_EQ(r2->status, 400) << bad << " " << r2->body;
   }
   EXPECT_EQ(Count("SELECT COUNT(*) FROM positioning_checks"), 3);
+
+  // Listed per machine, oldest first, with the values of each report.
+  const json list = Get("/api/v1/machines/m1/positioning-checks");
+  ASSERT_EQ(list["checks"].size(), 3u);
+  const json& first = list["checks"][0];
+  EXPECT_EQ(first["id"], e["id"]);
+  EXPECT_EQ(first["axis"], "Y");
+  EXPECT_DOUBLE_EQ(first["A_um"].get<double>(), e["iso230_2"]["A_um"].get<double>());
+  EXPECT_DOUBLE_EQ(first["P_um"].get<double>(), e["vdi3441"]["P_um"].get<double>());
+  EXPECT_DOUBLE_EQ(first["travel_mm"].get<double>(), 1000.0);
+  EXPECT_LE(list["checks"][0]["ts"].get<std::string>(), list["checks"][1]["ts"].get<std::string>());
+  EXPECT_EQ(Get("/api/v1/machines/m1/positioning-checks?axis=Y")["checks"].size(), 3u);
+  EXPECT_EQ(client_->Get("/api/v1/machines/m1/positioning-checks?axis=Q")->status, 404);
+  EXPECT_EQ(client_->Get("/api/v1/machines/m1/positioning-checks?ts=x")->status, 400);
+  EXPECT_EQ(client_->Get("/api/v1/machines/nope/positioning-checks")->status, 404);
 }
 
 TEST_F(CheckHttpTest, MalformedChecksAreRefusedAndStoreNothing) {

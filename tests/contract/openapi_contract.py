@@ -262,6 +262,10 @@ def exercise(base):
     for fmt in ("csv", "linuxcnc", "sinumerik", "beckhoff"):
         call(base, "GET", f"{m}/positioning-checks/{pos_id}/pitch-table?format={fmt}", expect=200)
     call(base, "GET", f"{m}/positioning-checks/{pos_id}/pitch-table?format=fanuc", expect=400)
+    call(base, "GET", f"{m}/positioning-checks", expect=200)
+    call(base, "GET", f"{m}/positioning-checks?axis=Y", expect=200)
+    call(base, "GET", f"{m}/positioning-checks?axis=Q", expect=404)
+    call(base, "GET", f"{m}/positioning-checks?format=html", expect=400)
 
 
 def main():
