@@ -58,14 +58,14 @@ std::string ExposureWarning(const std::string& host, const std::vector<AccessTok
 AuthDecision Authorizer::Decide(const std::string& method, const std::string& path,
                                 const std::string& remote_addr,
                                 const std::string& authorization) const {
-  if (path == "/healthz" || path == "/readyz") return {200, "", "probe"};
+  if (path == "/healthz" || path == "/readyz") return {200, "", "probe", ""};
   if (tokens_.empty()) {
-    if (IsLoopback(remote_addr)) return {200, "", "local:" + remote_addr};
-    return {403, "no access tokens are configured: only loopback clients are served", ""};
+    if (IsLoopback(remote_addr)) return {200, "", "local:" + remote_addr, ""};
+    return {403, "no access tokens are configured: only loopback clients are served", "", ""};
   }
   const std::string bearer = "Bearer ";
   if (authorization.rfind(bearer, 0) != 0) {
-    return {401, "Authorization: Bearer <token> required", ""};
+    return {401, "Authorization: Bearer <token> required", "", R"(Bearer realm="thermocomp")"};
   }
   const std::string secret = authorization.substr(bearer.size());
   for (const AccessToken& t : tokens_) {
@@ -75,11 +75,11 @@ AuthDecision Authorizer::Decide(const std::string& method, const std::string& pa
       std::string why = "role " + t.role;
       if (!t.machine.empty()) why += " of machine " + t.machine;
       why.append(" may not ").append(method).append(" ").append(path);
-      return {403, why, actor};
+      return {403, why, actor, ""};
     }
-    return {200, "", actor};
+    return {200, "", actor, ""};
   }
-  return {401, "unknown token", ""};
+  return {401, "unknown token", "", R"(Bearer realm="thermocomp", error="invalid_token")"};
 }
 
 }  // namespace thermocomp::api

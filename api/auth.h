@@ -22,6 +22,9 @@ struct AuthDecision {
   int status = 200;    // 200 allowed, 401 no/unknown token, 403 not permitted
   std::string reason;  // why not, for the problem detail
   std::string actor;   // who, for the audit
+  // With 401: the WWW-Authenticate challenge (RFC 6750), so a client knows
+  // which scheme to answer with.
+  std::string challenge;
 };
 
 class Authorizer {

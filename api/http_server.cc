@@ -167,6 +167,7 @@ void HttpServer::Routes() {
     }
     AuthDecision d =
         auth_.Decide(req.method, req.path, req.remote_addr, req.get_header_value("Authorization"));
+    if (!d.challenge.empty()) res.set_header("WWW-Authenticate", d.challenge);
     if (d.status != 200) return refuse(d.status, d.reason);
     if (std::string name = UnknownParameter(req); !name.empty()) {
       return refuse(400, "unknown query parameter '" + name + "'",

@@ -103,6 +103,12 @@ TEST_F(AuthHttpTest, TokensAreEnforcedAndAudited) {
   auto anonymous = c.Put("/api/v1/machines/m1", body, "application/json");
   EXPECT_EQ(anonymous->status, 401);
   EXPECT_EQ(anonymous->get_header_value("Content-Type"), "application/problem+json");
+  EXPECT_EQ(anonymous->get_header_value("WWW-Authenticate"), R"(Bearer realm="thermocomp")");
+  httplib::Headers wrong = {{"Authorization", "Bearer not-a-token-000000000"}};
+  auto unknown = c.Get("/api/v1/machines", wrong);
+  EXPECT_EQ(unknown->status, 401);
+  EXPECT_EQ(unknown->get_header_value("WWW-Authenticate"),
+            R"(Bearer realm="thermocomp", error="invalid_token")");
   EXPECT_EQ(Count("SELECT COUNT(*) FROM machines"), 0);
 
   httplib::Headers admin = {{"Authorization", "Bearer " + kAdmin}};
