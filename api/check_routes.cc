@@ -10,13 +10,7 @@
 #include "service/json_fields.h"
 
 namespace thermocomp::api {
-namespace {
-
 using nlohmann::json;
-using Req = httplib::Request;
-using Res = httplib::Response;
-
-}  // namespace
 
 void HttpServer::CheckRoutes() {
   httplib::Server& s = server_;
@@ -121,6 +115,12 @@ void HttpServer::CheckRoutes() {
       }
     }
     const std::string axis = req.get_param_value("axis");
+    if (req.get_param_value_count("axis") > 1 ||
+        (req.has_param("axis") &&
+         (axis.size() != 1 || !std::isupper(static_cast<unsigned char>(axis[0]))))) {
+      return WriteProblem(res, 400, "invalid positioning check query",
+                          {{0, "axis", "one axis letter, given once (X, Y, Z, ...)"}});
+    }
     auto list = app_.checks().PositioningChecks(req.matches[1], axis);
     if (!list.ok()) return WriteProblem(res, list.status());
     WriteJson(res, PositioningCheckListToJson(req.matches[1], *list));

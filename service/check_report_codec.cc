@@ -126,6 +126,28 @@ StatusOr<PositioningCheckReport> PositioningCheckReportFromJson(const json& j) {
   return r;
 }
 
+StatusOr<PositioningCheckSummary> PositioningCheckSummaryFromJson(const json& j) {
+  try {
+    const json& input = j.at("input");
+    const json& iso = j.at("iso230_2");
+    const auto targets = input.at("targets_mm").get<std::vector<double>>();
+    PositioningCheckSummary s;
+    s.id = IdOrNone(j, "id").value_or(0);
+    s.axis = input.at("axis").get<std::string>();
+    s.ts_ms = ParseRfc3339(input.value("ts", "")).value_or(0);
+    s.compensation_active = input.value("compensation_active", false);
+    s.travel_mm = targets.empty() ? 0.0 : targets.back() - targets.front();
+    s.a_um = iso.at("A_um").get<double>();
+    s.e_um = iso.at("E_um").get<double>();
+    s.r_um = iso.at("R_um").get<double>();
+    s.b_um = iso.at("B_um").get<double>();
+    s.p_um = j.at("vdi3441").at("P_um").get<double>();
+    return s;
+  } catch (const json::exception& e) {
+    return Status::InvalidArgument(std::string("positioning check report: ") + e.what());
+  }
+}
+
 json PositioningCheckListToJson(const std::string& machine,
                                 const std::vector<PositioningCheckSummary>& checks) {
   json list = json::array();

@@ -18,6 +18,10 @@ nlohmann::json ColumnCheckHistoryToJson(const ColumnCheckHistory& h);
 nlohmann::json PositioningCheckReportToJson(const PositioningCheckReport& r);
 StatusOr<PositioningCheckReport> PositioningCheckReportFromJson(const nlohmann::json& j);
 
+// A stored report's main results, read from its JSON without evaluating
+// the check again (a list may hold many large checks).
+StatusOr<PositioningCheckSummary> PositioningCheckSummaryFromJson(const nlohmann::json& j);
+
 // The list of GET .../positioning-checks: {"machine", "checks": [...]}.
 nlohmann::json PositioningCheckListToJson(const std::string& machine,
                                           const std::vector<PositioningCheckSummary>& checks);

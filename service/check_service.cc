@@ -355,13 +355,9 @@ StatusOr<std::vector<PositioningCheckSummary>> CheckService::PositioningChecks(
   std::vector<PositioningCheckSummary> out;
   for (const auto& rec : session->checks().PositioningChecks(machine->id)) {
     if (!axis.empty() && rec.axis != axis) continue;
-    auto report = PositioningCheckReportFromJson(nlohmann::json::parse(rec.result_json));
-    if (!report.ok()) return Status::Internal("stored positioning check is unreadable");
-    const Iso230Result& iso = report->evaluation.iso;
-    const std::vector<double>& targets = report->input.data.targets_mm;
-    out.push_back({rec.id, rec.axis, rec.ts_ms, report->input.compensation_active,
-                   targets.empty() ? 0.0 : targets.back() - targets.front(), iso.A_um, iso.E_um,
-                   iso.R_um, iso.B_um, report->evaluation.vdi.P_um});
+    auto summary = PositioningCheckSummaryFromJson(nlohmann::json::parse(rec.result_json));
+    if (!summary.ok()) return Status::Internal("stored positioning check is unreadable");
+    out.push_back(std::move(summary).value());
   }
   return out;
 }

@@ -332,6 +332,9 @@ TEST_F(CheckHttpTest, PositioningCheckIsEvaluatedReportedAndTurnedIntoPitchTable
   EXPECT_EQ(Get("/api/v1/machines/m1/positioning-checks?axis=Y")["checks"].size(), 3u);
   EXPECT_EQ(client_->Get("/api/v1/machines/m1/positioning-checks?axis=Q")->status, 404);
   EXPECT_EQ(client_->Get("/api/v1/machines/m1/positioning-checks?ts=x")->status, 400);
+  EXPECT_EQ(client_->Get("/api/v1/machines/m1/positioning-checks?axis=Y&axis=X")->status, 400);
+  EXPECT_EQ(client_->Get("/api/v1/machines/m1/positioning-checks?axis=%FF")->status, 400);
+  EXPECT_EQ(client_->Get("/api/v1/machines/m1/positioning-checks?axis=")->status, 400);
   EXPECT_EQ(client_->Get("/api/v1/machines/nope/positioning-checks")->status, 404);
 }
 
