@@ -13,13 +13,7 @@
 #include "service/json_fields.h"
 
 namespace thermocomp::api {
-namespace {
-
 using nlohmann::json;
-using Req = httplib::Request;
-using Res = httplib::Response;
-
-}  // namespace
 
 void HttpServer::CompensationRoutes() {
   auto& s = server_;

@@ -16,8 +16,6 @@ namespace thermocomp::api {
 namespace {
 
 using nlohmann::json;
-using Req = httplib::Request;
-using Res = httplib::Response;
 
 constexpr const char* kBase = "/api/v1";
 thread_local std::chrono::steady_clock::time_point t_request_start;

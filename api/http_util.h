@@ -13,6 +13,10 @@
 
 namespace thermocomp::api {
 
+// The handler signature of every route: (const Req&, Res&).
+using Req = httplib::Request;
+using Res = httplib::Response;
+
 // The paths of a machine and of one of its axes, as route patterns.
 inline const std::string kMachinePath = "/api/v1/machines/([A-Za-z0-9_.-]{1,64})";
 inline const std::string kAxisPath = kMachinePath + "/axes/([A-Z])";

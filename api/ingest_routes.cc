@@ -13,8 +13,6 @@ namespace thermocomp::api {
 namespace {
 
 using nlohmann::json;
-using Req = httplib::Request;
-using Res = httplib::Response;
 
 void WriteIngest(Res& res, const IngestResult& r) {
   if (!r.status.ok()) return WriteProblem(res, r.status, r.errors);

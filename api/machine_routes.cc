@@ -10,13 +10,7 @@
 #include "service/machine_status_codec.h"
 
 namespace thermocomp::api {
-namespace {
-
 using nlohmann::json;
-using Req = httplib::Request;
-using Res = httplib::Response;
-
-}  // namespace
 
 void HttpServer::MachineRoutes() {
   auto& s = server_;

@@ -12,13 +12,7 @@
 #include "service/json_fields.h"
 
 namespace thermocomp::api {
-namespace {
-
 using nlohmann::json;
-using Req = httplib::Request;
-using Res = httplib::Response;
-
-}  // namespace
 
 void HttpServer::ModelRoutes() {
   auto& s = server_;
