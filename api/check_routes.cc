@@ -74,7 +74,8 @@ void HttpServer::CheckRoutes() {
   s.Get(m + "/column-checks/([0-9]{1,18})", [this](const Req& req, Res& res) {
     auto report = app_.checks().ColumnCheck(req.matches[1], std::stoll(req.matches[2]));
     if (!report.ok()) return WriteProblem(res, report.status());
-    WriteReport(req, res, ColumnCheckReportToJson(*report), ColumnCheckMarkdown, ColumnCheckHtml);
+    WriteReport(req, res, ColumnCheckReportToJson(*report), AsIs, ColumnCheckMarkdown,
+                ColumnCheckHtml);
   });
 
   s.Post(m + "/positioning-checks", [this](const Req& req, Res& res) {
@@ -128,7 +129,7 @@ void HttpServer::CheckRoutes() {
   s.Get(m + "/positioning-checks/([0-9]{1,18})", [this](const Req& req, Res& res) {
     auto report = app_.checks().PositioningCheck(req.matches[1], std::stoll(req.matches[2]));
     if (!report.ok()) return WriteProblem(res, report.status());
-    WriteReport(req, res, PositioningCheckReportToJson(*report), PositioningMarkdown,
+    WriteReport(req, res, PositioningCheckReportToJson(*report), AsIs, PositioningMarkdown,
                 PositioningHtml);
   });
   s.Get(m + "/positioning-checks/([0-9]{1,18})/pitch-table", [this](const Req& req, Res& res) {

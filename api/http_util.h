@@ -69,12 +69,16 @@ inline std::optional<nlohmann::json> JsonObjectBody(const httplib::Request& req,
   return body;
 }
 
-// A stored report as ?format= asks: json (default), markdown or html.
-template <typename Markdown, typename Html>
-void WriteReport(const httplib::Request& req, httplib::Response& res, const nlohmann::json& report,
-                 Markdown markdown, Html html) {
+// For WriteReport when the report already is its JSON.
+inline const nlohmann::json& AsIs(const nlohmann::json& report) { return report; }
+
+// A report as ?format= asks: json (default), markdown or html, each made
+// from the report by the function given for it.
+template <typename Report, typename ToJson, typename Markdown, typename Html>
+void WriteReport(const httplib::Request& req, httplib::Response& res, const Report& report,
+                 ToJson to_json, Markdown markdown, Html html) {
   const std::string format = req.get_param_value("format");
-  if (format.empty() || format == "json") return WriteJson(res, report);
+  if (format.empty() || format == "json") return WriteJson(res, to_json(report));
   if (format == "markdown") return res.set_content(markdown(report), "text/markdown");
   if (format == "html") return res.set_content(html(report), "text/html");
   WriteProblem(res, 400, "format: must be json, markdown or html",

@@ -7,7 +7,8 @@
 #include "api/http_util.h"
 #include "api/json_mapping.h"
 #include "api/problem.h"
-#include "service/analysis_report.h"
+#include "service/analysis_report_codec.h"
+#include "service/analysis_report_text.h"
 #include "service/fit_report_codec.h"
 #include "service/json_fields.h"
 
@@ -75,7 +76,7 @@ void HttpServer::ModelRoutes() {
     }
     auto report = app_.analyses().Analyze(req.matches[1], req.matches[2], ar);
     if (!report.ok()) return WriteProblem(res, report.status());
-    WriteJson(res, *report, 201);
+    WriteJson(res, AnalysisReportToJson(*report), 201);
   });
   s.Get(axis + "/analysis", [this](const Req& req, Res& res) {
     auto list = app_.analyses().List(req.matches[1], req.matches[2]);
@@ -85,7 +86,7 @@ void HttpServer::ModelRoutes() {
   s.Get(axis + "/analysis/([0-9]{1,18})", [this](const Req& req, Res& res) {
     auto report = app_.analyses().Get(req.matches[1], req.matches[2], std::stoll(req.matches[3]));
     if (!report.ok()) return WriteProblem(res, report.status());
-    WriteReport(req, res, *report, AnalysisMarkdown, AnalysisHtml);
+    WriteReport(req, res, *report, AnalysisReportToJson, AnalysisMarkdown, AnalysisHtml);
   });
 }
 

@@ -19,7 +19,8 @@
 #include "app/live_simulation.h"
 #include "core/log.h"
 #include "core/time_format.h"
-#include "service/analysis_report.h"
+#include "service/analysis_report_codec.h"
+#include "service/analysis_report_text.h"
 #include "service/fit_report_codec.h"
 #include "sim/virtual_machine.h"
 #include "storage/machine_store.h"
@@ -108,7 +109,7 @@ int Analyze(const Args& a) {
   if (!report.ok()) return Fail(report.status().message());
   const std::string format = a.Get("format", "markdown");
   if (format == "json") {
-    std::printf("%s\n", report->dump(2).c_str());
+    std::printf("%s\n", AnalysisReportToJson(*report).dump(2).c_str());
   } else if (format == "html") {
     std::printf("%s", AnalysisHtml(*report).c_str());
   } else {
@@ -215,7 +216,7 @@ int Demo(const Args& a) {
       ar.actor = "demo";
       if (auto analysis = app_ref.analyses().Analyze(m.name, axis.name, ar); analysis.ok()) {
         std::printf("demo: effect analysis %s/%s: %zu effect(s) added\n", m.name.c_str(),
-                    axis.name.c_str(), (*analysis)["effects"].size());
+                    axis.name.c_str(), analysis->effects.size());
       }
     }
   }

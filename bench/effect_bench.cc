@@ -132,8 +132,8 @@ void BM_AnalysisFromArchive(benchmark::State& state) {
     req.policy = "off";
     auto report = a.app->analyses().Analyze("bench", "Y", req);
     if (!report.ok()) state.SkipWithError(report.status().message().c_str());
-    state.counters["effects"] = static_cast<double>((*report)["effects"].size());
-    state.counters["points"] = (*report)["n"].get<double>() + (*report)["holdout_n"].get<double>();
+    state.counters["effects"] = static_cast<double>(report->effects.size());
+    state.counters["points"] = report->n + report->holdout_n;
   }
   state.counters["peak_rss_mb"] = PeakRssMb();
 }

@@ -9,6 +9,7 @@
 #include "model/drift_model.h"
 #include "model/held_out.h"
 #include "service/analysis_report.h"
+#include "service/analysis_report_codec.h"
 #include "service/drift_dataset.h"
 #include "service/json_text.h"
 #include "service/machine_lookup.h"
@@ -70,7 +71,7 @@ nlohmann::json ExtendedModelReport(const EffectSearchResult& r, const DriftModel
 
 }  // namespace
 
-StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_name,
+StatusOr<AnalysisReport> AnalysisService::Analyze(const std::string& machine_name,
                                                   const std::string& axis_name,
                                                   const AnalysisRequest& req) {
   const std::string policy = req.policy.value_or(config_.analysis_policy);
@@ -101,7 +102,7 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
   auto result = SearchEffects(input, config_.analysis);
   if (!result.ok()) return result.status();
   AnalysisContext context{machine_name, axis_name, req.trigger, clock_.NowMs(), inputs, *holdout};
-  nlohmann::json report = AnalysisReportJson(*result, context);
+  AnalysisReport report = BuildAnalysisReport(*result, context);
 
   // The extended model, when there is one and the policy wants it stored.
   std::optional<ModelRecord> model_record;
@@ -162,17 +163,16 @@ StatusOr<nlohmann::json> AnalysisService::Analyze(const std::string& machine_nam
     auto v = session->models().Insert(axis_id, *model_record);
     if (!v.ok()) return v.status();
     version = *v;
-    report["model"] = {
-        {"version", *v}, {"status", model_record->status}, {"reason", model_record->reason}};
-  } else {
-    report["model"] = nullptr;
+    report.model = AnalysisModelOutcome{*v, model_record->status, model_record->reason};
   }
   AnalysisStore& analyses = session->analyses();
   auto id = analyses.Insert(axis_id, {0, context.created_ms, req.trigger,
                                       static_cast<int>(result->effects.size()), version, ""});
   if (!id.ok()) return id.status();
-  report["id"] = *id;
-  if (Status s = analyses.SetReport(*id, JsonText(report)); !s.ok()) return s;
+  report.id = *id;
+  if (Status s = analyses.SetReport(*id, JsonText(AnalysisReportToJson(report))); !s.ok()) {
+    return s;
+  }
   if (version) {
     model_report["version"] = *version;
     model_report["analysis_id"] = *id;
@@ -212,7 +212,7 @@ StatusOr<std::vector<AnalysisRecord>> AnalysisService::List(const std::string& m
   return session->analyses().List(*id, 1000);
 }
 
-StatusOr<nlohmann::json> AnalysisService::Get(const std::string& machine, const std::string& axis,
+StatusOr<AnalysisReport> AnalysisService::Get(const std::string& machine, const std::string& axis,
                                               int64_t analysis_id) {
   const std::unique_ptr<Session> session = storage_.Open();
   auto id = AxisId(*session, machine, axis);
@@ -222,7 +222,9 @@ StatusOr<nlohmann::json> AnalysisService::Get(const std::string& machine, const 
     return Status::NotFound("no analysis " + std::to_string(analysis_id) + " for " + machine +
                             " axis " + axis);
   }
-  return nlohmann::json::parse(record->report_json);
+  const auto json = nlohmann::json::parse(record->report_json, nullptr, false);
+  if (json.is_discarded()) return Status::Internal("stored analysis report is not JSON");
+  return AnalysisReportFromJson(json);
 }
 
 }  // namespace thermocomp

@@ -13,9 +13,8 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "core/clock.h"
+#include "service/analysis_report.h"
 #include "service/config.h"
 #include "service/probe_temperature_cache.h"
 #include "storage/analysis_store.h"
@@ -38,12 +37,12 @@ class AnalysisService {
                   ProbeTemperatureCache* cache = nullptr)
       : storage_(storage), clock_(clock), config_(config), cache_(cache) {}
 
-  // Runs and stores an analysis; the report with its "id". NotFound for
+  // Runs and stores an analysis; the report with its id. NotFound for
   // unknown names, Unprocessable when there is too little data.
-  StatusOr<nlohmann::json> Analyze(const std::string& machine, const std::string& axis,
+  StatusOr<AnalysisReport> Analyze(const std::string& machine, const std::string& axis,
                                    const AnalysisRequest& request);
   StatusOr<std::vector<AnalysisRecord>> List(const std::string& machine, const std::string& axis);
-  StatusOr<nlohmann::json> Get(const std::string& machine, const std::string& axis, int64_t id);
+  StatusOr<AnalysisReport> Get(const std::string& machine, const std::string& axis, int64_t id);
   // Called when an analysis activated a model.
   void SetListener(Listener l) { listener_ = std::move(l); }
 

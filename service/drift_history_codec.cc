@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/time_format.h"
+#include "service/json_read.h"
 #include "service/model_codec.h"
 
 namespace thermocomp {
@@ -12,11 +13,6 @@ using nlohmann::json;
 
 int64_t TimeOf(const json& j) {
   return ParseRfc3339(j.value("ts", "")).value_or(0);
-}
-
-double NumberOrNaN(const json& j, const char* key) {
-  auto it = j.find(key);
-  return it != j.end() && it->is_number() ? it->get<double>() : std::nan("");
 }
 
 }  // namespace
@@ -66,7 +62,7 @@ StatusOr<DriftHistory> DriftHistoryFromJson(const json& j) {
     h.served_offset_total = j.value("served_offset_total", size_t{0});
     for (const auto& p : j.at("probe_points")) {
       h.probe_points.push_back({TimeOf(p), p.value("run", ""), p.value("measured_mm", 0.0),
-                                NumberOrNaN(p, "predicted_mm"), NumberOrNaN(p, "residual_mm")});
+                                json_read::NumberOr(p, "predicted_mm"), json_read::NumberOr(p, "residual_mm")});
     }
     for (const auto& v : j.at("served_offset")) {
       h.served_offset.push_back({TimeOf(v), v.value("value_mm", 0.0)});

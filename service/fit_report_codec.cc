@@ -3,38 +3,17 @@
 #include <cmath>
 
 #include "core/time_format.h"
+#include "service/json_read.h"
 #include "service/model_codec.h"
 
 namespace thermocomp {
 namespace {
 
 using nlohmann::json;
-
-double NumberOr(const json& j, const char* key, double fallback = kNotComputed) {
-  auto it = j.find(key);
-  return it != j.end() && it->is_number() ? it->get<double>() : fallback;
-}
-
-// The member at `key` when it has the expected type, else an empty one
-// (older reports lack some sections).
-const json& ObjectAt(const json& j, const char* key) {
-  static const json kEmpty = json::object();
-  auto it = j.find(key);
-  return it != j.end() && it->is_object() ? *it : kEmpty;
-}
-
-const json& ArrayAt(const json& j, const char* key) {
-  static const json kEmpty = json::array();
-  auto it = j.find(key);
-  return it != j.end() && it->is_array() ? *it : kEmpty;
-}
-
-template <typename T>
-T ValueOr(const json& j, const char* key, T fallback) {
-  auto it = j.find(key);
-  if (it == j.end() || it->is_null()) return fallback;
-  return it->get<T>();
-}
+using json_read::ArrayAt;
+using json_read::NumberOr;
+using json_read::ObjectAt;
+using json_read::ValueOr;
 
 json ErrorsToJson(const HeldOutErrors& e, bool computed) {
   return {{"rmse_mm", computed ? FiniteOrNull(e.rmse_mm) : nullptr},

@@ -8,6 +8,7 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "service/analysis_report_codec.h"
 #include "service/drift_history_codec.h"
 
 namespace thermocomp {
@@ -33,12 +34,20 @@ class AnalysisHttpTest : public testing::AppFixture {
     EXPECT_EQ(r->status, expect) << path << " " << r->body;
     return json::parse(r->body, nullptr, false);
   }
+  // Runs an analysis; what it served must be what its codec reads back.
   json Analyze(const std::string& machine, const json& body) {
     auto r = Post("/api/v1/machines/" + machine + "/axes/Y/analysis", body.dump());
     EXPECT_TRUE(r);
     if (!r) return {};
     EXPECT_EQ(r->status, 201) << r->body;
-    return json::parse(r->body, nullptr, false);
+    json report = json::parse(r->body, nullptr, false);
+    auto decoded = AnalysisReportFromJson(report);
+    EXPECT_TRUE(decoded.ok()) << decoded.status().ToString();
+    if (decoded.ok()) {
+      EXPECT_EQ(AnalysisReportToJson(*decoded).dump(), report.dump());
+      EXPECT_EQ(decoded->effects.size(), report["effects"].size());
+    }
+    return report;
   }
   const json* Axis(const json& compensation, const std::string& axis) {
     for (const auto& a : compensation["axes"]) {

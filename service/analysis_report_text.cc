@@ -1,0 +1,258 @@
+#include "service/analysis_report_text.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "core/time_format.h"
+
+namespace thermocomp {
+namespace {
+
+std::string Fixed(double v, const char* format) {
+  if (!std::isfinite(v)) return "-";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string Um(double mm) { return Fixed(mm * 1000.0, "%.2f"); }
+
+// A p-value; 0 means it underflowed double, not that it is zero.
+std::string P(double p) { return p == 0.0 ? "< 1e-300" : Fixed(p, "%.2g"); }
+
+std::string Join(const std::vector<std::string>& list) {
+  std::string out;
+  for (const auto& s : list) out += (out.empty() ? "" : ", ") + s;
+  return out.empty() ? "none" : out;
+}
+
+std::string Confidence(const PairedGain& g) {
+  return Fixed(g.relative * 100.0, "%.1f") + " % (t " + Fixed(g.t, "%.1f") + ", " +
+         std::to_string(g.blocks) + " blocks)";
+}
+
+std::string Escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+std::string EffectsMarkdown(const AnalysisReport& r) {
+  if (r.effects.empty()) {
+    return "**No effect passed**: no candidate explained the residual better than chance "
+           "(Bonferroni-corrected F-test) and by a gain beyond its uncertainty in "
+           "cross-validation over whole days.\n\n";
+  }
+  std::string md =
+      "## Effects added\n\n| # | effect | coefficient | p (adj.) | CV RMSE um |\n"
+      "|---|---|---|---|---|\n";
+  int i = 0;
+  for (const auto& e : r.effects) {
+    md += "| " + std::to_string(++i) + " | `" + e.term.Name() + "` | " +
+          Fixed(e.coefficient_mm, "%.4g") + " mm/" + e.term.Unit() + " | " + P(e.p_adjusted) +
+          " | " + Um(e.cv_rmse_before_mm) + " -> " + Um(e.cv_rmse_after_mm) + " |\n";
+  }
+  md += "\n";
+  i = 0;
+  for (const auto& e : r.effects) md += std::to_string(++i) + ". " + e.interpretation + "\n";
+  md += "\n";
+  if (!r.superseded.empty()) {
+    md += "Superseded (no longer significant once an effect was in): " + Join(r.superseded) +
+          ".\n\n";
+  }
+  return md;
+}
+
+std::string ClosestMarkdown(const AnalysisReport& r) {
+  if (r.closest.empty()) return "";
+  std::string list;
+  for (const auto& c : r.closest) {
+    const double t = c.confidence ? c.confidence->t : kNotComputed;
+    list += (list.empty() ? "" : ", ") + ("`" + c.name + "` " + Um(c.cv_rmse_mm) + ", " +
+                                          P(c.p_adjusted) + ", t " + Fixed(t, "%.1f"));
+  }
+  return "Closest candidates that did not pass (CV RMSE with it, um; adjusted p; t of its "
+         "validated gain, which must reach the configured min_t): " +
+         list + ".\n\n";
+}
+
+std::string ConfidenceMarkdown(const AnalysisReport& r) {
+  if (!r.validation || r.effects.empty()) return "";
+  std::string md =
+      "## Confidence\n\nThe validated gain (share of the blocked cross-validation error "
+      "removed, and its t over blocks):\n\n| effect | gain | equally good | notes |\n"
+      "|---|---|---|---|\n";
+  for (const auto& e : r.effects) {
+    std::string alternatives;
+    for (const auto& a : e.alternatives) {
+      alternatives += (alternatives.empty() ? "" : ", ") + ("`" + a.name + "`");
+    }
+    std::string notes;
+    if (!e.replaces.empty()) notes += "replaces `" + e.replaces + "`; ";
+    if (!e.revises_declared.empty()) notes += e.revises_declared + "; ";
+    if (!e.together_with.empty()) notes += "qualified together with `" + e.together_with + "`; ";
+    md += "| `" + e.term.Name() + "` | " + Confidence(e.confidence) + " | " +
+          (alternatives.empty() ? "none" : alternatives) + " | " + (notes.empty() ? "-" : notes) +
+          " |\n";
+  }
+  return md + "\n";
+}
+
+std::string FindingsMarkdown(const AnalysisReport& r) {
+  std::string md;
+  if (r.validation) {
+    const BlockedValidation& v = *r.validation;
+    md += "## Validation\n\n" + ValidationMethod(v.block) + ": " + std::to_string(v.blocks) +
+          " blocks; RMSE " + Um(v.rmse_before_mm) + " -> " + Um(v.rmse_after_mm) + " um.\n\n";
+  }
+  md += ConfidenceMarkdown(r);
+  if (!r.coefficient_changes.empty()) {
+    md +=
+        "## Declared coefficients (um per unit)\n\n| term | declared model | extended model |\n"
+        "|---|---|---|\n";
+    for (const auto& c : r.coefficient_changes) {
+      md += "| `" + c.term + "` | " + Um(c.before_mm) + " | " + Um(c.after_mm) + " |\n";
+    }
+    md += "\n";
+  }
+  if (!r.filters.empty()) {
+    md += "## Filters\n\n";
+    for (const auto& f : r.filters) {
+      md += "- `" + f.sensor + "`: white noise " + Fixed(f.noise_c, "%.3f") + " degC every " +
+            Fixed(f.interval_min, "%.2f") + " min; read through tau " +
+            Fixed(f.recommended_tau_min, "%.1f") + " min (ewma_alpha " +
+            Fixed(f.recommended_alpha, "%.3f") + ") instead of " +
+            Fixed(f.current_tau_min, "%.1f") + " min (" + Fixed(f.current_alpha, "%.3f") +
+            "): " + Confidence(f.validated) + (f.applied ? ", applied" : "") + ".\n";
+    }
+    md += "\n";
+  }
+  if (!r.ambiguous.empty()) {
+    std::string list;
+    for (const auto& a : r.ambiguous) list += (list.empty() ? "" : ", ") + ("`" + a.name + "`");
+    md +=
+        "## Ambiguous\n\nEqually good explanations within the validation's uncertainty; "
+        "none was added: " +
+        list + ".\n\n";
+  }
+  if (!r.set_aside.empty()) {
+    md += "## Set aside\n\n";
+    for (const auto& s : r.set_aside) {
+      md += "- `" + s.name + "` (" + Confidence(s.confidence) + "): " + s.reason + ".\n";
+    }
+    md += "\n";
+  }
+  if (!r.event_comparisons.empty()) {
+    md += "## Events\n\n";
+    for (const auto& e : r.event_comparisons) {
+      md += "- " + EventStatement(e, r.context.axis) + " Runs " + std::to_string(e.runs_before) +
+            " before, " + std::to_string(e.runs_after) + " after; RMSE " + Um(e.rmse_before_mm) +
+            " / " + Um(e.rmse_after_mm) + " um.\n";
+    }
+    md += "\n";
+  }
+  return md;
+}
+
+std::string ErrorsMarkdown(const AnalysisReport& r) {
+  std::string md =
+      "## Error before and after (um)\n\n| | declared model | extended model |\n|---|---|---|\n";
+  md += "| training RMSE | " + Um(r.train_rmse_before_mm) + " | " + Um(r.train_rmse_after_mm) +
+        " |\n";
+  if (r.validation) {
+    md += "| blocked cross-validation RMSE | " + Um(r.validation->rmse_before_mm) + " | " +
+          Um(r.validation->rmse_after_mm) + " |\n";
+  }
+  md += "| leave-one-run-out RMSE | " + Um(r.cv_rmse_before_mm) + " | " + Um(r.cv_rmse_after_mm) +
+        " |\n";
+  md += "| held-out RMSE | " + Um(r.holdout_rmse_before_mm) + " | " +
+        Um(r.holdout_rmse_after_mm) + " |\n\n";
+  md += "## Residual structure\n\n| | before | after |\n|---|---|---|\n";
+  const ResidualStructure& b = r.structure_before;
+  const ResidualStructure& a = r.structure_after;
+  md += "| lag1_autocorrelation | " + Fixed(b.lag1_autocorrelation, "%.3f") + " | " +
+        Fixed(a.lag1_autocorrelation, "%.3f") + " |\n";
+  md += "| between_run_share | " + Fixed(b.between_run_share, "%.3f") + " | " +
+        Fixed(a.between_run_share, "%.3f") + " |\n";
+  md += "| durbin_watson | " + Fixed(b.durbin_watson, "%.3f") + " | " +
+        Fixed(a.durbin_watson, "%.3f") + " |\n";
+  return md;
+}
+
+}  // namespace
+
+std::string AnalysisMarkdown(const AnalysisReport& r) {
+  const AnalysisContext& c = r.context;
+  std::string md = "# Effect analysis " + std::to_string(r.id) + ": " + c.machine + " axis " +
+                   c.axis + "\n\n";
+  md += "Created " + FormatRfc3339(c.created_ms) + " (" + c.trigger +
+        "). Declared inputs: " + Join(c.declared_inputs) +
+        ". Held-out runs, never seen by the search: " + Join(c.holdout_runs) + ". " +
+        std::to_string(r.candidates) + " candidate effects, " + std::to_string(r.training_runs) +
+        " training runs, " + std::to_string(r.n) + " probe points.\n\n";
+  md += EffectsMarkdown(r);
+  md += ClosestMarkdown(r);
+  md += FindingsMarkdown(r);
+  md += ErrorsMarkdown(r);
+  if (r.model) {
+    md += "\n## Model\n\nVersion " + std::to_string(r.model->version) + ": " + r.model->status +
+          ". " + r.model->reason + ".\n";
+  }
+  return md;
+}
+
+std::string AnalysisHtml(const AnalysisReport& r) {
+  // Bars of the three error measures, before (grey) and after (blue).
+  struct Measure {
+    const char* label;
+    double before, after;
+  };
+  const Measure measures[3] = {{"training", r.train_rmse_before_mm, r.train_rmse_after_mm},
+                               {"cross-validation", r.cv_rmse_before_mm, r.cv_rmse_after_mm},
+                               {"held-out", r.holdout_rmse_before_mm, r.holdout_rmse_after_mm}};
+  double top = 1e-9;
+  for (const auto& m : measures) {
+    for (double v : {m.before, m.after}) {
+      if (std::isfinite(v)) top = std::max(top, v);
+    }
+  }
+  std::string svg = "<svg xmlns='http://www.w3.org/2000/svg' width='420' height='130'>";
+  for (int i = 0; i < 3; ++i) {
+    const int y = 10 + i * 40;
+    svg += "<text x='0' y='" + std::to_string(y + 14) + "' font-size='12'>" + measures[i].label +
+           "</text>";
+    for (int s = 0; s < 2; ++s) {
+      const double v = s == 0 ? measures[i].before : measures[i].after;
+      const int w = static_cast<int>(250.0 * (std::isfinite(v) ? v : 0.0) / top);
+      svg += "<rect x='110' y='" + std::to_string(y + s * 14) + "' width='" + std::to_string(w) +
+             "' height='12' fill='" + (s == 0 ? "#999" : "#2a6ebb") + "'/><text x='" +
+             std::to_string(115 + w) + "' y='" + std::to_string(y + s * 14 + 10) +
+             "' font-size='10'>" + Um(v) + " um</text>";
+    }
+  }
+  svg += "</svg>";
+  return "<!doctype html><html><head><meta charset='utf-8'><title>Effect analysis</title>"
+         "</head><body><pre>" +
+         Escape(AnalysisMarkdown(r)) + "</pre><p>RMSE before (grey) and after (blue):</p>" + svg +
+         "</body></html>\n";
+}
+
+}  // namespace thermocomp
