@@ -3,14 +3,6 @@
 namespace thermocomp::api {
 namespace {
 
-// Compares without an early exit, so timing does not reveal a prefix.
-bool SameSecret(const std::string& a, const std::string& b) {
-  if (a.size() != b.size()) return false;
-  unsigned char diff = 0;
-  for (size_t i = 0; i < a.size(); ++i) diff |= static_cast<unsigned char>(a[i] ^ b[i]);
-  return diff == 0;
-}
-
 // "/api/v1/machines/{m}/rest" -> {m, rest}; empty machine otherwise.
 std::pair<std::string, std::string> MachineOf(const std::string& path) {
   const std::string prefix = "/api/v1/machines/";
@@ -42,7 +34,22 @@ bool Permitted(const AccessToken& t, const std::string& method, const std::strin
   return false;
 }
 
+// The pages and their assets carry no data (they fetch it through the API
+// with the browser's credentials), and signing in needs no credentials yet.
+bool IsPublic(const std::string& method, const std::string& path) {
+  if (path == "/api/v1/session") return true;
+  if (method != "GET" && method != "HEAD") return false;
+  return path == "/" || path.rfind("/ui/", 0) == 0 || path.rfind("/static/", 0) == 0;
+}
+
 }  // namespace
+
+bool SameSecret(const std::string& a, const std::string& b) {
+  if (a.size() != b.size()) return false;
+  unsigned char diff = 0;
+  for (size_t i = 0; i < a.size(); ++i) diff |= static_cast<unsigned char>(a[i] ^ b[i]);
+  return diff == 0;
+}
 
 bool IsLoopback(const std::string& addr) {
   return addr.rfind("127.", 0) == 0 || addr == "::1" || addr.rfind("::ffff:127.", 0) == 0;
@@ -63,6 +70,7 @@ AuthDecision Authorizer::Decide(const std::string& method, const std::string& pa
     if (IsLoopback(remote_addr)) return {200, "", "local:" + remote_addr, ""};
     return {403, "no access tokens are configured: only loopback clients are served", "", ""};
   }
+  if (IsPublic(method, path)) return {200, "", "anonymous:" + remote_addr, ""};
   const std::string bearer = "Bearer ";
   if (authorization.rfind(bearer, 0) != 0) {
     return {401, "Authorization: Bearer <token> required", "", R"(Bearer realm="thermocomp")"};
@@ -80,6 +88,15 @@ AuthDecision Authorizer::Decide(const std::string& method, const std::string& pa
     return {200, "", actor, ""};
   }
   return {401, "unknown token", "", R"(Bearer realm="thermocomp", error="invalid_token")"};
+}
+
+std::optional<AccessToken> Authorizer::FindToken(const std::string& secret) const {
+  std::optional<AccessToken> found;
+  // Every token is compared, so the time taken does not tell which matched.
+  for (const AccessToken& t : tokens_) {
+    if (SameSecret(t.token, secret)) found = t;
+  }
+  return found;
 }
 
 }  // namespace thermocomp::api

@@ -1,7 +1,8 @@
 // Authorizer: who may do what (docs/api.md, "Authentication"). Without
 // configured tokens only loopback clients are served, without tokens. With
-// tokens, every request but /healthz and /readyz needs
-// `Authorization: Bearer <token>`:
+// tokens, every request but /healthz, /readyz, the pages' shells and
+// assets and signing in (/api/v1/session) needs `Authorization: Bearer
+// <token>` or a signed-in session cookie (api/web/web_sessions.h):
 //   machine      of its own machine: posts temperatures, probe points,
 //                signals, events and column-check results; reads the
 //                machine, its compensation and its open check requests
@@ -11,6 +12,7 @@
 //   admin        everything
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,12 +34,17 @@ class Authorizer {
   explicit Authorizer(std::vector<AccessToken> tokens) : tokens_(std::move(tokens)) {}
   AuthDecision Decide(const std::string& method, const std::string& path,
                       const std::string& remote_addr, const std::string& authorization) const;
+  // The configured token with this secret (signing in to the pages).
+  std::optional<AccessToken> FindToken(const std::string& secret) const;
+  bool open() const { return tokens_.empty(); }  // no tokens: loopback only, no sign-in
 
  private:
   std::vector<AccessToken> tokens_;
 };
 
 bool IsLoopback(const std::string& addr);
+// Compares without an early exit, so timing does not reveal a prefix.
+bool SameSecret(const std::string& a, const std::string& b);
 // What to tell the operator when the server listens beyond this host
 // without tokens (every remote client would get 403); empty otherwise.
 std::string ExposureWarning(const std::string& listen_host, const std::vector<AccessToken>& tokens);

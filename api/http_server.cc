@@ -22,9 +22,18 @@ thread_local std::chrono::steady_clock::time_point t_request_start;
 
 }  // namespace
 
+HttpServer::Credentials HttpServer::CredentialsOf(const Req& req) {
+  Credentials c{req.get_header_value("Authorization"), std::nullopt};
+  if (!c.authorization.empty()) return c;
+  c.session = sessions_.Find(CookieValue(req.get_header_value("Cookie"), kSessionCookie),
+                             app_.clock().NowMs());
+  if (c.session) c.authorization = "Bearer " + c.session->token.token;
+  return c;
+}
+
 // The actor recorded in the audit: the token's name, or the client address.
-std::string HttpServer::Actor(const Req& req) const {
-  return auth_.Decide(req.method, req.path, req.remote_addr, req.get_header_value("Authorization"))
+std::string HttpServer::Actor(const Req& req) {
+  return auth_.Decide(req.method, req.path, req.remote_addr, CredentialsOf(req).authorization)
       .actor;
 }
 
@@ -66,6 +75,8 @@ const std::vector<std::pair<std::regex, std::set<std::string>>>& RouteParams() {
   static const std::vector<std::pair<std::regex, std::set<std::string>>> table = {
       {std::regex(m + "/compensation"), {"format"}},
       {std::regex(m + "/drift"), {"axis", "from", "to", "max_points"}},
+      {std::regex(m + "/temperatures"), {"from", "to", "max_points"}},
+      {std::regex("/ui/sign-in"), {"next"}},
       {std::regex(m + "/column-checks/requests"), {"state"}},
       {std::regex(m + "/column-checks/[0-9]+"), {"format"}},
       {std::regex(m + "/axes/[^/]+/analysis/[0-9]+"), {"format"}},
@@ -89,6 +100,24 @@ std::string UnknownParameter(const Req& req) {
   return "";
 }
 
+// Why a write is refused as possibly forged by another site, or "". A
+// browser names the page's origin on writes: it must be this server. A
+// write made with a session cookie must also carry the session's CSRF
+// token, which only the server's own pages can read (signing in and out
+// excepted: there is no token before, and leaving needs none).
+std::string CrossSiteWrite(const Req& req, const std::optional<WebSession>& session) {
+  if (req.method == "GET" || req.method == "HEAD") return "";
+  const std::string origin = req.get_header_value("Origin");
+  const std::string host = req.get_header_value("Host");
+  if (!origin.empty() && origin != "http://" + host && origin != "https://" + host) {
+    return "cross-origin write refused: Origin " + origin.substr(0, 100) + " is not this server";
+  }
+  if (!session || req.path == "/api/v1/session") return "";
+  const std::string sent = req.get_header_value("X-CSRF-Token");
+  if (!SameSecret(sent, session->csrf)) return "X-CSRF-Token missing or wrong for this session";
+  return "";
+}
+
 bool HasBody(const Req& req) {
   return req.has_header("Transfer-Encoding") ||
          (req.has_header("Content-Length") && req.get_header_value("Content-Length") != "0");
@@ -97,7 +126,11 @@ bool HasBody(const Req& req) {
 }  // namespace
 
 HttpServer::HttpServer(App& app)
-    : app_(app), auth_(app.config().tokens), server_(LimitsOf(app.config())) {
+    : app_(app),
+      auth_(app.config().tokens),
+      sessions_(static_cast<size_t>(app.config().web_max_sessions),
+                int64_t{app.config().web_session_hours} * 3600 * 1000),
+      server_(LimitsOf(app.config())) {
   Routes();
 }
 
@@ -163,10 +196,13 @@ void HttpServer::Routes() {
       return refuse(413, "request body larger than server.max_body_bytes (" +
                              std::to_string(max_body) + " bytes)");
     }
-    AuthDecision d =
-        auth_.Decide(req.method, req.path, req.remote_addr, req.get_header_value("Authorization"));
+    const Credentials credentials = CredentialsOf(req);
+    AuthDecision d = auth_.Decide(req.method, req.path, req.remote_addr, credentials.authorization);
     if (!d.challenge.empty()) res.set_header("WWW-Authenticate", d.challenge);
     if (d.status != 200) return refuse(d.status, d.reason);
+    if (std::string why = CrossSiteWrite(req, credentials.session); !why.empty()) {
+      return refuse(403, why, {{0, "X-CSRF-Token", why}});
+    }
     if (std::string name = UnknownParameter(req); !name.empty()) {
       return refuse(400, "unknown query parameter '" + name + "'",
                     {{0, name, "not a parameter of " + req.method + " " + req.path}});
@@ -240,6 +276,9 @@ void HttpServer::Routes() {
   ModelRoutes();
   CompensationRoutes();
   CheckRoutes();
+  OverviewRoutes();
+  SessionRoutes();
+  PageRoutes();
 }
 
 }  // namespace thermocomp::api

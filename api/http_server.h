@@ -4,6 +4,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <shared_mutex>
 #include <string>
 #include <thread>
@@ -16,6 +17,7 @@
 
 #include "api/auth.h"
 #include "api/guarded_server.h"
+#include "api/web/web_sessions.h"
 
 namespace thermocomp::api {
 
@@ -43,9 +45,20 @@ class HttpServer {
   void ModelRoutes();         // model_routes.cc: fits, versions, analyses
   void CompensationRoutes();  // compensation_routes.cc: compensation, drift
   void CheckRoutes();         // check_routes.cc: column and positioning checks
-  std::string Actor(const httplib::Request& req) const;
+  void OverviewRoutes();      // overview_routes.cc: the line at a glance, temperatures
+  void SessionRoutes();       // web/session_routes.cc: signing in to the pages
+  void PageRoutes();          // web/page_routes.cc: the pages and their assets
+  // What a request authenticates with: its Authorization header, or the
+  // token behind its session cookie.
+  struct Credentials {
+    std::string authorization;
+    std::optional<WebSession> session;
+  };
+  Credentials CredentialsOf(const httplib::Request& req);
+  std::string Actor(const httplib::Request& req);
   App& app_;
   Authorizer auth_;
+  WebSessions sessions_;
   std::shared_mutex rendered_mutex_;
   std::map<std::string, std::pair<std::shared_ptr<const MachineCompensation>, std::string>>
       rendered_;

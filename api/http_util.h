@@ -70,7 +70,9 @@ inline std::optional<nlohmann::json> JsonObjectBody(const httplib::Request& req,
 }
 
 // For WriteReport when the report already is its JSON.
-inline const nlohmann::json& AsIs(const nlohmann::json& report) { return report; }
+inline const nlohmann::json& AsIs(const nlohmann::json& report) {
+  return report;
+}
 
 // A report as ?format= asks: json (default), markdown or html, each made
 // from the report by the function given for it.

@@ -120,6 +120,92 @@ json CompensationToJson(const MachineCompensation& c) {
 
 namespace {
 
+json TimeOrNull(const std::optional<int64_t>& ms) {
+  return ms ? json(FormatRfc3339(*ms)) : json(nullptr);
+}
+
+json AxisOverviewToJson(const AxisOverview& a, const AxisCompensation* served) {
+  json j = {{"axis", a.axis},
+            {"model_version", a.model_version ? json(*a.model_version) : nullptr},
+            {"model_created_at", TimeOrNull(a.model_created_ms)},
+            {"analysis", nullptr}};
+  if (a.analysis_id) {
+    j["analysis"] = {
+        {"id", *a.analysis_id},
+        {"created_at", TimeOrNull(a.analysis_ms)},
+        {"effects", a.analysis_effects},
+        {"model_version", a.analysis_version ? json(*a.analysis_version) : nullptr},
+        {"model_status", a.analysis_version ? json(a.analysis_version_status) : nullptr}};
+  }
+  if (served) {
+    j["offset_mm"] = served->offset_mm;
+    j["slope_um_per_m"] = served->slope_um_per_m;
+    j["valid"] = served->valid;
+    j["stale"] = served->stale;
+    j["clamped"] = served->clamped;
+    j["reason"] = served->valid ? json(nullptr) : json(served->reason);
+  } else {
+    j["offset_mm"] = 0.0;
+    j["slope_um_per_m"] = 0.0;
+    j["valid"] = false;
+    j["stale"] = false;
+    j["clamped"] = false;
+    j["reason"] = "no compensation computed yet";
+  }
+  return j;
+}
+
+}  // namespace
+
+json OverviewToJson(const std::vector<MachineOverview>& machines,
+                    const std::vector<std::shared_ptr<const MachineCompensation>>& served,
+                    int64_t now_ms) {
+  json list = json::array();
+  for (size_t i = 0; i < machines.size(); ++i) {
+    const MachineOverview& m = machines[i];
+    const MachineCompensation* c = i < served.size() ? served[i].get() : nullptr;
+    json axes = json::array();
+    for (const AxisOverview& a : m.axes) {
+      const AxisCompensation* axis = nullptr;
+      if (c) {
+        for (const auto& ca : c->axes) {
+          if (ca.axis == a.axis) axis = &ca;
+        }
+      }
+      axes.push_back(AxisOverviewToJson(a, axis));
+    }
+    list.push_back({{"machine", m.name},
+                    {"controller", m.controller},
+                    {"last_sample", TimeOrNull(m.last_sample_ms)},
+                    {"last_datum", TimeOrNull(m.last_datum_ms)},
+                    {"checks", {{"pending", m.checks.pending}, {"overdue", m.checks.overdue}}},
+                    {"axes", axes}});
+  }
+  return {{"computed_at", FormatRfc3339(now_ms)}, {"machines", list}};
+}
+
+json TemperatureHistoryToJson(const TemperatureHistory& h) {
+  json sensors = json::array();
+  for (const SensorHistory& s : h.sensors) {
+    json points = json::array();
+    for (const TimedValue& p : s.points) {
+      points.push_back({{"ts", FormatRfc3339(p.ts_ms)}, {"value_c", p.value}});
+    }
+    sensors.push_back(
+        {{"sensor", s.name}, {"location", s.location}, {"total", s.total}, {"points", points}});
+  }
+  json events = json::array();
+  for (const MachineEventMark& e : h.events) {
+    events.push_back({{"ts", FormatRfc3339(e.ts_ms)}, {"kind", e.kind}, {"note", e.note}});
+  }
+  return {{"machine", h.machine},
+          {"max_points", h.max_points},
+          {"sensors", sensors},
+          {"events", events}};
+}
+
+namespace {
+
 json ModelJson(const ModelRecord& r) {
   json j = json::parse(r.report_json, nullptr, false);
   if (j.is_discarded()) j = json::object();
@@ -144,6 +230,7 @@ StatusOr<json> ListModels(App& app, const std::string& machine, const std::strin
                    {"inputs", j.value("inputs", json::array())},
                    {"r2", j.value("r2", json())},
                    {"rmse_mm", j.value("rmse_mm", json())},
+                   {"cross_validation", j.value("cross_validation", json())},
                    {"validation", j.value("validation", json())}});
   }
   return json{{"machine", machine}, {"axis", axis}, {"models", out}};
@@ -156,6 +243,34 @@ StatusOr<json> GetModel(App& app, const std::string& machine, const std::string&
   return ModelJson(*r);
 }
 
+bool ParseTimeRange(const httplib::Request& req, int64_t& from_ms, int64_t& to_ms,
+                    size_t& max_points, size_t max_points_limit, FieldErrors& errors) {
+  const size_t before = errors.size();
+  for (const char* key : {"from", "to"}) {
+    if (!req.has_param(key)) continue;
+    auto ts = ParseTimestamp(req.get_param_value(key));
+    if (!ts)
+      errors.push_back({0, key, "must be RFC 3339 UTC or Unix milliseconds, from 2000 to 2099"});
+    else
+      (std::string(key) == "from" ? from_ms : to_ms) = *ts;
+  }
+  if (req.has_param("max_points")) {
+    const std::string v = req.get_param_value("max_points");
+    try {
+      size_t used = 0;
+      long n = std::stol(v, &used);
+      if (used != v.size() || n < 2 || static_cast<size_t>(n) > max_points_limit)
+        throw std::out_of_range("max_points");
+      max_points = static_cast<size_t>(n);
+    } catch (const std::exception&) {
+      errors.push_back(
+          {0, "max_points", "must be an integer from 2 to " + std::to_string(max_points_limit)});
+    }
+  }
+  if (from_ms > to_ms) errors.push_back({0, "from", "must not be after to"});
+  return errors.size() == before;
+}
+
 bool ParseHistoryQuery(const httplib::Request& req, HistoryQuery& q, FieldErrors& errors) {
   q.axis = req.get_param_value("axis");
   if (q.axis.empty()) {
@@ -163,26 +278,7 @@ bool ParseHistoryQuery(const httplib::Request& req, HistoryQuery& q, FieldErrors
   } else if (!ValidAxisName(q.axis)) {
     errors.push_back({0, "axis", "must be one of X Y Z A B C U V W"});
   }
-  for (const char* key : {"from", "to"}) {
-    if (!req.has_param(key)) continue;
-    auto ts = ParseTimestamp(req.get_param_value(key));
-    if (!ts)
-      errors.push_back({0, key, "must be RFC 3339 UTC or Unix milliseconds, from 2000 to 2099"});
-    else
-      (std::string(key) == "from" ? q.from_ms : q.to_ms) = *ts;
-  }
-  if (req.has_param("max_points")) {
-    const std::string v = req.get_param_value("max_points");
-    try {
-      size_t used = 0;
-      long n = std::stol(v, &used);
-      if (used != v.size() || n < 2 || n > 100000) throw std::out_of_range("max_points");
-      q.max_points = static_cast<size_t>(n);
-    } catch (const std::exception&) {
-      errors.push_back({0, "max_points", "must be an integer from 2 to 100000"});
-    }
-  }
-  if (q.from_ms > q.to_ms) errors.push_back({0, "from", "must not be after to"});
+  ParseTimeRange(req, q.from_ms, q.to_ms, q.max_points, 100000, errors);
   return errors.empty();
 }
 

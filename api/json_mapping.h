@@ -22,9 +22,18 @@ std::optional<MachineDefinition> MachineFromJson(const std::string& name, const 
 // model_version}]}.
 nlohmann::json AnalysesToJson(const std::vector<AnalysisRecord>& list);
 nlohmann::json CompensationToJson(const MachineCompensation& c);
+// GET /overview: each machine at a glance, with the compensation served now.
+nlohmann::json OverviewToJson(const std::vector<MachineOverview>& machines,
+                              const std::vector<std::shared_ptr<const MachineCompensation>>& served,
+                              int64_t now_ms);
+nlohmann::json TemperatureHistoryToJson(const TemperatureHistory& h);
 StatusOr<nlohmann::json> ListModels(App& app, const std::string& machine, const std::string& axis);
 StatusOr<nlohmann::json> GetModel(App& app, const std::string& machine, const std::string& axis,
                                   int version);
+// from, to (RFC 3339 or Unix ms) and max_points (2..limit) of a history
+// query; fields not given keep their values. False with errors appended.
+bool ParseTimeRange(const httplib::Request& req, int64_t& from_ms, int64_t& to_ms,
+                    size_t& max_points, size_t max_points_limit, FieldErrors& errors);
 // axis (required), from, to, max_points of GET /drift.
 bool ParseHistoryQuery(const httplib::Request& req, HistoryQuery& q, FieldErrors& errors);
 

@@ -7,15 +7,15 @@
 namespace thermocomp {
 namespace {
 
-using nlohmann::json;
 using json_read::ArrayAt;
 using json_read::NumberOr;
 using json_read::ObjectAt;
 using json_read::ValueOr;
+using nlohmann::json;
 
 PairedGain PairedGainFromJson(const json& j) {
-  return {NumberOr(j, "gain_mm2"), NumberOr(j, "se_mm2"), NumberOr(j, "t"),
-          NumberOr(j, "relative"), ValueOr<int>(j, "blocks", 0)};
+  return {NumberOr(j, "gain_mm2"), NumberOr(j, "se_mm2"), NumberOr(j, "t"), NumberOr(j, "relative"),
+          ValueOr<int>(j, "blocks", 0)};
 }
 
 json NamedCandidateToJson(const NamedCandidate& c) {
@@ -44,8 +44,8 @@ json NamedGainsToJson(const std::vector<NamedGain>& list) {
 std::vector<NamedGain> NamedGainsFromJson(const json& list) {
   std::vector<NamedGain> out;
   for (const auto& g : list) {
-    out.push_back({ValueOr<std::string>(g, "name", ""),
-                   PairedGainFromJson(ObjectAt(g, "confidence"))});
+    out.push_back(
+        {ValueOr<std::string>(g, "name", ""), PairedGainFromJson(ObjectAt(g, "confidence"))});
   }
   return out;
 }
@@ -205,9 +205,9 @@ void FindingsToJson(const AnalysisReport& r, json& out) {
 void FindingsFromJson(const json& j, AnalysisReport& r) {
   if (j.contains("validation") && j["validation"].is_object()) {
     const json& v = j["validation"];
-    r.validation = BlockedValidation{ValueOr<std::string>(v, "block", ""),
-                                     ValueOr<int>(v, "blocks", 0), NumberOr(v, "rmse_before_mm"),
-                                     NumberOr(v, "rmse_after_mm")};
+    r.validation =
+        BlockedValidation{ValueOr<std::string>(v, "block", ""), ValueOr<int>(v, "blocks", 0),
+                          NumberOr(v, "rmse_before_mm"), NumberOr(v, "rmse_after_mm")};
   }
   for (const auto& [sensor, sigma] : ObjectAt(j, "sensor_noise_c").items()) {
     r.sensor_noise_c.emplace_back(sensor, sigma.is_number() ? sigma.get<double>() : kNotComputed);
@@ -346,9 +346,9 @@ StatusOr<AnalysisReport> AnalysisReportFromJson(const json& j) {
     r.structure_after = StructureFromJson(ObjectAt(structure, "after"));
     if (j.contains("model") && j["model"].is_object()) {
       const json& m = j["model"];
-      r.model = AnalysisModelOutcome{ValueOr<int>(m, "version", 0),
-                                     ValueOr<std::string>(m, "status", ""),
-                                     ValueOr<std::string>(m, "reason", "")};
+      r.model =
+          AnalysisModelOutcome{ValueOr<int>(m, "version", 0), ValueOr<std::string>(m, "status", ""),
+                               ValueOr<std::string>(m, "reason", "")};
     }
     FindingsFromJson(j, r);
     return r;

@@ -16,10 +16,14 @@ std::string Fixed(double v, const char* format) {
   return buf;
 }
 
-std::string Um(double mm) { return Fixed(mm * 1000.0, "%.2f"); }
+std::string Um(double mm) {
+  return Fixed(mm * 1000.0, "%.2f");
+}
 
 // A p-value; 0 means it underflowed double, not that it is zero.
-std::string P(double p) { return p == 0.0 ? "< 1e-300" : Fixed(p, "%.2g"); }
+std::string P(double p) {
+  return p == 0.0 ? "< 1e-300" : Fixed(p, "%.2g");
+}
 
 std::string Join(const std::vector<std::string>& list) {
   std::string out;
@@ -75,8 +79,8 @@ std::string EffectsMarkdown(const AnalysisReport& r) {
   for (const auto& e : r.effects) md += std::to_string(++i) + ". " + e.interpretation + "\n";
   md += "\n";
   if (!r.superseded.empty()) {
-    md += "Superseded (no longer significant once an effect was in): " + Join(r.superseded) +
-          ".\n\n";
+    md +=
+        "Superseded (no longer significant once an effect was in): " + Join(r.superseded) + ".\n\n";
   }
   return md;
 }
@@ -183,8 +187,8 @@ std::string ErrorsMarkdown(const AnalysisReport& r) {
   }
   md += "| leave-one-run-out RMSE | " + Um(r.cv_rmse_before_mm) + " | " + Um(r.cv_rmse_after_mm) +
         " |\n";
-  md += "| held-out RMSE | " + Um(r.holdout_rmse_before_mm) + " | " +
-        Um(r.holdout_rmse_after_mm) + " |\n\n";
+  md += "| held-out RMSE | " + Um(r.holdout_rmse_before_mm) + " | " + Um(r.holdout_rmse_after_mm) +
+        " |\n\n";
   md += "## Residual structure\n\n| | before | after |\n|---|---|---|\n";
   const ResidualStructure& b = r.structure_before;
   const ResidualStructure& a = r.structure_after;
@@ -201,8 +205,8 @@ std::string ErrorsMarkdown(const AnalysisReport& r) {
 
 std::string AnalysisMarkdown(const AnalysisReport& r) {
   const AnalysisContext& c = r.context;
-  std::string md = "# Effect analysis " + std::to_string(r.id) + ": " + c.machine + " axis " +
-                   c.axis + "\n\n";
+  std::string md =
+      "# Effect analysis " + std::to_string(r.id) + ": " + c.machine + " axis " + c.axis + "\n\n";
   md += "Created " + FormatRfc3339(c.created_ms) + " (" + c.trigger +
         "). Declared inputs: " + Join(c.declared_inputs) +
         ". Held-out runs, never seen by the search: " + Join(c.holdout_runs) + ". " +

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <regex>
 #include <set>
 
 #include <toml++/toml.h>
@@ -97,6 +98,19 @@ Reader Bool(bool Config::*field) {
     c.*field = *v;
     return "";
   };
+}
+
+// An IANA zone name ("Europe/Berlin", "UTC"): checked for its shape here;
+// the browser, which converts the times, knows the zones themselves.
+std::string TimeZone(const toml::node& n, Config& c) {
+  auto v = n.value_exact<std::string>();
+  if (!v) return "must be a time zone name such as \"Europe/Berlin\", not " + Describe(n);
+  static const std::regex shape("[A-Za-z][A-Za-z0-9_+-]*(/[A-Za-z0-9_+-]+){0,2}");
+  if (v->size() > 64 || !std::regex_match(*v, shape)) {
+    return "must be a time zone name such as \"Europe/Berlin\" or \"UTC\"";
+  }
+  c.web_time_zone = *v;
+  return "";
 }
 
 std::string ReadTokens(const toml::node& n, Config& c) {
@@ -271,6 +285,11 @@ const std::map<std::string, Reader>& Keys() {
                            return "";
                          }},
       {"auth.tokens", ReadTokens},
+      {"web.time_zone", TimeZone},
+      {"web.dygraphs_dir", Text(&Config::web_dygraphs_dir)},
+      {"web.session_hours", Int(&Config::web_session_hours, 1, 24 * 30)},
+      {"web.secure_cookie", Bool(&Config::web_secure_cookie)},
+      {"web.max_sessions", Int(&Config::web_max_sessions, 1, 100000)},
       {"log.level", Text(&Config::log_level, {"debug", "info", "warn", "error"})},
       {"dds.enabled", Bool(&Config::dds_enabled)},
       {"dds.domain", Int(&Config::dds_domain, 0, 232)},

@@ -67,6 +67,14 @@ struct Config {
   int check_due_after_h = 24;
   double zero_tolerance_um = 10.0;
   // [log]
+  // The pages (docs/pages.md): times shown in the plant's zone (IANA
+  // name; stored as UTC), the charting library's folder, sign-in sessions.
+  std::string web_time_zone = "UTC";
+  std::string web_dygraphs_dir = "/usr/share/javascript/dygraphs";
+  int web_session_hours = 12;
+  bool web_secure_cookie = false;  // true behind an HTTPS proxy
+  int web_max_sessions = 1000;     // beyond: the least recently made is signed out
+
   std::string log_level = "info";
   // [dds]
   bool dds_enabled = false;

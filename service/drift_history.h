@@ -40,4 +40,24 @@ struct DriftHistory {
   std::vector<ZeroSample> machine_zero;
 };
 
+// Every sensor of a machine over a time range on one time axis, with the
+// events that happened in it (HistoryService::Temperatures).
+struct SensorHistory {
+  std::string name, location;
+  size_t total = 0;                // raw samples in the range, before thinning
+  std::vector<TimedValue> points;  // raw temperature, degC, thinned (LTTB)
+};
+
+struct MachineEventMark {
+  int64_t ts_ms = 0;
+  std::string kind, note;
+};
+
+struct TemperatureHistory {
+  std::string machine;
+  size_t max_points = 0;
+  std::vector<SensorHistory> sensors;
+  std::vector<MachineEventMark> events;
+};
+
 }  // namespace thermocomp

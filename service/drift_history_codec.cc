@@ -62,7 +62,8 @@ StatusOr<DriftHistory> DriftHistoryFromJson(const json& j) {
     h.served_offset_total = j.value("served_offset_total", size_t{0});
     for (const auto& p : j.at("probe_points")) {
       h.probe_points.push_back({TimeOf(p), p.value("run", ""), p.value("measured_mm", 0.0),
-                                json_read::NumberOr(p, "predicted_mm"), json_read::NumberOr(p, "residual_mm")});
+                                json_read::NumberOr(p, "predicted_mm"),
+                                json_read::NumberOr(p, "residual_mm")});
     }
     for (const auto& v : j.at("served_offset")) {
       h.served_offset.push_back({TimeOf(v), v.value("value_mm", 0.0)});

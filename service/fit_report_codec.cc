@@ -9,11 +9,11 @@
 namespace thermocomp {
 namespace {
 
-using nlohmann::json;
 using json_read::ArrayAt;
 using json_read::NumberOr;
 using json_read::ObjectAt;
 using json_read::ValueOr;
+using nlohmann::json;
 
 json ErrorsToJson(const HeldOutErrors& e, bool computed) {
   return {{"rmse_mm", computed ? FiniteOrNull(e.rmse_mm) : nullptr},

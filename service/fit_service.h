@@ -40,7 +40,7 @@ class FitService {
   // The stored report (with "version" and "status"), or NotFound /
   // Unprocessable (too few points: nothing is stored).
   StatusOr<FitReport> Fit(const std::string& machine, const std::string& axis,
-                               const FitRequest& request);
+                          const FitRequest& request);
   // Makes a stored version the served one (manual activation or rollback).
   Status Activate(const std::string& machine, const std::string& axis, int version,
                   const std::string& actor);

@@ -8,10 +8,12 @@
 #include "service/machine_lookup.h"
 #include "service/model_codec.h"
 #include "service/term_input.h"
+#include "storage/aux_store.h"
 #include "storage/check_store.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"
+#include "storage/sample_store.h"
 
 namespace thermocomp {
 namespace {
@@ -104,6 +106,31 @@ StatusOr<DriftHistory> HistoryService::Drift(const HistoryQuery& q) {
   for (const auto& c : session->checks().ColumnChecks(machine->id)) {
     if (c.ts_ms < q.from_ms || c.ts_ms > q.to_ms) continue;
     out.machine_zero.push_back({c.ts_ms, c.zero_x_mm, c.zero_y_mm, c.zero_z_mm});
+  }
+  return out;
+}
+
+StatusOr<TemperatureHistory> HistoryService::Temperatures(const TemperatureQuery& q) {
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto machine = FindMachine(*session, q.machine);
+  if (!machine.ok()) return machine.status();
+  TemperatureHistory out;
+  out.machine = machine->name;
+  out.max_points = q.max_points;
+  std::vector<int64_t> ts;
+  std::vector<double> values;
+  for (const SensorRecord& sensor : machine->sensors) {
+    ts.clear();
+    values.clear();
+    session->samples().ScanRaw(sensor.id, q.from_ms, q.to_ms, [&](int64_t t, double v) {
+      ts.push_back(t);
+      values.push_back(v);
+    });
+    out.sensors.push_back(
+        {sensor.name, sensor.location, ts.size(), Series(ts, values, q.max_points)});
+  }
+  for (const EventRecord& e : session->aux().Events(machine->id)) {
+    if (e.ts_ms >= q.from_ms && e.ts_ms <= q.to_ms) out.events.push_back({e.ts_ms, e.kind, e.note});
   }
   return out;
 }

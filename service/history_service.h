@@ -1,7 +1,7 @@
 // HistoryService: drift history of an axis for quality staff and
 // dashboards: measured, predicted and residual drift at probe points (by
 // the active model) and the served offset over time, each series thinned
-// to max_points with LTTB.
+// to max_points with LTTB; and every sensor's temperature over a range.
 #pragma once
 
 #include "service/config.h"
@@ -17,11 +17,20 @@ struct HistoryQuery {
   size_t max_points = 1000;
 };
 
+struct TemperatureQuery {
+  std::string machine;
+  int64_t from_ms = 0, to_ms = INT64_MAX;
+  size_t max_points = 1000;  // per sensor
+};
+
 class HistoryService {
  public:
   HistoryService(Storage& storage, const Config& config, ProbeTemperatureCache* cache = nullptr)
       : storage_(storage), config_(config), cache_(cache) {}
   StatusOr<DriftHistory> Drift(const HistoryQuery& q);
+  // Raw temperatures of every sensor, each thinned to max_points; NotFound
+  // for an unknown machine.
+  StatusOr<TemperatureHistory> Temperatures(const TemperatureQuery& q);
 
  private:
   Storage& storage_;

@@ -8,6 +8,7 @@
 
 #include "core/time_format.h"
 #include "model/ewma_filter.h"
+#include "storage/analysis_store.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"
@@ -171,6 +172,48 @@ MachineStatus MachineService::Summary(const MachineRecord& m) {
   status.probe_points = session->probes().CountPoints(m.id);
   status.last_column_check = LatestColumnCheckSummary(*session, m.id);
   return status;
+}
+
+std::vector<MachineOverview> MachineService::Overview() {
+  const std::unique_ptr<Session> session = storage_.Open();
+  const int64_t now = clock_.NowMs();
+  std::vector<MachineOverview> out;
+  for (const MachineRecord& m : session->machines().List()) {
+    MachineOverview o;
+    o.name = m.name;
+    o.controller = m.controller;
+    for (const auto& s : m.sensors) {
+      if (auto fs = session->samples().LoadFilterState(s.id)) {
+        o.last_sample_ms = std::max(o.last_sample_ms.value_or(0), fs->last_ts_ms);
+      }
+    }
+    if (auto datum = session->probes().LatestDatum(m.id)) o.last_datum_ms = datum->ts_ms;
+    o.checks = CountChecks(*session, m.id, now);
+    for (const auto& a : m.axes) {
+      AxisOverview axis;
+      axis.axis = a.name;
+      if (auto active = session->models().Active(a.id)) {
+        axis.model_version = active->version;
+        axis.model_created_ms = active->created_ms;
+      }
+      const std::vector<AnalysisRecord> analyses = session->analyses().List(a.id, 1);
+      if (!analyses.empty()) {
+        const AnalysisRecord& last = analyses.front();
+        axis.analysis_id = last.id;
+        axis.analysis_ms = last.created_ms;
+        axis.analysis_effects = last.effects;
+        axis.analysis_version = last.model_version;
+        if (last.model_version) {
+          if (auto v = session->models().Get(a.id, *last.model_version)) {
+            axis.analysis_version_status = v->status;
+          }
+        }
+      }
+      o.axes.push_back(std::move(axis));
+    }
+    out.push_back(std::move(o));
+  }
+  return out;
 }
 
 }  // namespace thermocomp

@@ -51,6 +51,8 @@ class MachineService {
   std::optional<MachineRecord> Find(const std::string& name);
   // Counts and times for GET /machines/{m}: samples, probe points, last sample.
   MachineStatus Summary(const MachineRecord& machine);
+  // Every machine, by name, at a glance.
+  std::vector<MachineOverview> Overview();
 
  private:
   Storage& storage_;

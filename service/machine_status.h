@@ -1,12 +1,12 @@
-// MachineStatus: what a machine's page and the line overview show next to
-// its definition (MachineService::Summary; JSON both ways:
-// service/machine_status_codec.h).
+// MachineStatus: what a machine's page shows next to its definition (MachineService::Summary; JSON
+// both ways: service/machine_status_codec.h).
 #pragma once
 
 #include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace thermocomp {
 
@@ -30,6 +30,27 @@ struct MachineStatus {
   std::map<std::string, std::optional<int>> active_models;  // per axis; none: no model
   CheckCounts checks;
   std::optional<LastColumnCheck> last_column_check;
+};
+
+// The line at a glance (MachineService::Overview): per machine what an
+// operator scans for, without the counts that read the whole archive.
+struct AxisOverview {
+  std::string axis;
+  std::optional<int> model_version;  // the active model
+  std::optional<int64_t> model_created_ms;
+  // The newest effect analysis: when, how many effects it added, and the
+  // version it stored (with that version's status: candidate = proposed).
+  std::optional<int64_t> analysis_id, analysis_ms;
+  int analysis_effects = 0;
+  std::optional<int> analysis_version;
+  std::string analysis_version_status;
+};
+
+struct MachineOverview {
+  std::string name, controller;
+  std::optional<int64_t> last_sample_ms, last_datum_ms;
+  CheckCounts checks;
+  std::vector<AxisOverview> axes;
 };
 
 }  // namespace thermocomp

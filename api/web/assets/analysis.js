@@ -1,0 +1,108 @@
+// One effect analysis as a page: what it added and how each addition reads
+// physically, the error before and after by every measure, what else
+// explained it equally well, and, for a proposed model, applying it.
+"use strict";
+
+(async () => {
+  const { el, api, um, num, time } = TC;
+  const machine = TC.pathPart(3), axis = TC.pathPart(5), id = TC.pathPart(7);
+  const session = await TC.start(machine + " " + axis + " analysis " + id).catch(TC.fail);
+  if (!session) return;
+  const path = "/machines/" + encodeURIComponent(machine) + "/axes/" + axis;
+  let r;
+  try {
+    r = await api(path + "/analysis/" + id);
+  } catch (err) {
+    return TC.fail(err);
+  }
+  const message = el("div", { role: "status" });
+  const p = (v) => (v === 0 ? "< 1e-300" : num(v, 2));
+  const gain = (g) => (g ? num(g.relative * 100, 3) + " % (t " + num(g.t, 3) + ")" : "–");
+
+  // Horizontal bars: each error measure before (grey) and after (blue), µm.
+  function bars(measures) {
+    const ns = "http://www.w3.org/2000/svg";
+    const svg = document.createElementNS(ns, "svg");
+    const width = 560, row = 44;
+    svg.setAttribute("viewBox", "0 0 " + width + " " + (measures.length * row + 24));
+    svg.setAttribute("width", "100%");
+    svg.setAttribute("style", "max-width:" + width + "px");
+    svg.setAttribute("role", "img");
+    svg.setAttribute("aria-label", "RMSE before and after, µm");
+    const top = Math.max(1e-9, ...measures.flatMap((m) => [m[1], m[2]].filter((v) => v !== null && isFinite(v))));
+    const add = (tag, attrs, text) => {
+      const n = document.createElementNS(ns, tag);
+      for (const [k, v] of Object.entries(attrs)) n.setAttribute(k, v);
+      if (text !== undefined) n.textContent = text;
+      svg.append(n);
+    };
+    measures.forEach(([label, before, after], i) => {
+      const y = 8 + i * row;
+      add("text", { x: 0, y: y + 16, "font-size": 12 }, label);
+      [before, after].forEach((v, k) => {
+        const w = v === null || !isFinite(v) ? 0 : 330 * v / top;
+        add("rect", { x: 170, y: y + k * 16, width: w, height: 13, fill: k ? "#2a6ebb" : "#9aa3ad" });
+        add("text", { x: 176 + w, y: y + k * 16 + 11, "font-size": 11 }, um(v) + " µm");
+      });
+    });
+    add("text", { x: 170, y: measures.length * row + 18, "font-size": 11, fill: "#5f6b78" }, "grey: declared model · blue: with the effects added");
+    return svg;
+  }
+
+  async function apply(version) {
+    if (!confirm("Serve model v" + version + " (proposed by this analysis) for " + machine + " " + axis + " from now on? The change is recorded in the audit log.")) return;
+    try {
+      await api(path + "/models/" + version + "/activate", { method: "POST", body: "" });
+      message.replaceChildren(el("p", { class: "notice" }, "Model v" + version + " is now served. Audit entry: activate " + machine + " " + axis + " v" + version + "."));
+    } catch (err) {
+      message.replaceChildren(el("p", { class: "error" }, TC.problemText(err)));
+    }
+  }
+
+  const effects = r.effects.map((e, i) => [String(i + 1), el("code", {}, e.name), num(e.coefficient * 1000, 4) + " µm/" + e.unit, p(e.p_adjusted),
+    um(e.cv_rmse_before_mm) + " → " + um(e.cv_rmse_after_mm), gain(e.confidence),
+    (e.alternatives || []).map((a) => a.name).join(", ") || "none", e.interpretation]);
+  const v = r.validation || {};
+  const coef = (r.coefficient_changes || []).map((c) => [el("code", {}, c.term), um(c.before), um(c.after)]);
+  const children = [
+    el("h1", {}, el("a", { href: "/ui/machines/" + encodeURIComponent(machine) }, machine), " · axis " + axis + " · ",
+      el("a", { href: "/ui" + path + "/analysis" }, "analyses"), " · #" + r.id),
+    el("p", {}, "Created " + time(r.created_at) + " (" + r.trigger + "). Declared inputs: " + (r.declared_inputs.join(", ") || "none") +
+      ". " + r.candidates + " candidate effects over " + r.training_runs + " training runs (" + r.n + " probe points); held-out runs, never seen by the search: " +
+      (r.holdout_runs.join(", ") || "none") + "."),
+    el("p", { class: "muted" }, "Other forms: ", el("a", { href: "/api/v1" + path + "/analysis/" + r.id + "?format=html" }, "HTML report"), " · ",
+      el("a", { href: "/api/v1" + path + "/analysis/" + r.id + "?format=markdown" }, "Markdown")),
+    message,
+    el("h2", {}, "Effects added"),
+    effects.length ? TC.table([{ label: "#" }, { label: "effect" }, { label: "coefficient" }, { label: "p (adj.)", num: true }, { label: "CV RMSE µm" },
+      { label: "validated gain" }, { label: "equally good" }, { label: "physical reading" }], effects, { id: "effects" })
+      : el("div", { class: "empty", id: "effects" }, "No effect passed: nothing explained the residual better than chance and by more than its uncertainty in cross-validation over whole days."),
+    el("h2", {}, "Error before and after"),
+    bars([["training", r.train_rmse_before_mm, r.train_rmse_after_mm], ["blocked cross-validation", v.rmse_before_mm ?? null, v.rmse_after_mm ?? null],
+      ["leave one run out", r.cv_rmse_before_mm, r.cv_rmse_after_mm], ["held-out runs", r.rmse_before_mm, r.rmse_after_mm]]),
+  ];
+  if (coef.length) {
+    children.push(el("h2", {}, "Declared coefficients (µm per unit)"),
+      TC.table([{ label: "term" }, { label: "declared model", num: true }, { label: "with the effects", num: true }], coef, { id: "coefficient-changes" }));
+  }
+  if ((r.closest_candidates || []).length) {
+    children.push(el("h2", {}, "Closest candidates that did not pass"),
+      TC.table([{ label: "candidate" }, { label: "CV RMSE µm", num: true }, { label: "p (adj.)", num: true }, { label: "validated gain" }],
+        r.closest_candidates.map((c) => [el("code", {}, c.name), um(c.cv_rmse_mm), p(c.p_adjusted), gain(c.confidence)])));
+  }
+  for (const [title, list] of [["Ambiguous (none added)", r.ambiguous], ["Set aside", r.set_aside]]) {
+    if ((list || []).length) {
+      children.push(el("h2", {}, title), el("ul", {}, list.map((a) => el("li", {}, el("code", {}, a.name), " " + gain(a.confidence) + (a.reason ? ": " + a.reason : "")))));
+    }
+  }
+  if ((r.event_comparisons || []).length) {
+    children.push(el("h2", {}, "Events"), el("ul", {}, r.event_comparisons.map((e) => el("li", {}, e.statement))));
+  }
+  if (r.model) {
+    const m = r.model;
+    children.push(el("h2", {}, "Model"), el("p", { id: "model" }, el("a", { href: "/ui" + path + "/models/" + m.version }, "v" + m.version), ": " + m.status + ". " + m.reason + ".",
+      m.status === "candidate" && TC.can("activate") ? el("button", { type: "button", class: "primary", id: "apply", onclick: () => apply(m.version) }, "Apply this model") : ""));
+  }
+  TC.main(...children);
+  document.body.dataset.ready = "1";
+})();

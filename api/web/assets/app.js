@@ -1,0 +1,176 @@
+// Shared by every page: the API client (credentials, CSRF token, problem
+// details), who is signed in and what the role may do, times in the
+// plant's time zone, and a small DOM builder that only ever sets text, so
+// nothing from the data is parsed as HTML.
+"use strict";
+
+const TC = (() => {
+  const zone = document.querySelector('meta[name="thermocomp-time-zone"]').content || "UTC";
+  let session = null;
+
+  class ApiError extends Error {
+    constructor(status, problem) {
+      super(problem.detail || problem.title || ("HTTP " + status));
+      this.status = status;
+      this.problem = problem;
+    }
+  }
+
+  // fetch() of /api/v1 with the session's CSRF token on writes; JSON in and
+  // out; a problem+json answer becomes an ApiError naming the fields.
+  async function api(path, options = {}) {
+    const init = { method: options.method || "GET", credentials: "same-origin", headers: {} };
+    if (options.body !== undefined) {
+      init.headers["Content-Type"] = options.type || "application/json";
+      init.body = typeof options.body === "string" ? options.body : JSON.stringify(options.body);
+    }
+    if (init.method !== "GET" && session && session.csrf_token) {
+      init.headers["X-CSRF-Token"] = session.csrf_token;
+    }
+    const res = await fetch("/api/v1" + path, init);
+    const type = res.headers.get("Content-Type") || "";
+    if (!res.ok) {
+      const problem = type.includes("json") ? await res.json() : { detail: await res.text() };
+      if (res.status === 401 && !options.noRedirect) {
+        location.href = "/ui/sign-in?next=" + encodeURIComponent(location.pathname + location.search);
+      }
+      throw new ApiError(res.status, problem);
+    }
+    if (res.status === 204) return null;
+    return type.includes("json") ? res.json() : res.text();
+  }
+
+  function problemText(err) {
+    let text = err.message;
+    const errors = err.problem && err.problem.errors;
+    if (Array.isArray(errors) && errors.length) {
+      text += ": " + errors.map((e) => e.field + " " + e.message).join("; ");
+    }
+    return text;
+  }
+
+  // el("td", {class: "num"}, "1.2") -> <td class="num">1.2</td>; children
+  // are nodes or text; attributes starting with "on" are listeners.
+  function el(tag, attrs, ...children) {
+    const node = document.createElement(tag);
+    for (const [k, v] of Object.entries(attrs || {})) {
+      if (v === undefined || v === null || v === false) continue;
+      if (k.startsWith("on")) node.addEventListener(k.slice(2), v);
+      else node.setAttribute(k, v === true ? "" : String(v));
+    }
+    for (const c of children.flat()) {
+      if (c === undefined || c === null || c === false) continue;
+      node.append(c instanceof Node ? c : document.createTextNode(String(c)));
+    }
+    return node;
+  }
+
+  // A table: columns [{label, num}], rows of cells (text or nodes).
+  function table(columns, rows, attrs) {
+    return el("div", { class: "scroll" },
+      el("table", attrs || {},
+        el("thead", {}, el("tr", {}, columns.map((c) => el("th", { class: c.num ? "num" : null, title: c.title }, c.label)))),
+        el("tbody", {}, rows.map((r) => el("tr", {}, r.map((cell, i) =>
+          el("td", { class: columns[i] && columns[i].num ? "num" : null }, cell)))))));
+  }
+
+  const dateTime = new Intl.DateTimeFormat("en-GB", {
+    timeZone: zone, year: "numeric", month: "short", day: "2-digit",
+    hour: "2-digit", minute: "2-digit", hour12: false });
+  function time(iso) {
+    if (!iso) return "–";
+    const d = typeof iso === "number" ? new Date(iso) : new Date(iso);
+    return isNaN(d) ? "–" : dateTime.format(d);
+  }
+  // "3 h ago", "2 d ago": how old a time is, for the overview.
+  function age(iso, now) {
+    if (!iso) return "";
+    const s = ((now || Date.now()) - new Date(iso).getTime()) / 1000;
+    if (s < 90) return "just now";
+    if (s < 5400) return Math.round(s / 60) + " min ago";
+    if (s < 129600) return Math.round(s / 3600) + " h ago";
+    return Math.round(s / 86400) + " d ago";
+  }
+  // The UTC instant of a wall-clock time in the plant's zone ("2026-03-01T06:00").
+  function zonedToUtc(local) {
+    const guess = new Date(local + "Z").getTime();
+    if (isNaN(guess)) return NaN;
+    const parts = Object.fromEntries(new Intl.DateTimeFormat("en-US", {
+      timeZone: zone, hourCycle: "h23", year: "numeric", month: "2-digit", day: "2-digit",
+      hour: "2-digit", minute: "2-digit", second: "2-digit" }).formatToParts(new Date(guess))
+      .map((p) => [p.type, p.value]));
+    const seen = Date.UTC(+parts.year, +parts.month - 1, +parts.day, +parts.hour, +parts.minute, +parts.second);
+    return guess - (seen - guess);
+  }
+
+  // Millimetres as micrometres with two decimals; "–" for null.
+  function um(mm, digits = 2) {
+    return mm === null || mm === undefined || !isFinite(mm) ? "–" : (mm * 1000).toFixed(digits);
+  }
+  function num(v, digits = 3) {
+    return v === null || v === undefined || !isFinite(v) ? "–" : Number(v).toPrecision(digits);
+  }
+
+  // What the signed-in role may do (docs/api.md, Authentication).
+  function can(action) {
+    const role = session ? session.role : "";
+    if (role === "admin") return true;
+    if (role === "maintenance") return ["request_check", "record_check", "record_event"].includes(action);
+    return false;
+  }
+
+  function downloadCsv(filename, header, rows) {
+    const quote = (v) => {
+      const s = v === null || v === undefined ? "" : String(v);
+      return /[",\n]/.test(s) ? '"' + s.replace(/"/g, '""') + '"' : s;
+    };
+    const text = [header, ...rows].map((r) => r.map(quote).join(",")).join("\n") + "\n";
+    const url = URL.createObjectURL(new Blob([text], { type: "text/csv" }));
+    const a = el("a", { href: url, download: filename });
+    document.body.append(a);
+    a.click();
+    a.remove();
+    setTimeout(() => URL.revokeObjectURL(url), 1000);
+  }
+
+  function main(...children) {
+    const m = document.getElementById("main");
+    m.replaceChildren(...children.flat());
+    return m;
+  }
+  function fail(err) {
+    main(el("div", { class: "error", role: "alert" }, problemText(err)));
+  }
+
+  async function signOut() {
+    await api("/session", { method: "DELETE", noRedirect: true }).catch(() => {});
+    location.href = "/ui/sign-in";
+  }
+
+  // Header navigation and who is signed in; resolves once the session is known.
+  async function start(title) {
+    document.title = title + " · thermocomp";
+    const nav = document.getElementById("nav");
+    nav.replaceChildren(el("a", { href: "/" }, "Overview"), el("a", { href: "/ui/checks" }, "Checks"));
+    session = await api("/session");
+    if (session.auth === "none") {
+      location.href = "/ui/sign-in?next=" + encodeURIComponent(location.pathname + location.search);
+      return null;
+    }
+    const who = document.getElementById("who");
+    if (session.auth === "open") {
+      who.replaceChildren(el("span", { class: "muted", title: "no access tokens configured: loopback clients may do everything" }, "local access"));
+    } else {
+      who.replaceChildren(el("span", {}, session.name + " (" + session.role + ")"),
+        session.auth === "session" ? el("button", { onclick: signOut }, "Sign out") : null);
+    }
+    document.body.dataset.role = session.role;
+    return session;
+  }
+
+  function param(name) { return new URLSearchParams(location.search).get(name); }
+  function pathPart(i) { return decodeURIComponent(location.pathname.split("/")[i] || ""); }
+
+  return { api, ApiError, problemText, el, table, time, age, zonedToUtc, um, num, can,
+    downloadCsv, main, fail, start, param, pathPart, zone, get session() { return session; } };
+})();

@@ -1,0 +1,80 @@
+// The line at a glance: every machine and axis, refreshed every 15 s
+// without reloading the page.
+"use strict";
+
+(async () => {
+  const { el, um, time, age } = TC;
+  const session = await TC.start("Line overview").catch(TC.fail);
+  if (!session) return;
+  const status = el("p", { class: "muted", id: "updated" });
+  const body = el("div", { id: "overview" });
+  TC.main(el("h1", {}, "Line overview"), status, body);
+
+  function state(a) {
+    if (a.valid) return el("span", { class: "ok" }, a.clamped ? "valid (clamped)" : "valid");
+    return el("span", { class: a.stale ? "warn" : "bad", title: a.reason || "" },
+      (a.stale ? "stale: " : "not served: ") + (a.reason || ""));
+  }
+  function analysis(m, a) {
+    if (!a.analysis) return el("span", { class: "muted" }, "none");
+    const x = a.analysis;
+    const what = x.effects === 0 ? "nothing missing"
+      : x.effects + " effect(s)" + (x.model_status === "candidate" ? ", proposes v" + x.model_version
+        : x.model_status ? ", v" + x.model_version + " " + x.model_status : "");
+    return el("a", { href: "/ui/machines/" + encodeURIComponent(m.machine) + "/axes/" + a.axis + "/analysis/" + x.id,
+      class: x.model_status === "candidate" ? "warn" : null }, time(x.created_at) + ": " + what);
+  }
+  function checks(m) {
+    const c = m.checks;
+    if (!c.pending && !c.overdue) return el("span", { class: "muted" }, "none open");
+    return el("a", { href: "/ui/machines/" + encodeURIComponent(m.machine) + "/checks", class: c.overdue ? "bad" : "warn" },
+      c.pending + " open" + (c.overdue ? ", " + c.overdue + " overdue" : ""));
+  }
+
+  function render(data) {
+    const now = new Date(data.computed_at).getTime();
+    status.textContent = "Updated " + time(data.computed_at) + " (" + TC.zone + "); refreshes every 15 s.";
+    if (!data.machines.length) {
+      body.replaceChildren(el("div", { class: "empty", id: "empty" },
+        el("p", {}, el("b", {}, "No machines yet.")),
+        el("p", {}, "Register a machine with PUT /api/v1/machines/{name}, or import archived data with ",
+          el("code", {}, "thermocomp import"), " (see the README). Machines appear here as soon as they exist.")));
+      return;
+    }
+    const rows = [];
+    for (const m of data.machines) {
+      const link = el("a", { href: "/ui/machines/" + encodeURIComponent(m.machine), class: "machine" }, m.machine);
+      const axes = m.axes.length ? m.axes : [null];
+      axes.forEach((a, i) => {
+        const first = i === 0;
+        rows.push([
+          first ? link : "", a ? a.axis : "–",
+          a ? um(a.offset_mm) : "–", a ? a.slope_um_per_m.toFixed(2) : "–",
+          a ? state(a) : el("span", { class: "muted" }, "no axes"),
+          a && a.model_version ? el("a", { href: "/ui/machines/" + encodeURIComponent(m.machine) + "/axes/" + a.axis + "/models/" + a.model_version },
+            "v" + a.model_version + " · " + age(a.model_created_at, now)) : el("span", { class: "muted" }, "none"),
+          first ? (m.last_datum ? time(m.last_datum) : "–") : "",
+          first ? el("span", { title: m.last_sample || "" }, m.last_sample ? age(m.last_sample, now) : "never") : "",
+          first ? checks(m) : "",
+          a ? analysis(m, a) : "",
+        ]);
+      });
+    }
+    body.replaceChildren(TC.table([
+      { label: "Machine" }, { label: "Axis" }, { label: "Offset µm", num: true }, { label: "Slope µm/m", num: true },
+      { label: "Served" }, { label: "Model" }, { label: "Last datum" }, { label: "Last temperature" },
+      { label: "Column checks" }, { label: "Last effect analysis" }], rows, { id: "machines" }));
+    body.dataset.machines = data.machines.length;
+  }
+
+  async function refresh() {
+    try {
+      render(await TC.api("/overview"));
+    } catch (err) {
+      status.replaceChildren(el("span", { class: "error" }, "Refresh failed: " + TC.problemText(err)));
+    }
+  }
+  await refresh();
+  document.body.dataset.ready = "1";
+  setInterval(refresh, 15000);
+})();

@@ -1,0 +1,17 @@
+# Writes OUT: the files named in FILES (from api/web/assets/) as strings the
+# server serves, looked up by file name.
+file(WRITE ${OUT} "// Generated from api/web/assets/ by embed_assets.cmake. Do not edit.\n#include \"api/web/web_assets.h\"\n#include <cstring>\nnamespace thermocomp::api {\nnamespace {\nconst WebAsset kAssets[] = {\n")
+string(REPLACE "," ";" FILES "${FILES}")
+foreach(f ${FILES})
+  get_filename_component(name ${f} NAME)
+  file(READ ${DIR}/${f} text)
+  if(name MATCHES "\\.js$")
+    set(type "text/javascript; charset=utf-8")
+  elseif(name MATCHES "\\.css$")
+    set(type "text/css; charset=utf-8")
+  else()
+    set(type "text/html; charset=utf-8")
+  endif()
+  file(APPEND ${OUT} "  {\"${name}\", \"${type}\", R\"thermocomp_asset(${text})thermocomp_asset\"},\n")
+endforeach()
+file(APPEND ${OUT} "};\n}  // namespace\nconst WebAsset* FindWebAsset(std::string_view name) {\n  for (const WebAsset& a : kAssets) {\n    if (name == a.name) return &a;\n  }\n  return nullptr;\n}\n}  // namespace thermocomp::api\n")

@@ -1,0 +1,293 @@
+#!/usr/bin/env python3
+"""The pages in a real headless Chromium against real servers.
+
+Three `thermocomp serve` processes on loopback ports: the demo database
+without tokens (loopback access, everything allowed), a copy of it with
+tokens (reader, maintenance, admin sign in), and an empty database. Each
+page is opened, checked against what the API says, screenshotted into
+OUT_DIR, and its browser console must stay free of errors.
+
+usage: pages_test.py THERMOCOMP_BINARY SOURCE_DIR OUT_DIR
+"""
+import json
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+
+from selenium import webdriver
+from selenium.common.exceptions import TimeoutException
+from selenium.webdriver.chrome.service import Service
+from selenium.webdriver.common.action_chains import ActionChains
+from selenium.webdriver.common.by import By
+from selenium.webdriver.support.ui import WebDriverWait
+
+BIN, SRC, OUT = sys.argv[1], sys.argv[2], sys.argv[3]
+os.makedirs(OUT, exist_ok=True)
+failures = []
+TOKENS = {"reader": "reader-token-0123456789", "maintenance": "maint-token-0123456789",
+          "admin": "admin-token-0123456789"}
+
+
+def check(ok, what):
+    print(("ok   " if ok else "FAIL ") + what)
+    if not ok:
+        failures.append(what)
+
+
+def free_port():
+    s = socket.socket()
+    s.bind(("127.0.0.1", 0))
+    port = s.getsockname()[1]
+    s.close()
+    return port
+
+
+class Server:
+    def __init__(self, db, config_text="", create=False):
+        self.port = free_port()
+        self.dir = tempfile.mkdtemp(prefix="tc-pages-")
+        config = os.path.join(self.dir, "thermocomp.toml")
+        with open(config, "w") as f:
+            f.write(config_text)
+        self.log = open(os.path.join(self.dir, "serve.log"), "w")
+        self.proc = subprocess.Popen(
+            [BIN, "serve", "--db", db, "--config", config, "--listen", f"127.0.0.1:{self.port}"]
+            + (["--create"] if create else []),
+            stdout=self.log, stderr=subprocess.STDOUT)
+        self.base = f"http://127.0.0.1:{self.port}"
+        for _ in range(200):
+            try:
+                urllib.request.urlopen(self.base + "/healthz", timeout=1)
+                return
+            except OSError:
+                time.sleep(0.05)
+        raise RuntimeError("server did not start")
+
+    def api(self, path, token=None):
+        req = urllib.request.Request(self.base + "/api/v1" + path)
+        if token:
+            req.add_header("Authorization", "Bearer " + token)
+        with urllib.request.urlopen(req, timeout=30) as r:
+            return json.load(r)
+
+    def stop(self):
+        self.proc.terminate()
+        self.proc.wait(timeout=20)
+        self.log.close()
+
+
+def browser():
+    options = webdriver.ChromeOptions()
+    options.binary_location = shutil.which("chromium") or "/usr/bin/chromium"
+    for arg in ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                "--window-size=1280,800", "--no-proxy-server", "--disable-background-networking",
+                "--disable-component-update", "--disable-sync", "--no-first-run",
+                "--disable-features=MediaRouter,OptimizationHints,Translate"]:
+        options.add_argument(arg)
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    service = Service(shutil.which("chromedriver") or "/usr/bin/chromedriver")
+    return webdriver.Chrome(service=service, options=options)
+
+
+def wait_ready(d, timeout=20):
+    try:
+        WebDriverWait(d, timeout).until(
+            lambda x: x.execute_script("return document.body.dataset.ready === '1' && !document.body.dataset.loading"))
+    except TimeoutException:
+        check(False, f"{d.current_url} became ready")
+
+
+def console_errors(d, page):
+    errors = [e for e in d.get_log("browser") if e["level"] == "SEVERE"]
+    check(not errors, f"{page}: no console errors {[e['message'] for e in errors][:3]}")
+
+
+def shot(d, name):
+    d.save_screenshot(os.path.join(OUT, name + ".png"))
+
+
+def open_page(d, server, path, name):
+    d.get(server.base + path)
+    wait_ready(d)
+    shot(d, name)
+    console_errors(d, name)
+
+
+def make_demo(dir):
+    db = os.path.join(dir, "demo.db")
+    subprocess.run([BIN, "demo", "--db", db, "--create", "--config",
+                    os.path.join(SRC, "deploy/thermocomp.toml")],
+                   check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return db
+
+
+def open_access(d, s):
+    """Loopback without tokens: every page works without signing in."""
+    overview = s.api("/overview")
+    open_page(d, s, "/", "overview")
+    names = [e.text for e in d.find_elements(By.CSS_SELECTOR, "#machines a.machine")]
+    check(names == [m["machine"] for m in overview["machines"]] and "sim-1" in names,
+          f"overview lists the demo machines {names}")
+    check(not d.find_elements(By.ID, "empty"), "overview of the demo shows no empty state")
+
+    open_page(d, s, "/ui/machines/sim-1", "machine")
+    drawn = int(d.find_element(By.ID, "drift").get_attribute("data-points"))
+    request = d.execute_script("return document.body.dataset.driftRequest")
+    served = s.api(request)
+    check(drawn == len(served["probe_points"]) and drawn > 0,
+          f"drift chart draws the {len(served['probe_points'])} points the API returns ({drawn})")
+    # Zoom: drag across the middle of the chart; the page asks for that range.
+    canvas = d.find_element(By.CSS_SELECTOR, "#drift canvas")
+    w = canvas.size["width"]
+    ActionChains(d).move_to_element_with_offset(canvas, int(-w * 0.2), 0).click_and_hold() \
+        .move_by_offset(int(w * 0.3), 0).release().perform()
+    try:
+        WebDriverWait(d, 10).until(lambda x: "from=" in x.execute_script("return document.body.dataset.driftRequest"))
+    except TimeoutException:
+        pass
+    wait_ready(d)
+    zoomed = d.execute_script("return document.body.dataset.driftRequest")
+    check("from=" in zoomed and "to=" in zoomed and zoomed != request, f"zoom asks for the range ({zoomed})")
+    served = s.api(zoomed)
+    drawn = int(d.find_element(By.ID, "drift").get_attribute("data-points"))
+    check(drawn == len(served["probe_points"]) and 0 < drawn,
+          f"after zoom the chart draws what the API returns for the range ({drawn})")
+    shot(d, "machine-zoomed")
+    # The range picker: a week of data.
+    d.find_element(By.CSS_SELECTOR, "button[data-span='Week']").click()
+    wait_ready(d)
+    check("from=" in d.execute_script("return document.body.dataset.driftRequest"), "range picker sets from")
+    console_errors(d, "machine after zoom")
+
+    open_page(d, s, "/ui/machines/sim-1/axes/Y/models", "models")
+    check(len(d.find_elements(By.CSS_SELECTOR, "#models tbody tr")) == len(s.api("/machines/sim-1/axes/Y/models")["models"]),
+          "model list shows every version")
+    v = s.api("/machines/sim-1/axes/Y/models")["models"][-1]["version"]
+    open_page(d, s, f"/ui/machines/sim-1/axes/Y/models/{v}", "model")
+    check(len(d.find_elements(By.CSS_SELECTOR, "#coefficients tbody tr")) >= 2, "model report lists coefficients")
+    analyses = s.api("/machines/sim-1/axes/Y/analysis")["analyses"]
+    open_page(d, s, "/ui/machines/sim-1/axes/Y/analysis", "analyses")
+    if analyses:
+        open_page(d, s, f"/ui/machines/sim-1/axes/Y/analysis/{analyses[0]['id']}", "analysis")
+        check(bool(d.find_elements(By.CSS_SELECTOR, "svg[aria-label]")), "analysis shows the error chart")
+    open_page(d, s, "/ui/checks", "checks")
+    open_page(d, s, "/ui/machines/sim-1/checks", "machine-checks")
+    check(len(d.find_elements(By.CSS_SELECTOR, "#positioning-list tbody tr")) ==
+          len(s.api("/machines/sim-1/positioning-checks")["checks"]), "positioning checks listed")
+    check(len(d.find_elements(By.CSS_SELECTOR, "#column-check-list tbody tr")) ==
+          len(s.api("/machines/sim-1/column-checks")["checks"]), "column checks listed")
+    # Tablet held by the machine.
+    d.set_window_size(820, 1180)
+    open_page(d, s, "/ui/machines/sim-1", "machine-tablet")
+    d.set_window_size(1280, 800)
+
+
+def sign_in(d, s, role):
+    d.delete_all_cookies()
+    d.get(s.base + "/ui/sign-in")
+    WebDriverWait(d, 10).until(lambda x: x.find_elements(By.ID, "token"))
+    d.find_element(By.ID, "token").send_keys(TOKENS[role])
+    d.find_element(By.CSS_SELECTOR, "#sign-in button").click()
+    WebDriverWait(d, 10).until(lambda x: x.current_url.rstrip("/") == s.base)
+    wait_ready(d)
+
+
+def with_tokens(d, s):
+    d.get(s.base + "/")
+    WebDriverWait(d, 10).until(lambda x: "/ui/sign-in" in x.current_url)
+    check(True, "without a session the overview asks to sign in")
+    shot(d, "sign-in")
+
+    # Maintenance requests a check and sees it open.
+    sign_in(d, s, "maintenance")
+    cookie = d.get_cookie("thermocomp_session")
+    check(cookie and cookie["httpOnly"] and cookie.get("sameSite") == "Strict",
+          f"session cookie is HttpOnly and SameSite=Strict ({cookie and cookie.get('sameSite')})")
+    open_page(d, s, "/ui/checks", "checks-maintenance")
+    d.find_element(By.ID, "check-reason").send_keys("spindle exchanged")
+    d.find_element(By.CSS_SELECTOR, "#request-check button").click()
+    WebDriverWait(d, 10).until(lambda x: "spindle exchanged" in x.find_element(By.ID, "requests").text)
+    check("spindle exchanged" in d.find_element(By.ID, "open-requests").text, "maintenance requests a check and sees it open")
+    shot(d, "checks-requested")
+    check(not d.find_elements(By.CSS_SELECTOR, "button.activate") , "maintenance sees no activate button")
+    console_errors(d, "checks as maintenance")
+
+    # Admin activates a version and the overview shows it.
+    sign_in(d, s, "admin")
+    models = s.api("/machines/sim-1/axes/Y/models", TOKENS["admin"])["models"]
+    active = next((m["version"] for m in models if m["status"] == "active"), None)
+    target = next((m["version"] for m in models if m["status"] not in ("active", "rejected")), None)
+    if target is None:  # one fit more gives a second version to switch to
+        req = urllib.request.Request(s.base + "/api/v1/machines/sim-1/axes/Y/fit", data=b"", method="POST",
+                                     headers={"Authorization": "Bearer " + TOKENS["admin"], "Content-Type": "application/json"})
+        urllib.request.urlopen(req, timeout=60)
+        target = active
+    open_page(d, s, "/ui/machines/sim-1/axes/Y/models", "models-admin")
+    d.find_element(By.CSS_SELECTOR, f"button.activate[data-version='{target}']").click()
+    d.switch_to.alert.accept()
+    WebDriverWait(d, 10).until(lambda x: "is now served" in x.find_element(By.ID, "message").text)
+    shot(d, "models-activated")
+    open_page(d, s, "/", "overview-admin")
+    row = [r.text for r in d.find_elements(By.CSS_SELECTOR, "#machines tbody tr") if r.text.startswith("sim-1")]
+    check(bool(row) and f"v{target}" in d.find_element(By.ID, "machines").text,
+          f"overview shows the activated version v{target}")
+
+    # A reader sees no write buttons, and a forged write is refused.
+    sign_in(d, s, "reader")
+    open_page(d, s, "/ui/machines/sim-1/axes/Y/models", "models-reader")
+    check(not d.find_elements(By.CSS_SELECTOR, "button.activate"), "a reader sees no activate button")
+    open_page(d, s, "/ui/checks", "checks-reader")
+    check(not d.find_elements(By.ID, "request-check"), "a reader sees no request form")
+    status = d.execute_async_script("""
+      const done = arguments[arguments.length - 1];
+      fetch('/api/v1/machines/sim-1/column-checks/requests', {method: 'POST', credentials: 'same-origin',
+        headers: {'Content-Type': 'application/json', 'X-CSRF-Token': 'forged'}, body: '{"reason": "x"}'})
+        .then(r => done(r.status));""")
+    check(status == 403, f"a reader's forged write is refused ({status})")
+    sign_in(d, s, "maintenance")
+    d.get(s.base + "/ui/checks")
+    wait_ready(d)
+    status = d.execute_async_script("""
+      const done = arguments[arguments.length - 1];
+      fetch('/api/v1/machines/sim-1/column-checks/requests', {method: 'POST', credentials: 'same-origin',
+        headers: {'Content-Type': 'application/json'}, body: '{"reason": "no csrf"}'})
+        .then(r => done(r.status));""")
+    check(status == 403, f"a write with the cookie but without the CSRF token is refused ({status})")
+    d.get_log("browser")  # the refused fetches above log on purpose
+
+
+def empty_states(d, s):
+    open_page(d, s, "/", "overview-empty")
+    check(bool(d.find_elements(By.ID, "empty")), "an empty database shows the overview's empty state")
+    open_page(d, s, "/ui/checks", "checks-empty")
+    check("No machines yet" in d.find_element(By.ID, "requests").text, "checks page explains an empty line")
+
+
+def main():
+    work = tempfile.mkdtemp(prefix="tc-pages-")
+    db = make_demo(work)
+    db2 = os.path.join(work, "tokens.db")
+    shutil.copy(db, db2)
+    tokens = "".join(f'[[auth.tokens]]\nname = "{r}-user"\ntoken = "{t}"\nrole = "{r}"\n\n' for r, t in TOKENS.items())
+    servers = [Server(db), Server(db2, tokens), Server(os.path.join(work, "empty.db"), create=True)]
+    d = browser()
+    try:
+        open_access(d, servers[0])
+        with_tokens(d, servers[1])
+        empty_states(d, servers[2])
+    finally:
+        d.quit()
+        for s in servers:
+            s.stop()
+    print(f"screenshots in {OUT}")
+    if failures:
+        print(f"{len(failures)} failed")
+        sys.exit(1)
+
+
+main()
