@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "api/report_page.h"
+
 namespace thermocomp::api {
 namespace {
 
@@ -66,12 +68,6 @@ std::string ErrorPlotSvg(const json& per) {
 
 }  // namespace
 
-std::string Escape(const std::string& md) {
-  std::string out;
-  for (char c : md) out += c == '<' ? "&lt;" : c == '&' ? "&amp;" : std::string(1, c);
-  return out;
-}
-
 std::string ColumnCheckMarkdown(const json& r) {
   const json& z = r["machine_zero_mm"];
   std::string md = "# Column check " + std::to_string(r.value("id", 0)) + ": " +
@@ -115,9 +111,7 @@ std::string ColumnCheckMarkdown(const json& r) {
 }
 
 std::string ColumnCheckHtml(const json& r) {
-  return "<!doctype html><html><head><meta charset='utf-8'><title>Column check</title></head>"
-         "<body><pre>" +
-         Escape(ColumnCheckMarkdown(r)) + "</pre></body></html>\n";
+  return ReportPage("Column check " + std::to_string(r.value("id", 0)), ColumnCheckMarkdown(r));
 }
 
 std::string PositioningMarkdown(const json& r) {
@@ -180,11 +174,10 @@ std::string PositioningMarkdown(const json& r) {
 }
 
 std::string PositioningHtml(const json& r) {
-  const std::string escaped = Escape(PositioningMarkdown(r));
-  return "<!doctype html><html><head><meta charset='utf-8'><title>Positioning check</title>"
-         "</head><body><p>Mean deviation approaching up (blue) and down (red) with +-2s "
-         "bands:</p>" +
-         ErrorPlotSvg(r["iso230_2"]["per_position"]) + "<pre>" + escaped + "</pre></body></html>\n";
+  return ReportPage("Positioning check " + std::to_string(r.value("id", 0)), PositioningMarkdown(r),
+                    "<figure>" + ErrorPlotSvg(r["iso230_2"]["per_position"]) +
+                        "<figcaption>Mean deviation approaching up (blue) and down (red) with "
+                        "&plusmn;2s bands.</figcaption></figure>");
 }
 
 StatusOr<std::string> RenderPitchTable(const PitchTable& t, const std::string& axis,

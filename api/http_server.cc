@@ -80,6 +80,7 @@ const std::vector<std::pair<std::regex, std::set<std::string>>>& RouteParams() {
       {std::regex(m + "/column-checks/requests"), {"state"}},
       {std::regex(m + "/column-checks/[0-9]+"), {"format"}},
       {std::regex(m + "/axes/[^/]+/analysis/[0-9]+"), {"format"}},
+      {std::regex(m + "/axes/[^/]+/models/[0-9]+"), {"format"}},
       {std::regex(m + "/positioning-checks/[0-9]+"), {"format"}},
       {std::regex(m + "/positioning-checks/[0-9]+/pitch-table"), {"format", "per_direction"}},
       {std::regex(m + "/positioning-checks"), PositioningQueryParameters()},

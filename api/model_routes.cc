@@ -7,13 +7,29 @@
 #include "api/http_util.h"
 #include "api/json_mapping.h"
 #include "api/problem.h"
+#include "api/report_page.h"
 #include "service/analysis_report_codec.h"
 #include "service/analysis_report_text.h"
 #include "service/fit_report_codec.h"
+#include "service/fit_report_text.h"
 #include "service/json_fields.h"
 
 namespace thermocomp::api {
 using nlohmann::json;
+
+namespace {
+
+// A stored version's report, typed, with its status as it is now.
+FitReport ModelReportOf(const json& j) {
+  auto decoded = FitReportFromJson(j);
+  FitReport r = decoded.ok() ? *decoded : FitReport{};
+  r.version = j.value("version", 0);
+  r.status = j.value("status", "");
+  r.reason = j.value("reason", "");
+  return r;
+}
+
+}  // namespace
 
 void HttpServer::ModelRoutes() {
   auto& s = server_;
@@ -43,7 +59,9 @@ void HttpServer::ModelRoutes() {
   s.Get(axis + "/models/([0-9]{1,9})", [this](const Req& req, Res& res) {
     auto one = GetModel(app_, req.matches[1], req.matches[2], std::stoi(req.matches[3]));
     if (!one.ok()) return WriteProblem(res, one.status());
-    WriteJson(res, *one);
+    WriteReport(
+        req, res, *one, AsIs, [](const json& j) { return FitReportMarkdown(ModelReportOf(j)); },
+        [](const json& j) { return FitReportHtml(ModelReportOf(j)); });
   });
   s.Post(axis + "/models/([0-9]{1,9})/activate", [this](const Req& req, Res& res) {
     const int version = std::stoi(req.matches[3]);

@@ -15,6 +15,7 @@
 #include "api/http_server.h"
 #include "api/ingest_parsers.h"
 #include "api/json_mapping.h"
+#include "api/report_page.h"
 #include "app/command_util.h"
 #include "app/live_simulation.h"
 #include "core/log.h"
@@ -111,7 +112,7 @@ int Analyze(const Args& a) {
   if (format == "json") {
     std::printf("%s\n", AnalysisReportToJson(*report).dump(2).c_str());
   } else if (format == "html") {
-    std::printf("%s", AnalysisHtml(*report).c_str());
+    std::printf("%s", api::AnalysisHtml(*report).c_str());
   } else {
     std::printf("%s", AnalysisMarkdown(*report).c_str());
   }

@@ -8,6 +8,7 @@ packages=(
   libboost-math-dev libtomlplusplus-dev
   libgtest-dev libbenchmark-dev cyclonedds-dev cyclonedds-tools
   clang libclang-rt-14-dev clang-tidy-14
+  libcmark-gfm-dev libcmark-gfm-extensions-dev
   libjs-dygraphs chromium chromium-driver python3-selenium
 )
 missing=()

@@ -36,29 +36,6 @@ std::string Confidence(const PairedGain& g) {
          std::to_string(g.blocks) + " blocks)";
 }
 
-std::string Escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 std::string EffectsMarkdown(const AnalysisReport& r) {
   if (r.effects.empty()) {
     return "**No effect passed**: no candidate explained the residual better than chance "
@@ -223,14 +200,17 @@ std::string AnalysisMarkdown(const AnalysisReport& r) {
   return md;
 }
 
-std::string AnalysisHtml(const AnalysisReport& r) {
-  // Bars of the three error measures, before (grey) and after (blue).
+std::string AnalysisErrorChartSvg(const AnalysisReport& r) {
+  // Bars of the error measures, before (grey) and after (blue).
   struct Measure {
     const char* label;
     double before, after;
   };
-  const Measure measures[3] = {{"training", r.train_rmse_before_mm, r.train_rmse_after_mm},
-                               {"cross-validation", r.cv_rmse_before_mm, r.cv_rmse_after_mm},
+  const double blocked_before = r.validation ? r.validation->rmse_before_mm : kNotComputed;
+  const double blocked_after = r.validation ? r.validation->rmse_after_mm : kNotComputed;
+  const Measure measures[4] = {{"training", r.train_rmse_before_mm, r.train_rmse_after_mm},
+                               {"blocked CV", blocked_before, blocked_after},
+                               {"run-out CV", r.cv_rmse_before_mm, r.cv_rmse_after_mm},
                                {"held-out", r.holdout_rmse_before_mm, r.holdout_rmse_after_mm}};
   double top = 1e-9;
   for (const auto& m : measures) {
@@ -238,9 +218,11 @@ std::string AnalysisHtml(const AnalysisReport& r) {
       if (std::isfinite(v)) top = std::max(top, v);
     }
   }
-  std::string svg = "<svg xmlns='http://www.w3.org/2000/svg' width='420' height='130'>";
-  for (int i = 0; i < 3; ++i) {
-    const int y = 10 + i * 40;
+  std::string svg =
+      "<svg xmlns='http://www.w3.org/2000/svg' width='440' height='170' role='img' "
+      "aria-label='RMSE before and after, um'>";
+  for (int i = 0; i < 4; ++i) {
+    const int y = 6 + i * 40;
     svg += "<text x='0' y='" + std::to_string(y + 14) + "' font-size='12'>" + measures[i].label +
            "</text>";
     for (int s = 0; s < 2; ++s) {
@@ -252,11 +234,7 @@ std::string AnalysisHtml(const AnalysisReport& r) {
              "' font-size='10'>" + Um(v) + " um</text>";
     }
   }
-  svg += "</svg>";
-  return "<!doctype html><html><head><meta charset='utf-8'><title>Effect analysis</title>"
-         "</head><body><pre>" +
-         Escape(AnalysisMarkdown(r)) + "</pre><p>RMSE before (grey) and after (blue):</p>" + svg +
-         "</body></html>\n";
+  return svg + "</svg>";
 }
 
 }  // namespace thermocomp

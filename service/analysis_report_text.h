@@ -1,5 +1,5 @@
-// The effect-analysis report for people: Markdown, and a standalone HTML
-// page with the same content plus a chart of the error before and after.
+// The effect-analysis report for people: Markdown, and the chart of the
+// error before and after that its HTML page (api/report_page.h) adds.
 // Both are made from the typed report, so they never disagree with the
 // JSON. Lengths in um; coefficients in um per unit of their term.
 #pragma once
@@ -11,6 +11,7 @@
 namespace thermocomp {
 
 std::string AnalysisMarkdown(const AnalysisReport& report);
-std::string AnalysisHtml(const AnalysisReport& report);
+// The error before (grey) and after (blue) by every measure, as inline SVG.
+std::string AnalysisErrorChartSvg(const AnalysisReport& report);
 
 }  // namespace thermocomp

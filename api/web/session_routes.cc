@@ -85,7 +85,7 @@ void HttpServer::SessionRoutes() {
     const std::string id = CookieValue(req.get_header_value("Cookie"), kSessionCookie);
     if (!id.empty()) sessions_.Remove(id);
     res.set_header("Set-Cookie", SessionCookie("", 0, app_.config().web_secure_cookie));
-    res.status = 204;
+    WriteJson(res, {{"auth", "none"}, {"name", nullptr}, {"role", nullptr}, {"machine", nullptr}});
   });
 }
 

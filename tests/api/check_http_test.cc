@@ -264,6 +264,7 @@ TEST_F(CheckHttpTest, PositioningCheckIsEvaluatedReportedAndTurnedIntoPitchTable
   EXPECT_EQ(Get(base), e);
   auto html = client_->Get(base + "?format=html");
   EXPECT_NE(html->body.find("<polyline"), std::string::npos);
+  EXPECT_NE(html->body.find("<table>"), std::string::npos);  // a page, not text in <pre>
   auto md = client_->Get(base + "?format=markdown");
   EXPECT_NE(md->body.find("VDI/DGQ 3441"), std::string::npos);
 

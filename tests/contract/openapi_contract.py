@@ -133,9 +133,9 @@ def validate(schema, instance):
 called = {}
 
 
-def call(base, method, path, body=None, content_type=None, expect=None):
+def call(base, method, path, body=None, content_type=None, expect=None, headers=None):
     data = None
-    headers = {}
+    headers = dict(headers or {})
     if body is not None:
         data = body.encode() if isinstance(body, str) else json.dumps(body).encode()
         headers["Content-Type"] = content_type or "application/json"
@@ -211,6 +211,9 @@ def exercise(base):
     call(base, "GET", ax + "/models", expect=200)
     call(base, "GET", ax + "/models/1", expect=200)
     call(base, "GET", ax + "/models/99", expect=404)
+    for fmt in ("json", "markdown", "html"):
+        call(base, "GET", f"{ax}/models/1?format={fmt}", expect=200)
+    call(base, "GET", f"{ax}/models/1?format=pdf", expect=400)
     call(base, "POST", ax + "/models/1/activate", "", expect=200)
     status, text = call(base, "POST", ax + "/analysis", {"policy": "off"}, expect=201)
     analysis = json.loads(text)["id"] if status == 201 else 1
@@ -224,6 +227,15 @@ def exercise(base):
     call(base, "GET", f"{m}/compensation?fromat=json", expect=400)
     call(base, "GET", f"{m}/drift?axis=Y&max_points=50", expect=200)
     call(base, "GET", f"{m}/drift", expect=400)
+    call(base, "GET", f"{m}/temperatures?max_points=20", expect=200)
+    call(base, "GET", f"{m}/temperatures?max_points=1", expect=400)
+    call(base, "GET", "/api/v1/machines/nope/temperatures", expect=404)
+    call(base, "GET", "/api/v1/overview", expect=200)
+    call(base, "GET", "/api/v1/session", expect=200)
+    call(base, "POST", "/api/v1/session", {"token": "x" * 20}, expect=409)
+    call(base, "POST", "/api/v1/session", {"token": 5}, expect=400)
+    call(base, "POST", "/api/v1/session", "token=x", "application/x-www-form-urlencoded", expect=415)
+    call(base, "DELETE", "/api/v1/session", expect=200)
     art = {"points": [{"id": "KD", "nominal": {"x": 0, "y": 500, "z": 0}},
                       {"id": "P1", "nominal": {"x": 100, "y": 400, "z": 0}}],
            "schemes": [{"id": "a", "travel_axis": "Y", "deviation_axis": "X", "reference_point": "P1"}]}
@@ -268,6 +280,17 @@ def exercise(base):
     call(base, "GET", f"{m}/positioning-checks?format=html", expect=400)
 
 
+def exercise_sign_in(base):
+    call(base, "GET", "/api/v1/session", expect=200)
+    call(base, "POST", "/api/v1/session", {"token": "wrong-token-000000000"}, expect=401)
+    status, _ = call(base, "POST", "/api/v1/session", {"token": "reader-token-0123456789"}, expect=201)
+    call(base, "GET", "/api/v1/session", expect=200,
+         headers={"Authorization": "Bearer reader-token-0123456789"})
+    call(base, "GET", "/api/v1/overview", expect=401)
+    call(base, "POST", "/api/v1/machines/sim-1/events", {"ts": "2026-01-01T00:00:00Z", "kind": "other"},
+         expect=403, headers={"Authorization": "Bearer reader-token-0123456789"})
+
+
 def main():
     lint()
     with tempfile.TemporaryDirectory() as d:
@@ -288,6 +311,25 @@ def main():
                 except OSError:
                     time.sleep(0.1)
             exercise(base)
+        finally:
+            server.kill()
+            server.wait()
+        # Signing in needs configured tokens: a second server with one.
+        config = os.path.join(d, "tokens.toml")
+        with open(config, "w") as f:
+            f.write('[[auth.tokens]]\nname = "qa"\ntoken = "reader-token-0123456789"\nrole = "reader"\n')
+        port = free_port()
+        server = subprocess.Popen([BIN, "serve", "--db", db, "--config", config, "--listen", f"127.0.0.1:{port}"],
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+        try:
+            base = f"http://127.0.0.1:{port}"
+            for _ in range(100):
+                try:
+                    urllib.request.urlopen(base + "/healthz", timeout=1)
+                    break
+                except OSError:
+                    time.sleep(0.1)
+            exercise_sign_in(base)
         finally:
             server.kill()
             server.wait()

@@ -19,8 +19,12 @@ using nlohmann::json;
 AnalysisReport FullReport() {
   AnalysisReport r;
   r.id = 7;
-  r.context = {"m1", "Y", "schedule", *ParseRfc3339("2026-03-10T06:00:00.000Z"),
-               {"Tco", "Tbed"}, {"run-30", "run-31"}};
+  r.context = {"m1",
+               "Y",
+               "schedule",
+               *ParseRfc3339("2026-03-10T06:00:00.000Z"),
+               {"Tco", "Tbed"},
+               {"run-30", "run-31"}};
   r.training_runs = 24;
   r.n = 480;
   r.holdout_n = 40;
@@ -95,7 +99,8 @@ TEST(AnalysisReportCodec, EverySectionSurvivesJsonBothWays) {
   EXPECT_EQ(decoded->effects[0].alternatives[0].name, "lag(Tco,120min)");
   EXPECT_FALSE(decoded->effects[0].runners_up[0].confidence);
   ASSERT_TRUE(decoded->closest[0].confidence);
-  EXPECT_EQ(decoded->event_comparisons[0].event.ts_ms, FullReport().event_comparisons[0].event.ts_ms);
+  EXPECT_EQ(decoded->event_comparisons[0].event.ts_ms,
+            FullReport().event_comparisons[0].event.ts_ms);
   EXPECT_TRUE(std::isnan(decoded->event_comparisons[0].after_mm[1]));
   EXPECT_EQ(decoded->model->version, 3);
   // Units as the API documents them: errors in mm, coefficients mm per unit.
@@ -117,9 +122,9 @@ TEST(AnalysisReportCodec, TheRenderingsShowEverySectionInMicrometres) {
         "## Events", "| held-out RMSE | 3.00 | 1.10 |", "Version 3: candidate"}) {
     EXPECT_NE(md.find(part), std::string::npos) << part << "\n" << md;
   }
-  const std::string html = AnalysisHtml(FullReport());
-  EXPECT_NE(html.find("<svg"), std::string::npos);
-  EXPECT_EQ(html.find("<script"), std::string::npos);
+  const std::string svg = AnalysisErrorChartSvg(FullReport());
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_NE(svg.find("1.10 um"), std::string::npos);  // held-out after, in um
 }
 
 TEST(AnalysisReportCodec, AnOlderReportWithoutConfidenceSectionsStillReadsAndRenders) {

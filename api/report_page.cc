@@ -1,0 +1,86 @@
+#include "api/report_page.h"
+
+#include <cmark-gfm-core-extensions.h>
+#include <cmark-gfm.h>
+
+#include <memory>
+#include <mutex>
+
+#include "service/analysis_report_text.h"
+#include "service/fit_report_text.h"
+
+namespace thermocomp::api {
+namespace {
+
+constexpr const char* kStyle =
+    "body{font:15px/1.45 system-ui,'DejaVu Sans',sans-serif;color:#1d2733;max-width:72em;"
+    "margin:1em auto;padding:0 1em}table{border-collapse:collapse;margin:.4em 0 1em;"
+    "font-variant-numeric:tabular-nums}th,td{border-bottom:1px solid #d5dbe1;padding:.3em .6em;"
+    "text-align:left;vertical-align:top}th{background:#f6f8fa}code{font-size:92%}"
+    "h1{font-size:1.4em}h2{font-size:1.15em;margin-top:1.4em}figure{margin:1em 0}"
+    "figcaption{color:#5f6b78;font-size:90%}";
+
+std::string Escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (c == '&')
+      out += "&amp;";
+    else if (c == '"')
+      out += "&quot;";
+    else
+      out += c;
+  }
+  return out;
+}
+
+std::string MarkdownToHtml(const std::string& markdown) {
+  static std::once_flag registered;
+  std::call_once(registered, [] { cmark_gfm_core_extensions_ensure_registered(); });
+  // CMARK_OPT_DEFAULT leaves raw HTML out ("raw HTML omitted"): text from
+  // users (notes, reasons) cannot become markup.
+  std::unique_ptr<cmark_parser, decltype(&cmark_parser_free)> parser(
+      cmark_parser_new(CMARK_OPT_DEFAULT), cmark_parser_free);
+  if (cmark_syntax_extension* table = cmark_find_syntax_extension("table")) {
+    cmark_parser_attach_syntax_extension(parser.get(), table);
+  }
+  cmark_parser_feed(parser.get(), markdown.data(), markdown.size());
+  std::unique_ptr<cmark_node, decltype(&cmark_node_free)> doc(cmark_parser_finish(parser.get()),
+                                                              cmark_node_free);
+  char* html = cmark_render_html(doc.get(), CMARK_OPT_DEFAULT,
+                                 cmark_parser_get_syntax_extensions(parser.get()));
+  std::string out = html ? html : "";
+  cmark_get_default_mem_allocator()->free(html);
+  return out;
+}
+
+}  // namespace
+
+std::string ReportPage(const std::string& title, const std::string& markdown,
+                       const std::string& figures) {
+  std::string body = MarkdownToHtml(markdown);
+  if (!figures.empty()) {
+    const size_t section = body.find("<h2");
+    body.insert(section == std::string::npos ? body.size() : section, figures);
+  }
+  return "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+         "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"><title>" +
+         Escape(title) + "</title><style>" + kStyle + "</style></head><body>\n" + body +
+         "</body></html>\n";
+}
+
+std::string AnalysisHtml(const AnalysisReport& r) {
+  return ReportPage("Effect analysis " + std::to_string(r.id), AnalysisMarkdown(r),
+                    "<figure>" + AnalysisErrorChartSvg(r) +
+                        "<figcaption>RMSE of the declared model (grey) and with the effects "
+                        "added (blue), um.</figcaption></figure>");
+}
+
+std::string FitReportHtml(const FitReport& r) {
+  return ReportPage("Model " + r.machine + " " + r.axis, FitReportMarkdown(r));
+}
+
+}  // namespace thermocomp::api

@@ -1,0 +1,21 @@
+// A report as a standalone HTML page (?format=html): its Markdown rendered
+// by cmark-gfm, so tables are tables; HTML inside the text (a note, a
+// reason) is never passed through; our own figures (inline SVG) go after
+// the introduction; a small inline stylesheet keeps a saved page readable.
+#pragma once
+
+#include <string>
+
+#include "service/analysis_report.h"
+#include "service/fit_report.h"
+
+namespace thermocomp::api {
+
+std::string ReportPage(const std::string& title, const std::string& markdown,
+                       const std::string& figures = "");
+// The pages of an effect analysis (with its error chart) and of a model
+// version.
+std::string AnalysisHtml(const AnalysisReport& report);
+std::string FitReportHtml(const FitReport& report);
+
+}  // namespace thermocomp::api

@@ -1,0 +1,89 @@
+#include "service/fit_report_text.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "core/time_format.h"
+
+namespace thermocomp {
+namespace {
+
+std::string Fixed(double v, const char* format) {
+  if (!std::isfinite(v)) return "-";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string Um(double mm) {
+  return Fixed(mm * 1000.0, "%.2f");
+}
+std::string P(double p) {
+  return p == 0.0 ? "< 1e-300" : Fixed(p, "%.2g");
+}
+
+std::string Join(const std::vector<std::string>& list) {
+  std::string out;
+  for (const auto& s : list) out += (out.empty() ? "" : ", ") + s;
+  return out.empty() ? "none" : out;
+}
+
+}  // namespace
+
+std::string FitReportMarkdown(const FitReport& r) {
+  std::string md = "# Model " + r.machine + " axis " + r.axis + " v" +
+                   (r.version ? std::to_string(*r.version) : std::string("?")) + "\n\n";
+  md += "**" + r.status + "**: " + r.reason + ". Created " + FormatRfc3339(r.created_ms) + " (" +
+        r.trigger + "). Declared inputs: " + Join(r.declared_inputs) +
+        "; kept: " + Join(r.model.inputs) + ". " + std::to_string(r.fit.n) + " probe points of " +
+        std::to_string(r.training_runs) + " training runs.\n\n";
+  md +=
+      "## Coefficients (um per unit of each term)\n\n| term | estimate | std. error | t | p | VIF "
+      "|\n|---|---|---|---|---|---|\n";
+  for (const TermStats& t : r.fit.terms) {
+    md += "| `" + t.name + "` | " + Fixed(t.estimate * 1000.0, "%.4g") + " | " +
+          Fixed(t.std_error * 1000.0, "%.3g") + " | " + Fixed(t.t, "%.3g") + " | " + P(t.p) +
+          " | " + Fixed(t.vif, "%.3g") + " |\n";
+  }
+  md += "\nR² " + Fixed(r.fit.r2, "%.4f") + ", adjusted " + Fixed(r.fit.adj_r2, "%.4f") +
+        "; residual sigma " + Um(r.fit.sigma) + " um; F " + Fixed(r.fit.f, "%.4g") + " (p " +
+        P(r.fit.f_p) + "); Durbin-Watson " + Fixed(r.fit.durbin_watson, "%.3f") + ".\n\n";
+  md += "## Errors (um)\n\n| | RMSE | R² | points |\n|---|---|---|---|\n";
+  md += "| training | " + Um(r.fit.rmse) + " | " + Fixed(r.fit.r2, "%.4f") + " | " +
+        std::to_string(r.fit.n) + " |\n";
+  md += "| leave-one-run-out cross-validation | " + Um(r.cross_validation.rmse_mm) + " | " +
+        Fixed(r.cross_validation.r2, "%.4f") + " | " + std::to_string(r.cross_validation.n) +
+        " folds |\n";
+  md += "| held-out runs (" + Join(r.validation_runs) + ") | " + Um(r.validation.rmse_mm) + " | " +
+        Fixed(r.validation.r2, "%.4f") + " | " + std::to_string(r.validation.n) + " |\n\n";
+  if (r.compared_with) {
+    md += "Against version " + std::to_string(r.compared_with->version) +
+          ", active then, on the same held-out points: " + Um(r.compared_with->active_rmse_mm) +
+          " um, this version " + Um(r.compared_with->candidate_rmse_mm) + " um.\n\n";
+  }
+  md += "## Acceptance\n\n" +
+        (r.accepted ? std::string("Passed.") : "Failed: " + Join(r.acceptance_reasons) + ".") +
+        "\n\n## Removed\n\n";
+  md += std::to_string(r.removed_outliers) + " outlier(s) in " + std::to_string(r.outlier_steps) +
+        " step(s); " + std::to_string(r.skipped_gross_errors) + " gross error(s) and " +
+        std::to_string(r.skipped_no_datum) + " point(s) without a datum skipped.\n\n";
+  if (!r.removed_terms.empty()) {
+    md += "| term | reason | p | VIF |\n|---|---|---|---|\n";
+    for (const RemovedTerm& t : r.removed_terms) {
+      md += "| `" + t.name + "` | " + t.reason + " | " + P(t.p) + " | " + Fixed(t.vif, "%.3g") +
+            " |\n";
+    }
+    md += "\n";
+  }
+  if (!r.residuals.largest.empty()) {
+    md +=
+        "## Largest standardized residuals\n\n| run | point | time | value |\n|---|---|---|---|\n";
+    for (const NamedResidual& n : r.residuals.largest) {
+      md += "| " + n.run + " | " + std::to_string(n.k) + " | " + FormatRfc3339(n.ts_ms) + " | " +
+            Fixed(n.value, "%.2f") + " |\n";
+    }
+  }
+  return md;
+}
+
+}  // namespace thermocomp

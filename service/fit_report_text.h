@@ -1,0 +1,16 @@
+// A model version's report for people (GET .../models/{v}?format=markdown,
+// and the HTML page made from it): coefficients with their uncertainty,
+// errors on training, cross-validation and held-out runs, acceptance, what
+// was removed. Made from the typed FitReport, so it never disagrees with
+// the JSON. Lengths in um; coefficients in um per unit of their term.
+#pragma once
+
+#include <string>
+
+#include "service/fit_report.h"
+
+namespace thermocomp {
+
+std::string FitReportMarkdown(const FitReport& report);
+
+}  // namespace thermocomp
