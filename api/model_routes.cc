@@ -7,6 +7,7 @@
 #include "api/http_util.h"
 #include "api/json_mapping.h"
 #include "api/problem.h"
+#include "core/time_format.h"
 #include "api/report_page.h"
 #include "service/analysis_report_codec.h"
 #include "service/analysis_report_text.h"
@@ -65,10 +66,16 @@ void HttpServer::ModelRoutes() {
   });
   s.Post(axis + "/models/([0-9]{1,9})/activate", [this](const Req& req, Res& res) {
     const int version = std::stoi(req.matches[3]);
-    Status st = app_.fits().Activate(req.matches[1], req.matches[2], version, Actor(req));
-    if (!st.ok()) return WriteProblem(res, st);
+    auto audit = app_.fits().Activate(req.matches[1], req.matches[2], version, Actor(req));
+    if (!audit.ok()) return WriteProblem(res, audit.status());
     auto one = GetModel(app_, req.matches[1], req.matches[2], version);
-    WriteJson(res, one.ok() ? *one : json{{"version", version}});
+    json out = one.ok() ? *one : json{{"version", version}};
+    out["audit"] = {{"ts", FormatRfc3339(audit->ts_ms)},
+                    {"actor", audit->actor},
+                    {"action", audit->action},
+                    {"machine", audit->machine},
+                    {"detail", audit->detail}};
+    WriteJson(res, out);
   });
 
   s.Post(axis + "/analysis", [this](const Req& req, Res& res) {

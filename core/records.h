@@ -106,6 +106,14 @@ struct ModelRecord {
   std::string report_json;
 };
 
+// One line of the audit: who did what to which machine, when.
+struct AuditEntry {
+  int64_t ts_ms = 0;
+  std::string actor, action, machine;
+  int64_t count = 0;
+  std::string detail;
+};
+
 struct CompensationLogRow {
   int64_t ts_ms = 0;
   double offset_mm = 0;

@@ -182,8 +182,11 @@ StatusOr<FitReport> FitService::Fit(const std::string& machine_name, const std::
   return report;
 }
 
-Status FitService::Activate(const std::string& machine_name, const std::string& axis_name,
-                            int version, const std::string& actor) {
+StatusOr<AuditEntry> FitService::Activate(const std::string& machine_name,
+                                          const std::string& axis_name, int version,
+                                          const std::string& actor) {
+  AuditEntry entry{clock_.NowMs(), actor, "activate", machine_name, 1,
+                   axis_name + " v" + std::to_string(version)};
   {
     const std::unique_ptr<Session> session = storage_.Open();
     auto found = FindMachineAxis(*session, machine_name, axis_name);
@@ -192,15 +195,15 @@ Status FitService::Activate(const std::string& machine_name, const std::string& 
     Transaction tx(*session);
     if (!tx.status().ok()) return tx.status();
     if (Status s = session->models().Activate(axis->id, version); !s.ok()) return s;
-    if (Status s = session->log().Audit(clock_.NowMs(), actor, "activate", machine_name, 1,
-                                        axis_name + " v" + std::to_string(version));
+    if (Status s = session->log().Audit(entry.ts_ms, entry.actor, entry.action, entry.machine,
+                                        entry.count, entry.detail);
         !s.ok()) {
       return s;
     }
     if (Status s = tx.Commit(); !s.ok()) return s;
   }
   if (listener_) listener_(machine_name);
-  return Status::Ok();
+  return entry;
 }
 
 StatusOr<std::vector<ModelRecord>> FitService::Models(const std::string& machine_name,

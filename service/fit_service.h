@@ -41,9 +41,10 @@ class FitService {
   // Unprocessable (too few points: nothing is stored).
   StatusOr<FitReport> Fit(const std::string& machine, const std::string& axis,
                           const FitRequest& request);
-  // Makes a stored version the served one (manual activation or rollback).
-  Status Activate(const std::string& machine, const std::string& axis, int version,
-                  const std::string& actor);
+  // Makes a stored version the served one (manual activation or rollback);
+  // the audit entry it wrote.
+  StatusOr<AuditEntry> Activate(const std::string& machine, const std::string& axis, int version,
+                                const std::string& actor);
   // Stored versions of an axis, oldest first; NotFound for unknown names.
   StatusOr<std::vector<ModelRecord>> Models(const std::string& machine, const std::string& axis);
   StatusOr<ModelRecord> Model(const std::string& machine, const std::string& axis, int version);

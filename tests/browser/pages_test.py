@@ -135,6 +135,24 @@ def open_access(d, s):
           f"overview lists the demo machines {names}")
     check(not d.find_elements(By.ID, "empty"), "overview of the demo shows no empty state")
 
+    # It refreshes itself: new data shows up without a reload.
+    d.get(s.base + "/?refresh=2")
+    wait_ready(d)
+    d.execute_script("window.notReloaded = true")
+    before = s.api("/machines/sim-2")["checks"]["pending"]
+    req = urllib.request.Request(s.base + "/api/v1/machines/sim-2/column-checks/requests",
+                                 data=b'{"reason": "refresh test"}', method="POST",
+                                 headers={"Content-Type": "application/json"})
+    urllib.request.urlopen(req, timeout=10)
+    want = f"{before + 1} open"
+    try:
+        WebDriverWait(d, 10).until(lambda x: want in x.find_element(By.ID, "machines").text)
+        refreshed = True
+    except TimeoutException:
+        refreshed = False
+    check(refreshed and d.execute_script("return window.notReloaded === true"),
+          f"the overview shows a new request ({want}) without a reload")
+
     open_page(d, s, "/ui/machines/sim-1", "machine")
     drawn = int(d.find_element(By.ID, "drift").get_attribute("data-points"))
     request = d.execute_script("return document.body.dataset.driftRequest")
@@ -231,6 +249,8 @@ def with_tokens(d, s):
     d.find_element(By.CSS_SELECTOR, f"button.activate[data-version='{target}']").click()
     d.switch_to.alert.accept()
     WebDriverWait(d, 10).until(lambda x: "is now served" in x.find_element(By.ID, "message").text)
+    check("token:admin-user, activate sim-1 Y v" in d.find_element(By.ID, "message").text,
+          "the activation shows the audit entry the server wrote")
     shot(d, "models-activated")
     open_page(d, s, "/", "overview-admin")
     row = [r.text for r in d.find_elements(By.CSS_SELECTOR, "#machines tbody tr") if r.text.startswith("sim-1")]
@@ -261,6 +281,38 @@ def with_tokens(d, s):
     d.get_log("browser")  # the refused fetches above log on purpose
 
 
+def make_hidden_lag(dir):
+    """A machine whose drift has an effect its declared model lacks, analysed
+    with policy propose: an analysis with an effect and a candidate version."""
+    db = os.path.join(dir, "hidden.db")
+    subprocess.run([BIN, "simulate", "--db", db, "--create", "--machines", "h1", "--days", "20",
+                    "--hidden", "lag"], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    subprocess.run([BIN, "analyze", "--db", db, "--machine", "h1", "--axis", "Y", "--policy", "propose",
+                    "--format", "json"], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return db
+
+
+def analysis_with_effect(d, s):
+    analyses = s.api("/machines/h1/axes/Y/analysis")["analyses"]
+    check(len(analyses) == 1 and analyses[0]["effects"] >= 1, "the hidden lag was found")
+    report = s.api(f"/machines/h1/axes/Y/analysis/{analyses[0]['id']}")
+    open_page(d, s, f"/ui/machines/h1/axes/Y/analysis/{analyses[0]['id']}", "analysis-effect")
+    rows = d.find_elements(By.CSS_SELECTOR, "#effects tbody tr")
+    check(len(rows) == len(report["effects"]) and report["effects"][0]["name"] in rows[0].text,
+          "the analysis page lists the effects the report has")
+    check(report["effects"][0]["interpretation"] in d.find_element(By.ID, "effects").text,
+          "each effect's physical reading is shown")
+    check(bool(d.find_elements(By.ID, "effects-chart")), "error as each effect was added is charted")
+    version = report["model"]["version"]
+    d.find_element(By.ID, "apply").click()
+    d.switch_to.alert.accept()
+    WebDriverWait(d, 10).until(lambda x: "is now served" in x.find_element(By.TAG_NAME, "main").text)
+    shot(d, "analysis-applied")
+    served = s.api("/machines/h1/compensation")["axes"]
+    y = next(a for a in served if a["axis"] == "Y")
+    check(y["model_version"] == version, f"applying the proposed model serves v{version}")
+
+
 def empty_states(d, s):
     open_page(d, s, "/", "overview-empty")
     check(bool(d.find_elements(By.ID, "empty")), "an empty database shows the overview's empty state")
@@ -274,12 +326,14 @@ def main():
     db2 = os.path.join(work, "tokens.db")
     shutil.copy(db, db2)
     tokens = "".join(f'[[auth.tokens]]\nname = "{r}-user"\ntoken = "{t}"\nrole = "{r}"\n\n' for r, t in TOKENS.items())
-    servers = [Server(db), Server(db2, tokens), Server(os.path.join(work, "empty.db"), create=True)]
+    servers = [Server(db), Server(db2, tokens), Server(os.path.join(work, "empty.db"), create=True),
+               Server(make_hidden_lag(work))]
     d = browser()
     try:
         open_access(d, servers[0])
         with_tokens(d, servers[1])
         empty_states(d, servers[2])
+        analysis_with_effect(d, servers[3])
     finally:
         d.quit()
         for s in servers:

@@ -20,7 +20,7 @@
   const gain = (g) => (g ? num(g.relative * 100, 3) + " % (t " + num(g.t, 3) + ")" : "–");
 
   // Horizontal bars: each error measure before (grey) and after (blue), µm.
-  function bars(measures) {
+  function bars(measures, id) {
     const ns = "http://www.w3.org/2000/svg";
     const svg = document.createElementNS(ns, "svg");
     const width = 560, row = 44;
@@ -29,6 +29,7 @@
     svg.setAttribute("style", "max-width:" + width + "px");
     svg.setAttribute("role", "img");
     svg.setAttribute("aria-label", "RMSE before and after, µm");
+    if (id) svg.setAttribute("id", id);
     const top = Math.max(1e-9, ...measures.flatMap((m) => [m[1], m[2]].filter((v) => v !== null && isFinite(v))));
     const add = (tag, attrs, text) => {
       const n = document.createElementNS(ns, tag);
@@ -45,15 +46,18 @@
         add("text", { x: 176 + w, y: y + k * 16 + 11, "font-size": 11 }, um(v) + " µm");
       });
     });
-    add("text", { x: 170, y: measures.length * row + 18, "font-size": 11, fill: "#5f6b78" }, "grey: declared model · blue: with the effects added");
+    add("text", { x: 170, y: measures.length * row + 18, "font-size": 11, fill: "#5f6b78" }, "grey: before · blue: after");
     return svg;
   }
 
   async function apply(version) {
     if (!confirm("Serve model v" + version + " (proposed by this analysis) for " + machine + " " + axis + " from now on? The change is recorded in the audit log.")) return;
     try {
-      await api(path + "/models/" + version + "/activate", { method: "POST", body: "" });
-      message.replaceChildren(el("p", { class: "notice" }, "Model v" + version + " is now served. Audit entry: activate " + machine + " " + axis + " v" + version + "."));
+      const a = (await api(path + "/models/" + version + "/activate", { method: "POST", body: "" })).audit;
+      message.replaceChildren(el("p", { class: "notice" }, "Model v" + version + " is now served. Audit entry: " + time(a.ts) + ", " +
+        a.actor + ", " + a.action + " " + a.machine + " " + a.detail + "."));
+      document.getElementById("model").replaceChildren(el("a", { href: "/ui" + path + "/models/" + version }, "v" + version), ": active (applied just now).");
+      message.scrollIntoView();
     } catch (err) {
       message.replaceChildren(el("p", { class: "error" }, TC.problemText(err)));
     }
@@ -81,6 +85,10 @@
     bars([["training", r.train_rmse_before_mm, r.train_rmse_after_mm], ["blocked cross-validation", v.rmse_before_mm ?? null, v.rmse_after_mm ?? null],
       ["leave one run out", r.cv_rmse_before_mm, r.cv_rmse_after_mm], ["held-out runs", r.rmse_before_mm, r.rmse_after_mm]]),
   ];
+  if (r.effects.length) {
+    children.push(el("h2", {}, "Error as each effect was added (blocked cross-validation)"),
+      bars(r.effects.map((e) => [e.name.length > 22 ? e.name.slice(0, 21) + "…" : e.name, e.cv_rmse_before_mm, e.cv_rmse_after_mm]), "effects-chart"));
+  }
   if (coef.length) {
     children.push(el("h2", {}, "Declared coefficients (µm per unit)"),
       TC.table([{ label: "term" }, { label: "declared model", num: true }, { label: "with the effects", num: true }], coef, { id: "coefficient-changes" }));

@@ -98,7 +98,11 @@
   }
   const marks = () => runStarts().concat(eventMarks());
 
+  // dygraphs has redrawn the zoomed window when it calls back; the marks
+  // let bench/pages_bench.py time the redraw and the refinement.
+  window.addEventListener("mouseup", () => performance.mark("thermocomp:zoom-input"), true);
   function onZoom(minX, maxX) {
+    performance.mark("thermocomp:zoom-drawn");
     // The server thins per range: ask it again for what is now in view.
     setRange(minX, maxX);
   }
@@ -148,6 +152,7 @@
       state.temps = t;
       drawDrift(d);
       drawTemps(t);
+      performance.mark("thermocomp:drawn");
       const shown = state.from === null ? "everything archived" : time(state.from) + " – " + time(state.to);
       note.textContent = "Showing " + shown + ": " + d.probe_points.length + " of " + d.probe_points_total +
         " probe points, " + d.served_offset.length + " of " + d.served_offset_total + " served offsets (" +

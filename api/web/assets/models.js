@@ -19,9 +19,10 @@
     if (!confirm("Serve version " + v + " of " + machine + " " + axis + " from now on (" + what + ")? " +
       (active ? "Version " + active + " will be retired." : "") + " The change is recorded in the audit log under your name.")) return;
     try {
-      await api(path + "/models/" + v + "/activate", { method: "POST", body: "" , type: "application/json" });
-      message.replaceChildren(el("p", { class: "notice" }, "Version " + v + " is now served. Audit entry: activate " + machine + " " + axis +
-        " v" + v + " by " + (session.auth === "open" ? "this host" : session.name) + " at " + time(Date.now()) + "."));
+      const r = await api(path + "/models/" + v + "/activate", { method: "POST", body: "" });
+      const a = r.audit;
+      message.replaceChildren(el("p", { class: "notice" }, "Version " + v + " is now served. Audit entry: " + time(a.ts) + ", " +
+        a.actor + ", " + a.action + " " + a.machine + " " + a.detail + "."));
       await load();
     } catch (err) {
       message.replaceChildren(el("p", { class: "error" }, TC.problemText(err)));

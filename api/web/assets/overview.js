@@ -6,6 +6,7 @@
   const { el, um, time, age } = TC;
   const session = await TC.start("Line overview").catch(TC.fail);
   if (!session) return;
+  const every = Math.max(2, Number(TC.param("refresh")) || 15);  // ?refresh=N s: a wall display, a test
   const status = el("p", { class: "muted", id: "updated" });
   const body = el("div", { id: "overview" });
   TC.main(el("h1", {}, "Line overview"), status, body);
@@ -33,7 +34,7 @@
 
   function render(data) {
     const now = new Date(data.computed_at).getTime();
-    status.textContent = "Updated " + time(data.computed_at) + " (" + TC.zone + "); refreshes every 15 s.";
+    status.textContent = "Updated " + time(data.computed_at) + " (" + TC.zone + "); refreshes every " + every + " s.";
     if (!data.machines.length) {
       body.replaceChildren(el("div", { class: "empty", id: "empty" },
         el("p", {}, el("b", {}, "No machines yet.")),
@@ -75,6 +76,7 @@
     }
   }
   await refresh();
+  performance.mark("thermocomp:drawn");
   document.body.dataset.ready = "1";
-  setInterval(refresh, 15000);
+  setInterval(refresh, every * 1000);
 })();
