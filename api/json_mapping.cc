@@ -191,8 +191,11 @@ json TemperatureHistoryToJson(const TemperatureHistory& h) {
     for (const TimedValue& p : s.points) {
       points.push_back({{"ts", FormatRfc3339(p.ts_ms)}, {"value_c", p.value}});
     }
-    sensors.push_back(
-        {{"sensor", s.name}, {"location", s.location}, {"total", s.total}, {"points", points}});
+    sensors.push_back({{"sensor", s.name},
+                       {"location", s.location},
+                       {"total", s.total},
+                       {"source", s.source},
+                       {"points", points}});
   }
   json events = json::array();
   for (const MachineEventMark& e : h.events) {

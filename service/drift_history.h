@@ -45,6 +45,7 @@ struct DriftHistory {
 struct SensorHistory {
   std::string name, location;
   size_t total = 0;                // raw samples in the range, before thinning
+  std::string source;              // "raw", or "hourly envelope" over long spans
   std::vector<TimedValue> points;  // raw temperature, degC, thinned (LTTB)
 };
 

@@ -185,8 +185,8 @@ StatusOr<FitReport> FitService::Fit(const std::string& machine_name, const std::
 StatusOr<AuditEntry> FitService::Activate(const std::string& machine_name,
                                           const std::string& axis_name, int version,
                                           const std::string& actor) {
-  AuditEntry entry{clock_.NowMs(), actor, "activate", machine_name, 1,
-                   axis_name + " v" + std::to_string(version)};
+  AuditEntry entry{clock_.NowMs(), actor, "activate",
+                   machine_name,   1,     axis_name + " v" + std::to_string(version)};
   {
     const std::unique_ptr<Session> session = storage_.Open();
     auto found = FindMachineAxis(*session, machine_name, axis_name);

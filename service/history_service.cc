@@ -119,15 +119,27 @@ StatusOr<TemperatureHistory> HistoryService::Temperatures(const TemperatureQuery
   out.max_points = q.max_points;
   std::vector<int64_t> ts;
   std::vector<double> values;
+  SampleStore& samples = session->samples();
   for (const SensorRecord& sensor : machine->sensors) {
     ts.clear();
     values.clear();
-    session->samples().ScanRaw(sensor.id, q.from_ms, q.to_ms, [&](int64_t t, double v) {
+    // Raw samples when they are few enough, else the hourly envelope (two
+    // extreme points per hour), as the served offset does: a year is read
+    // as 17 520 points instead of 525 600.
+    const SampleStore::Extent extent = samples.RangeExtent(sensor.id, q.from_ms, q.to_ms);
+    const bool envelope =
+        extent.last_ms - extent.first_ms > static_cast<int64_t>(q.max_points) * 3600000 / 2;
+    auto add = [&](int64_t t, double v) {
       ts.push_back(t);
       values.push_back(v);
-    });
-    out.sensors.push_back(
-        {sensor.name, sensor.location, ts.size(), Series(ts, values, q.max_points)});
+    };
+    if (envelope) {
+      for (const auto& [t, v] : samples.Envelope(sensor.id, q.from_ms, q.to_ms)) add(t, v);
+    } else {
+      samples.ScanRaw(sensor.id, q.from_ms, q.to_ms, add);
+    }
+    out.sensors.push_back({sensor.name, sensor.location, static_cast<size_t>(extent.count),
+                           envelope ? "hourly envelope" : "raw", Series(ts, values, q.max_points)});
   }
   for (const EventRecord& e : session->aux().Events(machine->id)) {
     if (e.ts_ms >= q.from_ms && e.ts_ms <= q.to_ms) out.events.push_back({e.ts_ms, e.kind, e.note});

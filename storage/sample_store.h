@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "core/records.h"
@@ -34,6 +35,18 @@ class SampleStore {
   // materialising the rows (a year of one sensor is half a million).
   virtual void ScanRaw(int64_t sensor_id, int64_t from_ms, int64_t to_ms,
                        const std::function<void(int64_t, double)>& fn) = 0;
+  // The hourly envelope of the raw value in [from, to]: each hour's lowest
+  // and highest sample (time, value), ascending in time; what a plot of
+  // months needs without reading every sample.
+  virtual std::vector<std::pair<int64_t, double>> Envelope(int64_t sensor_id, int64_t from_ms,
+                                                           int64_t to_ms) = 0;
+  // Raw samples with from <= ts <= to, and the first and last time among
+  // them ({0, 0, 0} if none); from the hourly counts, reading raw rows
+  // only in the two partial hours at the ends.
+  struct Extent {
+    int64_t count = 0, first_ms = 0, last_ms = 0;
+  };
+  virtual Extent RangeExtent(int64_t sensor_id, int64_t from_ms, int64_t to_ms) = 0;
   virtual Status UpdateFiltered(int64_t sensor_id, int64_t ts_ms, double filtered) = 0;
   virtual int64_t CountForMachine(int64_t machine_id) = 0;
 };

@@ -1,5 +1,7 @@
 #include "storage/sqlite/sample_store.h"
 
+#include <algorithm>
+
 namespace thermocomp {
 
 std::optional<FilterState> SqliteSampleStore::LoadFilterState(int64_t sensor_id) {
@@ -22,7 +24,80 @@ Status SqliteSampleStore::SaveFilterState(int64_t sensor_id, const FilterState& 
 Status SqliteSampleStore::Insert(int64_t sensor_id, const SampleRow& row) {
   Statement q(db_, "INSERT INTO samples(sensor_id, ts_ms, value, filtered) VALUES (?, ?, ?, ?)");
   q.Bind(1, sensor_id).Bind(2, row.ts_ms).Bind(3, row.value).Bind(4, row.filtered);
-  return q.Run();
+  if (Status s = q.Run(); !s.ok()) return s;
+  // The hour's envelope, in the same transaction as the sample.
+  Statement up(
+      db_,
+      "INSERT INTO sample_rollup(sensor_id, bucket_ms, n, min_c, min_ts_ms, max_c, max_ts_ms)"
+      " VALUES (?1, ?2 / 3600000 * 3600000, 1, ?3, ?2, ?3, ?2)"
+      " ON CONFLICT(sensor_id, bucket_ms) DO UPDATE SET n = n + 1,"
+      " min_ts_ms = CASE WHEN excluded.min_c < min_c THEN excluded.min_ts_ms ELSE min_ts_ms END,"
+      " min_c = MIN(min_c, excluded.min_c),"
+      " max_ts_ms = CASE WHEN excluded.max_c > max_c THEN excluded.max_ts_ms ELSE max_ts_ms END,"
+      " max_c = MAX(max_c, excluded.max_c)");
+  up.Bind(1, sensor_id).Bind(2, row.ts_ms).Bind(3, row.value);
+  return up.Run();
+}
+
+std::vector<std::pair<int64_t, double>> SqliteSampleStore::Envelope(int64_t sensor_id,
+                                                                    int64_t from_ms,
+                                                                    int64_t to_ms) {
+  Statement q(db_,
+              "SELECT min_ts_ms, min_c, max_ts_ms, max_c FROM sample_rollup"
+              " WHERE sensor_id = ? AND bucket_ms >= ? / 3600000 * 3600000 AND bucket_ms <= ?"
+              " ORDER BY bucket_ms");
+  q.Bind(1, sensor_id).Bind(2, from_ms).Bind(3, to_ms);
+  std::vector<std::pair<int64_t, double>> out;
+  while (q.Step()) {
+    std::pair<int64_t, double> lo{q.Int(0), q.Double(1)}, hi{q.Int(2), q.Double(3)};
+    if (hi.first < lo.first) std::swap(lo, hi);
+    for (const auto& p : {lo, hi}) {
+      if (p.first < from_ms || p.first > to_ms) continue;
+      if (out.empty() || out.back().first != p.first) out.push_back(p);
+    }
+  }
+  return out;
+}
+
+SampleStore::Extent SqliteSampleStore::RangeExtent(int64_t sensor_id, int64_t from_ms,
+                                                   int64_t to_ms) {
+  Extent e;
+  // Within the archive's years, so the hour arithmetic cannot overflow.
+  from_ms = std::max<int64_t>(from_ms, 0);
+  to_ms = std::min<int64_t>(to_ms, int64_t{1} << 52);
+  if (from_ms > to_ms) return e;
+  // Whole hours inside the range from the rollup, the partial ones raw.
+  const int64_t hour = 3600000;
+  const int64_t first_whole = (from_ms + hour - 1) / hour * hour;
+  const int64_t end_whole = (to_ms + 1) / hour * hour;  // exclusive
+  auto count_raw = [&](int64_t lo, int64_t hi) {        // [lo, hi]
+    Statement q(db_,
+                "SELECT COUNT(*) FROM samples WHERE sensor_id = ? AND ts_ms >= ? AND ts_ms <= ?");
+    q.Bind(1, sensor_id).Bind(2, lo).Bind(3, hi);
+    return q.Step() ? q.Int(0) : 0;
+  };
+  if (first_whole >= end_whole) {
+    e.count = count_raw(from_ms, to_ms);
+  } else {
+    Statement q(db_,
+                "SELECT COALESCE(SUM(n), 0) FROM sample_rollup"
+                " WHERE sensor_id = ? AND bucket_ms >= ? AND bucket_ms < ?");
+    q.Bind(1, sensor_id).Bind(2, first_whole).Bind(3, end_whole);
+    e.count = (q.Step() ? q.Int(0) : 0) + count_raw(from_ms, first_whole - 1) +
+              count_raw(end_whole, to_ms);
+  }
+  if (e.count == 0) return e;
+  Statement first(db_,
+                  "SELECT ts_ms FROM samples WHERE sensor_id = ? AND ts_ms >= ? AND ts_ms <= ?"
+                  " ORDER BY ts_ms LIMIT 1");
+  first.Bind(1, sensor_id).Bind(2, from_ms).Bind(3, to_ms);
+  if (first.Step()) e.first_ms = first.Int(0);
+  Statement last(db_,
+                 "SELECT ts_ms FROM samples WHERE sensor_id = ? AND ts_ms >= ? AND ts_ms <= ?"
+                 " ORDER BY ts_ms DESC LIMIT 1");
+  last.Bind(1, sensor_id).Bind(2, from_ms).Bind(3, to_ms);
+  if (last.Step()) e.last_ms = last.Int(0);
+  return e;
 }
 
 std::optional<double> SqliteSampleStore::ValueAt(int64_t sensor_id, int64_t ts_ms) {
@@ -81,8 +156,9 @@ Status SqliteSampleStore::UpdateFiltered(int64_t sensor_id, int64_t ts_ms, doubl
 }
 
 int64_t SqliteSampleStore::CountForMachine(int64_t machine_id) {
+  // The hourly counts add up to the samples: thousands of rows, not millions.
   Statement q(db_,
-              "SELECT COUNT(*) FROM samples WHERE sensor_id IN"
+              "SELECT COALESCE(SUM(n), 0) FROM sample_rollup WHERE sensor_id IN"
               " (SELECT id FROM sensors WHERE machine_id = ?)");
   q.Bind(1, machine_id);
   return q.Step() ? q.Int(0) : 0;

@@ -24,6 +24,9 @@ class SqliteSampleStore final : public SampleStore {
   std::vector<SampleRow> From(int64_t sensor_id, int64_t from_ms, int limit) override;
   void ScanRaw(int64_t sensor_id, int64_t from_ms, int64_t to_ms,
                const std::function<void(int64_t, double)>& fn) override;
+  std::vector<std::pair<int64_t, double>> Envelope(int64_t sensor_id, int64_t from_ms,
+                                                   int64_t to_ms) override;
+  Extent RangeExtent(int64_t sensor_id, int64_t from_ms, int64_t to_ms) override;
   Status UpdateFiltered(int64_t sensor_id, int64_t ts_ms, double filtered) override;
   int64_t CountForMachine(int64_t machine_id) override;
 

@@ -148,9 +148,11 @@
     try {
       const [d, t] = await Promise.all([api(driftUrl), api(tempUrl)]);
       if (seq !== state.seq) return;  // a newer range was asked for meanwhile
+      performance.mark("thermocomp:fetched");
       state.drift = d;
       state.temps = t;
       drawDrift(d);
+      performance.mark("thermocomp:drift-drawn");
       drawTemps(t);
       performance.mark("thermocomp:drawn");
       const shown = state.from === null ? "everything archived" : time(state.from) + " – " + time(state.to);
