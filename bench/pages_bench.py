@@ -50,7 +50,12 @@ def free_port():
 
 def serve(db):
     port = free_port()
-    proc = subprocess.Popen([BIN, "serve", "--db", db, "--listen", f"127.0.0.1:{port}"],
+    # The scheduler off: a refit and an effect analysis of a year at start
+    # would share the two cores with the browser and be timed as the page.
+    config = db + ".toml"
+    with open(config, "w") as f:
+        f.write("[fit]\ninterval_min = 0\nafter_new_runs = 0\n")
+    proc = subprocess.Popen([BIN, "serve", "--db", db, "--config", config, "--listen", f"127.0.0.1:{port}"],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     base = f"http://127.0.0.1:{port}"
     for _ in range(300):

@@ -167,6 +167,19 @@ TEST_F(WebSessionHttpTest, PagesAndAssetsCarryNoDataAndAreServedWithTheirGuards)
   EXPECT_EQ(client_->Get("/ui/nowhere")->status, 404);
 }
 
+TEST_F(WebSessionHttpTest, BrowsersGetGzipNotTheSlowBrotli) {
+  Simulate("m1", 1);
+  httplib::Headers browser = {{"Authorization", "Bearer " + kReader},
+                              {"Accept-Encoding", "gzip, deflate, br"}};
+  auto r = client_->Get("/api/v1/machines/m1/temperatures?max_points=2000", browser);
+  ASSERT_EQ(r->status, 200);
+  EXPECT_EQ(r->get_header_value("Content-Encoding"), "gzip");
+  EXPECT_TRUE(json::parse(r->body)["sensors"].is_array());  // decompressed by the client
+  browser.erase("Accept-Encoding");
+  browser.insert({"Accept-Encoding", "br"});
+  EXPECT_EQ(client_->Get("/api/v1/machines", browser)->get_header_value("Content-Encoding"), "");
+}
+
 TEST_F(WebSessionHttpTest, OverviewAndTemperaturesAnswerAndRefuseBadRanges) {
   Simulate("m1", 3);
   httplib::Headers reader = {{"Authorization", "Bearer " + kReader}};
