@@ -156,6 +156,8 @@ IngestResult IngestService::StoreTemperatures(const std::string& machine_name,
     EwmaFilter filter(sensor->ewma_alpha, state ? std::optional(state->state) : std::nullopt);
     std::optional<int64_t> late_from;
     int64_t latest_late = INT64_MIN;
+    std::vector<SampleRow> rows;  // written together, so each hour's envelope is updated once
+    rows.reserve(idx.size());
     for (size_t n = 0; n < idx.size(); ++n) {
       const TemperatureInput& s = samples[idx[n]];
       if (n > 0 && samples[idx[n - 1]].ts_ms == s.ts_ms) {  // repeated within the batch
@@ -179,20 +181,17 @@ IngestResult IngestService::StoreTemperatures(const std::string& machine_name,
           }
           continue;
         }
-        if (Status st = store.Insert(sensor->id, {s.ts_ms, s.value, 0.0}); !st.ok()) {
-          return Rejected({}, st);
-        }
+        rows.push_back({s.ts_ms, s.value, 0.0});
         late_from = std::min(late_from.value_or(s.ts_ms), s.ts_ms);
         latest_late = std::max(latest_late, s.ts_ms);
       } else {
         double f = filter.Update(s.value);
-        if (Status st = store.Insert(sensor->id, {s.ts_ms, s.value, f}); !st.ok()) {
-          return Rejected({}, st);
-        }
+        rows.push_back({s.ts_ms, s.value, f});
         state = FilterState{s.ts_ms, s.value, f};
       }
       ++result.accepted;
     }
+    if (Status st = store.Insert(sensor->id, rows); !st.ok()) return Rejected({}, st);
     if (late_from) {
       if (Status st = ReplayFilter(store, *sensor, *late_from, latest_late, state); !st.ok()) {
         return Rejected({}, st);

@@ -21,6 +21,9 @@ class SampleStore {
 
   // Inserts a new sample; Conflict if (sensor, ts) exists already.
   virtual Status Insert(int64_t sensor_id, const SampleRow& row) = 0;
+  // Inserts new samples of one sensor (any order) and counts them into
+  // their hours' envelopes once per hour; Conflict if one exists already.
+  virtual Status Insert(int64_t sensor_id, const std::vector<SampleRow>& rows) = 0;
   virtual std::optional<double> ValueAt(int64_t sensor_id, int64_t ts_ms) = 0;
   // Newest sample strictly before ts, if any.
   virtual std::optional<SampleRow> Before(int64_t sensor_id, int64_t ts_ms) = 0;

@@ -1,6 +1,7 @@
 #include "storage/sqlite/sample_store.h"
 
 #include <algorithm>
+#include <map>
 
 namespace thermocomp {
 
@@ -22,21 +23,51 @@ Status SqliteSampleStore::SaveFilterState(int64_t sensor_id, const FilterState& 
 }
 
 Status SqliteSampleStore::Insert(int64_t sensor_id, const SampleRow& row) {
+  return Insert(sensor_id, std::vector<SampleRow>{row});
+}
+
+Status SqliteSampleStore::Insert(int64_t sensor_id, const std::vector<SampleRow>& rows) {
+  // Each hour's envelope of the new rows, written once per hour below.
+  struct Hour {
+    int64_t n = 0, min_ts = 0, max_ts = 0;
+    double min = 0, max = 0;
+  };
+  std::map<int64_t, Hour> hours;
   Statement q(db_, "INSERT INTO samples(sensor_id, ts_ms, value, filtered) VALUES (?, ?, ?, ?)");
-  q.Bind(1, sensor_id).Bind(2, row.ts_ms).Bind(3, row.value).Bind(4, row.filtered);
-  if (Status s = q.Run(); !s.ok()) return s;
-  // The hour's envelope, in the same transaction as the sample.
+  for (const SampleRow& row : rows) {
+    q.Reset();
+    q.Bind(1, sensor_id).Bind(2, row.ts_ms).Bind(3, row.value).Bind(4, row.filtered);
+    if (Status s = q.Run(); !s.ok()) return s;
+    Hour& h = hours[row.ts_ms / 3600000 * 3600000];
+    if (h.n == 0 || row.value < h.min || (row.value == h.min && row.ts_ms < h.min_ts)) {
+      h.min = row.value;
+      h.min_ts = row.ts_ms;
+    }
+    if (h.n == 0 || row.value > h.max || (row.value == h.max && row.ts_ms < h.max_ts)) {
+      h.max = row.value;
+      h.max_ts = row.ts_ms;
+    }
+    ++h.n;
+  }
+  // Ties keep the earlier sample, as the migration's backfill does.
   Statement up(
       db_,
       "INSERT INTO sample_rollup(sensor_id, bucket_ms, n, min_c, min_ts_ms, max_c, max_ts_ms)"
-      " VALUES (?1, ?2 / 3600000 * 3600000, 1, ?3, ?2, ?3, ?2)"
-      " ON CONFLICT(sensor_id, bucket_ms) DO UPDATE SET n = n + 1,"
-      " min_ts_ms = CASE WHEN excluded.min_c < min_c THEN excluded.min_ts_ms ELSE min_ts_ms END,"
+      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)"
+      " ON CONFLICT(sensor_id, bucket_ms) DO UPDATE SET n = n + excluded.n,"
+      " min_ts_ms = CASE WHEN excluded.min_c < min_c OR (excluded.min_c = min_c AND"
+      " excluded.min_ts_ms < min_ts_ms) THEN excluded.min_ts_ms ELSE min_ts_ms END,"
       " min_c = MIN(min_c, excluded.min_c),"
-      " max_ts_ms = CASE WHEN excluded.max_c > max_c THEN excluded.max_ts_ms ELSE max_ts_ms END,"
+      " max_ts_ms = CASE WHEN excluded.max_c > max_c OR (excluded.max_c = max_c AND"
+      " excluded.max_ts_ms < max_ts_ms) THEN excluded.max_ts_ms ELSE max_ts_ms END,"
       " max_c = MAX(max_c, excluded.max_c)");
-  up.Bind(1, sensor_id).Bind(2, row.ts_ms).Bind(3, row.value);
-  return up.Run();
+  for (const auto& [bucket, h] : hours) {
+    up.Reset();
+    up.Bind(1, sensor_id).Bind(2, bucket).Bind(3, h.n).Bind(4, h.min).Bind(5, h.min_ts);
+    up.Bind(6, h.max).Bind(7, h.max_ts);
+    if (Status s = up.Run(); !s.ok()) return s;
+  }
+  return Status::Ok();
 }
 
 std::vector<std::pair<int64_t, double>> SqliteSampleStore::Envelope(int64_t sensor_id,

@@ -17,6 +17,7 @@ class SqliteSampleStore final : public SampleStore {
   std::optional<FilterState> LoadFilterState(int64_t sensor_id) override;
   Status SaveFilterState(int64_t sensor_id, const FilterState& state) override;
   Status Insert(int64_t sensor_id, const SampleRow& row) override;
+  Status Insert(int64_t sensor_id, const std::vector<SampleRow>& rows) override;
   std::optional<double> ValueAt(int64_t sensor_id, int64_t ts_ms) override;
   std::optional<SampleRow> Before(int64_t sensor_id, int64_t ts_ms) override;
   std::optional<SampleRow> AtOrBefore(int64_t sensor_id, int64_t ts_ms) override;
