@@ -22,6 +22,7 @@ trap 'kill $sim 2>/dev/null || true' EXIT
 cat <<MSG
 
 thermocomp demo on http://127.0.0.1:$port and DDS (loopback)  (Ctrl-C stops it)
+Pages: open http://127.0.0.1:$port/ in a browser (line overview, machines, models, checks)
 Live machines, error with compensation on vs off:  tail -f var/simulator.log
 Try:
   curl -s http://127.0.0.1:$port/api/v1/machines/sim-1/compensation

@@ -136,9 +136,10 @@ TEST_F(SampleRollupTest, ExtentCountsExactlyAcrossPartialHours) {
   EXPECT_LE(envelope.size(), 16u);
   EXPECT_GE(envelope.size(), 8u);
   for (size_t i = 1; i < envelope.size(); ++i) EXPECT_LT(envelope[i - 1].first, envelope[i].first);
-  for (const auto& [ts, v] : envelope) {
-    EXPECT_TRUE(std::any_of(rows.begin(), rows.end(),
-                            [&](const SampleRow& r) { return r.ts_ms == ts && r.value == v; }));
+  for (const auto& point : envelope) {
+    EXPECT_TRUE(std::any_of(rows.begin(), rows.end(), [&](const SampleRow& r) {
+      return r.ts_ms == point.first && r.value == point.second;
+    }));
   }
 }
 
