@@ -235,6 +235,31 @@ def with_tokens(d, s):
     check(not d.find_elements(By.CSS_SELECTOR, "button.activate") , "maintenance sees no activate button")
     console_errors(d, "checks as maintenance")
 
+    # Maintenance records a column-check result and reviews it.
+    artifact = {"points": [{"id": "KD", "nominal": {"x": 0, "y": 500, "z": 0}},
+                           {"id": "P1", "nominal": {"x": 100, "y": 400, "z": 0}}],
+                "schemes": [{"id": "a", "travel_axis": "Y", "deviation_axis": "X", "reference_point": "P1"}]}
+    req = urllib.request.Request(s.base + "/api/v1/artifacts/ui-artifact", data=json.dumps(artifact).encode(),
+                                 method="PUT", headers={"Authorization": "Bearer " + TOKENS["admin"],
+                                                        "Content-Type": "application/json"})
+    urllib.request.urlopen(req, timeout=10)
+    spheres = [{"sphere": "KD", "b_deg": b, "x": x, "y": 500.002, "z": z}
+               for b, x, z in ((0, 250.003, 0.0), (90, 0.003, 250.0), (180, -249.997, 0.0))]
+    result = {"ts": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime(time.time() - 60)), "artifact": "ui-artifact",
+              "artifact_temperature_c": 20.5, "spheres": spheres,
+              "points": [{"id": "P1", "scheme": "a", "x": 100.001, "y": 400.0, "z": 0.0}]}
+    before = len(s.api("/machines/sim-1/column-checks", TOKENS["reader"])["checks"])
+    open_page(d, s, "/ui/machines/sim-1/checks", "machine-checks-maintenance")
+    d.find_element(By.ID, "column-check-json").send_keys(json.dumps(result))
+    d.find_element(By.CSS_SELECTOR, "#record-check button").click()
+    WebDriverWait(d, 10).until(lambda x: "Recorded column check" in x.find_element(By.ID, "message").text)
+    wait_ready(d)
+    rows = d.find_elements(By.CSS_SELECTOR, "#column-check-list tbody tr")
+    check(len(rows) == before + 1 == len(s.api("/machines/sim-1/column-checks", TOKENS["reader"])["checks"]),
+          "maintenance records a column check and sees it listed")
+    shot(d, "machine-checks-recorded")
+    console_errors(d, "machine checks as maintenance")
+
     # Admin activates a version and the overview shows it.
     sign_in(d, s, "admin")
     models = s.api("/machines/sim-1/axes/Y/models", TOKENS["admin"])["models"]

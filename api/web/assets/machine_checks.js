@@ -20,7 +20,8 @@
     el("h2", {}, "Column checks"), trend.node, columns, entry,
     el("h2", {}, "Positioning checks (ISO 230-2, VDI/DGQ 3441)"), positioning);
 
-  const f2 = (v) => (v === null || v === undefined || !isFinite(v) ? "–" : Number(v).toFixed(2));
+  // Two decimals; a value that rounds to zero is 0.00, not -0.00.
+  const f2 = (v) => (v === null || v === undefined || !isFinite(v) ? "–" : (Math.abs(v) < 0.005 ? 0 : Number(v)).toFixed(2));
   const formats = ["csv", "sinumerik", "beckhoff", "linuxcnc"];
 
   async function load() {
@@ -64,7 +65,7 @@
 
   // Entering a result: the JSON the probing cycle writes, typed or loaded from a file.
   if (TC.can("record_check")) {
-    const text = el("textarea", { id: "column-check-json", rows: 10, cols: 80, spellcheck: "false",
+    const text = el("textarea", { id: "column-check-json", rows: 10, spellcheck: "false",
       placeholder: '{"ts": "2026-03-10T06:00:00Z", "artifact": "KD-1", "artifact_temperature_c": 20.4,\n "spheres": [{"sphere": "KD", "b_deg": 0, "x": ..., "y": ..., "z": ...}, ...],\n "points": [{"id": "P1", "scheme": "a", "x": ..., "y": ..., "z": ...}, ...]}' });
     const file = el("input", { type: "file", id: "column-check-file", accept: ".json,application/json" });
     file.addEventListener("change", async () => { if (file.files[0]) text.value = await file.files[0].text(); });
