@@ -28,8 +28,8 @@ import tempfile
 import time
 import urllib.request
 
-from selenium import webdriver
-from selenium.webdriver.chrome.service import Service
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "browser"))
+import headless_chromium  # noqa: E402
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import WebDriverWait
@@ -75,14 +75,7 @@ def fetch_ms(url):
 
 
 def browser():
-    o = webdriver.ChromeOptions()
-    o.binary_location = shutil.which("chromium") or "/usr/bin/chromium"
-    for a in ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-              "--window-size=1280,800", "--no-proxy-server", "--disable-background-networking",
-              "--no-first-run"]:
-        o.add_argument(a)
-    return webdriver.Chrome(service=Service(shutil.which("chromedriver") or "/usr/bin/chromedriver"),
-                            options=o)
+    return headless_chromium.start()
 
 
 def mark(d, name, last=False):
@@ -158,6 +151,7 @@ def main():
             out["overview_api_ms"].append(fetch_ms(line_base + "/api/v1/overview"))
     finally:
         d.quit()
+        headless_chromium.stop()
         for p in (p1, p2):
             p.terminate()
             p.wait()

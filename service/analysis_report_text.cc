@@ -5,31 +5,15 @@
 #include <cstdio>
 
 #include "core/time_format.h"
+#include "service/report_text.h"
 
 namespace thermocomp {
 namespace {
 
-std::string Fixed(double v, const char* format) {
-  if (!std::isfinite(v)) return "-";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
-
-std::string Um(double mm) {
-  return Fixed(mm * 1000.0, "%.2f");
-}
-
-// A p-value; 0 means it underflowed double, not that it is zero.
-std::string P(double p) {
-  return p == 0.0 ? "< 1e-300" : Fixed(p, "%.2g");
-}
-
-std::string Join(const std::vector<std::string>& list) {
-  std::string out;
-  for (const auto& s : list) out += (out.empty() ? "" : ", ") + s;
-  return out.empty() ? "none" : out;
-}
+using report_text::Fixed;
+using report_text::Join;
+using report_text::P;
+using report_text::Um;
 
 std::string Confidence(const PairedGain& g) {
   return Fixed(g.relative * 100.0, "%.1f") + " % (t " + Fixed(g.t, "%.1f") + ", " +

@@ -1,5 +1,7 @@
 #include "storage/sqlite/log_store.h"
 
+#include "storage/sqlite/envelope.h"
+
 namespace thermocomp {
 
 Status SqliteLogStore::AppendCompensation(int64_t axis_id, const CompensationLogRow& r) {
@@ -40,16 +42,7 @@ std::vector<std::pair<int64_t, double>> SqliteLogStore::CompensationEnvelope(int
               " WHERE axis_id = ? AND bucket_ms >= ? / 3600000 * 3600000 AND bucket_ms <= ?"
               " ORDER BY bucket_ms");
   q.Bind(1, axis_id).Bind(2, from_ms).Bind(3, to_ms);
-  std::vector<std::pair<int64_t, double>> out;
-  while (q.Step()) {
-    std::pair<int64_t, double> lo{q.Int(0), q.Double(1)}, hi{q.Int(2), q.Double(3)};
-    if (hi.first < lo.first) std::swap(lo, hi);
-    for (const auto& p : {lo, hi}) {
-      if (p.first < from_ms || p.first > to_ms) continue;
-      if (out.empty() || out.back().first != p.first) out.push_back(p);
-    }
-  }
-  return out;
+  return ReadEnvelope(q, from_ms, to_ms);
 }
 
 std::vector<CompensationLogRow> SqliteLogStore::Compensation(int64_t axis_id, int64_t from_ms,

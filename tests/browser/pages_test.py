@@ -19,9 +19,8 @@ import tempfile
 import time
 import urllib.request
 
-from selenium import webdriver
+import headless_chromium
 from selenium.common.exceptions import TimeoutException
-from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import WebDriverWait
@@ -82,16 +81,7 @@ class Server:
 
 
 def browser():
-    options = webdriver.ChromeOptions()
-    options.binary_location = shutil.which("chromium") or "/usr/bin/chromium"
-    for arg in ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-                "--window-size=1280,800", "--no-proxy-server", "--disable-background-networking",
-                "--disable-component-update", "--disable-sync", "--no-first-run",
-                "--disable-features=MediaRouter,OptimizationHints,Translate"]:
-        options.add_argument(arg)
-    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    service = Service(shutil.which("chromedriver") or "/usr/bin/chromedriver")
-    return webdriver.Chrome(service=service, options=options)
+    return headless_chromium.start(browser_log=True)
 
 
 def wait_ready(d, timeout=20):
@@ -361,6 +351,7 @@ def main():
         analysis_with_effect(d, servers[3])
     finally:
         d.quit()
+        headless_chromium.stop()
         for s in servers:
             s.stop()
     print(f"screenshots in {OUT}")

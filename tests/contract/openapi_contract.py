@@ -291,6 +291,25 @@ def exercise_sign_in(base):
          expect=403, headers={"Authorization": "Bearer reader-token-0123456789"})
 
 
+def with_server(command, env, fn):
+    """Runs fn(base URL) against `command --listen 127.0.0.1:<free port>`."""
+    port = free_port()
+    server = subprocess.Popen(command + ["--listen", f"127.0.0.1:{port}"],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+    try:
+        base = f"http://127.0.0.1:{port}"
+        for _ in range(100):
+            try:
+                urllib.request.urlopen(base + "/healthz", timeout=1)
+                break
+            except OSError:
+                time.sleep(0.1)
+        fn(base)
+    finally:
+        server.kill()
+        server.wait()
+
+
 def main():
     lint()
     with tempfile.TemporaryDirectory() as d:
@@ -299,40 +318,12 @@ def main():
         subprocess.run([BIN, "demo", "--db", db, "--create", "--days", "4",
                         "--study", os.path.join(SRC, "deploy/demo/fms_datum_drift.csv")],
                        check=True, capture_output=True, env=env)
-        port = free_port()
-        server = subprocess.Popen([BIN, "serve", "--db", db, "--listen", f"127.0.0.1:{port}"],
-                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
-        try:
-            base = f"http://127.0.0.1:{port}"
-            for _ in range(100):
-                try:
-                    urllib.request.urlopen(base + "/healthz", timeout=1)
-                    break
-                except OSError:
-                    time.sleep(0.1)
-            exercise(base)
-        finally:
-            server.kill()
-            server.wait()
+        with_server([BIN, "serve", "--db", db], env, exercise)
         # Signing in needs configured tokens: a second server with one.
         config = os.path.join(d, "tokens.toml")
         with open(config, "w") as f:
             f.write('[[auth.tokens]]\nname = "qa"\ntoken = "reader-token-0123456789"\nrole = "reader"\n')
-        port = free_port()
-        server = subprocess.Popen([BIN, "serve", "--db", db, "--config", config, "--listen", f"127.0.0.1:{port}"],
-                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
-        try:
-            base = f"http://127.0.0.1:{port}"
-            for _ in range(100):
-                try:
-                    urllib.request.urlopen(base + "/healthz", timeout=1)
-                    break
-                except OSError:
-                    time.sleep(0.1)
-            exercise_sign_in(base)
-        finally:
-            server.kill()
-            server.wait()
+        with_server([BIN, "serve", "--db", db, "--config", config], env, exercise_sign_in)
     for template, item in SPEC["paths"].items():
         for method in item:
             if (template, method) not in called:
