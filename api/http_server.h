@@ -17,6 +17,7 @@
 
 #include "api/auth.h"
 #include "api/guarded_server.h"
+#include "api/web/sign_in_throttle.h"
 #include "api/web/web_sessions.h"
 
 namespace thermocomp::api {
@@ -59,6 +60,7 @@ class HttpServer {
   App& app_;
   Authorizer auth_;
   WebSessions sessions_;
+  SignInThrottle sign_in_throttle_{10, 10 * 60 * 1000, 10000};  // 10 failures in 10 min
   std::shared_mutex rendered_mutex_;
   std::map<std::string, std::pair<std::shared_ptr<const MachineCompensation>, std::string>>
       rendered_;

@@ -139,6 +139,26 @@ TEST_F(WebSessionHttpTest, AWriteFromAnotherOriginIsRefusedWhateverItCarries) {
   EXPECT_TRUE(read->get_header_value("Access-Control-Allow-Origin").empty());
 }
 
+TEST_F(WebSessionHttpTest, GuessingTokensIsSlowedDownPerAddress) {
+  for (int i = 0; i < 10; ++i) {
+    auto r = client_->Post("/api/v1/session", json{{"token", "guess-" + std::to_string(i)}}.dump(),
+                           "application/json");
+    EXPECT_EQ(r->status, 401) << i;
+  }
+  // The eleventh attempt is refused before the token is looked at, even the right one.
+  auto blocked =
+      client_->Post("/api/v1/session", json{{"token", kAdmin}}.dump(), "application/json");
+  EXPECT_EQ(blocked->status, 429);
+  EXPECT_EQ(blocked->get_header_value("Retry-After"), "600");
+  EXPECT_TRUE(blocked->get_header_value("Set-Cookie").empty());
+  // Bearer tokens on the API are not affected.
+  EXPECT_EQ(client_->Get("/api/v1/machines", {{"Authorization", "Bearer " + kAdmin}})->status, 200);
+  clock_.Advance(10 * 60 * 1000);
+  EXPECT_EQ(
+      client_->Post("/api/v1/session", json{{"token", kAdmin}}.dump(), "application/json")->status,
+      201);
+}
+
 TEST_F(WebSessionHttpTest, ASessionEndsAfterItsLifetime) {
   auto [cookie, csrf] = SignIn(kReader);
   EXPECT_EQ(client_->Get("/api/v1/machines", {{"Cookie", cookie}})->status, 200);
