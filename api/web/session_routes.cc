@@ -40,6 +40,7 @@ void HttpServer::SessionRoutes() {
     FieldErrors errors;
     JsonFields f(*body, errors);
     auto secret = f.String("token", JsonFields::kRequired, 512);
+    if (secret && secret->empty()) errors.push_back({0, "token", "must not be empty"});
     if (!errors.empty() || !secret) return WriteProblem(res, 400, "invalid sign-in", errors);
     if (auth_.open()) {
       return WriteProblem(res, 409,

@@ -76,6 +76,7 @@ TEST_F(WebSessionHttpTest, ATokenBecomesACookieAndWritesNeedTheCsrfToken) {
   EXPECT_EQ(bad->status, 401);
   EXPECT_TRUE(bad->get_header_value("Set-Cookie").empty());
   EXPECT_EQ(client_->Post("/api/v1/session", R"({"token": 7})", "application/json")->status, 400);
+  EXPECT_EQ(client_->Post("/api/v1/session", R"({"token": ""})", "application/json")->status, 400);
   EXPECT_EQ(
       client_->Post("/api/v1/session", "token=x", "application/x-www-form-urlencoded")->status,
       415);

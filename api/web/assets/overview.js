@@ -6,7 +6,8 @@
   const { el, um, time, age } = TC;
   const session = await TC.start("Line overview").catch(TC.fail);
   if (!session) return;
-  const every = Math.max(2, Number(TC.param("refresh")) || 15);  // ?refresh=N s: a wall display, a test
+  // ?refresh=N seconds (2 to 3600): a wall display, a test.
+  const every = Math.min(3600, Math.max(2, Number(TC.param("refresh")) || 15));
   const status = el("p", { class: "muted", id: "updated" });
   const body = el("div", { id: "overview" });
   TC.main(el("h1", {}, "Line overview"), status, body);
