@@ -20,7 +20,6 @@ usage: pages_bench.py BUILD_DIR [RUNS]
 import json
 import os
 import shutil
-import socket
 import statistics
 import subprocess
 import sys
@@ -30,6 +29,7 @@ import urllib.request
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "browser"))
 import headless_chromium  # noqa: E402
+from headless_chromium import free_port  # noqa: E402
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import WebDriverWait
@@ -38,14 +38,6 @@ BUILD = sys.argv[1]
 RUNS = int(sys.argv[2]) if len(sys.argv) > 2 else 5
 BIN = os.path.join(BUILD, "thermocomp")
 YEAR = os.path.join(tempfile.gettempdir(), "thermocomp-bench", "history-year.db")
-
-
-def free_port():
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
 
 
 def serve(db):

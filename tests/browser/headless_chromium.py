@@ -21,7 +21,8 @@ ARGS = ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-us
 _processes = []
 
 
-def _free_port():
+def free_port():
+    """An ephemeral port on 127.0.0.1, free when asked."""
     s = socket.socket()
     s.bind(("127.0.0.1", 0))
     port = s.getsockname()[1]
@@ -41,14 +42,14 @@ def _wait_for(port):
 
 def start(browser_log=False):
     """A WebDriver session in a fresh headless Chromium at 1280x800."""
-    devtools = _free_port()
+    devtools = free_port()
     profile = tempfile.mkdtemp(prefix="tc-chromium-")
     chromium = shutil.which("chromium") or "/usr/bin/chromium"
     _processes.append(subprocess.Popen(
         [chromium, *ARGS, f"--remote-debugging-port={devtools}", f"--user-data-dir={profile}",
          "about:blank"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
     _wait_for(devtools)
-    port = _free_port()
+    port = free_port()
     _processes.append(subprocess.Popen(
         [shutil.which("chromedriver") or "/usr/bin/chromedriver", f"--port={port}"],
         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
