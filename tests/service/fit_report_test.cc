@@ -4,7 +4,9 @@
 #include "service/fit_report_codec.h"
 
 #include <cmath>
+#include <cstdio>
 
+#include "service/fit_report_text.h"
 #include "tests/app_fixture.h"
 
 namespace thermocomp {
@@ -52,6 +54,22 @@ TEST_F(FitReportTest, NumbersThatWereNotComputedAreNullAndComeBackAsNaN) {
   EXPECT_TRUE(std::isnan(back->validation.rmse_mm));
   EXPECT_EQ(back->compared_with->version, 3);
   EXPECT_FALSE(FitReportFromJson(nlohmann::json::array()).ok());
+}
+
+TEST_F(FitReportTest, TheReadableReportShowsEveryCoefficientInMicrometres) {
+  Simulate("m1", 10);
+  FitRequest req;
+  req.actor = "test";
+  auto report = app_->fits().Fit("m1", "Y", req);
+  ASSERT_TRUE(report.ok()) << report.status().ToString();
+  const std::string md = FitReportMarkdown(*report);
+  EXPECT_NE(md.find("## Coefficients (um per unit of each term)"), std::string::npos);
+  for (const TermStats& t : report->fit.terms) {
+    char estimate[32];
+    std::snprintf(estimate, sizeof estimate, "| %.4g |", t.estimate * 1000.0);
+    EXPECT_NE(md.find("| `" + t.name + "` " + estimate), std::string::npos) << t.name << "\n" << md;
+  }
+  EXPECT_NE(md.find(report->accepted ? "Passed." : "Failed:"), std::string::npos);
 }
 
 }  // namespace
