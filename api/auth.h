@@ -27,6 +27,8 @@ struct AuthDecision {
   // With 401: the WWW-Authenticate challenge (RFC 6750), so a client knows
   // which scheme to answer with.
   std::string challenge;
+  // With 429: seconds until the client may try again (Retry-After).
+  int retry_after_s = 0;
 };
 
 class Authorizer {

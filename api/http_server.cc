@@ -79,6 +79,7 @@ const std::vector<std::pair<std::regex, std::set<std::string>>>& RouteParams() {
       {std::regex(m + "/temperatures"), {"from", "to", "max_points"}},
       {std::regex("/ui/sign-in"), {"next"}},
       {std::regex("/"), {"refresh"}},
+      {std::regex("/api/v1/overview"), {"limit", "offset"}},
       {std::regex(m + "/column-checks/requests"), {"state"}},
       {std::regex(m + "/column-checks/[0-9]+"), {"format"}},
       {std::regex(m + "/axes/[^/]+/analysis/[0-9]+"), {"format"}},

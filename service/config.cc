@@ -113,6 +113,23 @@ std::string TimeZone(const toml::node& n, Config& c) {
   return "";
 }
 
+Reader Texts(std::vector<std::string> Config::*field, size_t max_items) {
+  return [=](const toml::node& n, Config& c) -> std::string {
+    const toml::array* a = n.as_array();
+    if (!a || a->size() > max_items) {
+      return "must be an array of at most " + std::to_string(max_items) + " strings";
+    }
+    std::vector<std::string> out;
+    for (const auto& item : *a) {
+      auto v = item.value_exact<std::string>();
+      if (!v || v->empty() || v->size() > 255) return "must hold non-empty strings (255 at most)";
+      out.push_back(*v);
+    }
+    c.*field = out;
+    return "";
+  };
+}
+
 std::string ReadTokens(const toml::node& n, Config& c) {
   const toml::array* list = n.as_array();
   if (!list) return "must be [[auth.tokens]] tables";
@@ -161,6 +178,11 @@ const std::map<std::string, Reader>& Keys() {
       {"server.header_timeout_s", Int(&Config::header_timeout_s, 1, 600)},
       {"server.body_timeout_s", Int(&Config::body_timeout_s, 1, 3600)},
       {"server.keep_alive_timeout_s", Int(&Config::keep_alive_timeout_s, 1, 3600)},
+      {"server.body_grace_s", Int(&Config::body_grace_s, 1, 600)},
+      {"server.body_min_rate_bytes_per_s",
+       Int(&Config::body_min_rate_bytes_per_s, 1, int64_t{1} << 30)},
+      {"server.anonymous_worker_share", Number(&Config::anonymous_worker_share, 0.01, 1)},
+      {"server.allowed_hosts", Texts(&Config::allowed_hosts, 64)},
       {"database.path", Text(&Config::db_path)},
       {"database.synchronous", Text(&Config::synchronous, {"full", "normal"})},
       {"database.busy_timeout_ms", Int(&Config::busy_timeout_ms, 0, 600000)},
@@ -169,6 +191,16 @@ const std::map<std::string, Reader>& Keys() {
       {"compensation.plausible_max_c", Number(&Config::plausible_max_c, -60, 200)},
       {"compensation.max_step_c", Number(&Config::max_step_c, 0.01, 200)},
       {"compensation.range_margin", Number(&Config::range_margin, 0, 10)},
+      {"compensation.hold_s", Int(&Config::hold_s, 0, 86400)},
+      {"compensation.max_rate_um_per_min", Number(&Config::max_rate_um_per_min, 0.01, 1000)},
+      {"ingest.max_future_skew_s", Int(&Config::max_future_skew_s, 0, 86400)},
+      {"limits.max_events_per_machine_day", Int(&Config::max_events_per_machine_day, 1, 1000000)},
+      {"limits.analysis_max_events", Int(&Config::analysis_max_events, 1, 100000)},
+      {"limits.max_sensors_per_machine", Int(&Config::max_sensors_per_machine, 1, 100000)},
+      {"limits.max_response_points", Int(&Config::max_response_points, 100, 100000000)},
+      {"limits.overview_page_size", Int(&Config::overview_page_size, 1, 1000)},
+      {"auth.max_failures", Int(&Config::auth_max_failures, 1, 100000)},
+      {"auth.failure_window_s", Int(&Config::auth_failure_window_s, 1, 86400)},
       {"fit.interval_min", Int(&Config::refit_interval_min, 0, 525600)},
       {"fit.after_new_runs", Int(&Config::refit_after_new_runs, 0, 100000)},
       {"fit.holdout_runs", Int(&Config::holdout_runs, 1, 10000)},
@@ -290,6 +322,7 @@ const std::map<std::string, Reader>& Keys() {
       {"web.session_hours", Int(&Config::web_session_hours, 1, 24 * 30)},
       {"web.secure_cookie", Bool(&Config::web_secure_cookie)},
       {"web.max_sessions", Int(&Config::web_max_sessions, 1, 100000)},
+      {"web.max_sessions_per_token", Int(&Config::web_max_sessions_per_token, 1, 1000)},
       {"log.level", Text(&Config::log_level, {"debug", "info", "warn", "error"})},
       {"dds.enabled", Bool(&Config::dds_enabled)},
       {"dds.domain", Int(&Config::dds_domain, 0, 232)},

@@ -31,6 +31,17 @@ struct Config {
   int header_timeout_s = 10;            // a request head must arrive within this
   int body_timeout_s = 120;             // and its body within this
   int keep_alive_timeout_s = 60;        // an idle keep-alive connection is closed after this
+  // A body's deadline is proportional to its size: body_grace_s plus the
+  // announced (chunked: received) bytes at body_min_rate_bytes_per_s,
+  // never beyond body_timeout_s.
+  int body_grace_s = 5;
+  int body_min_rate_bytes_per_s = 16384;
+  // Requests without a valid credential may hold at most this share of the
+  // workers while their bodies arrive; beyond: 503 with Retry-After.
+  double anonymous_worker_share = 0.25;
+  // Host header names (with or without port) accepted; empty: loopback
+  // names only when no tokens are configured, any name with tokens.
+  std::vector<std::string> allowed_hosts;
   // [database]
   std::string db_path = "var/thermocomp.db";
   std::string synchronous = "full";
@@ -41,6 +52,23 @@ struct Config {
   double plausible_max_c = 80.0;
   double max_step_c = 5.0;  // raw minus filtered beyond this: sensor fault
   double range_margin = 0.1;
+  // When a served correction stops being valid (data stopped, the model
+  // became unusable) the last valid one is held this long, then ramped to 0.
+  int hold_s = 600;
+  // The served correction moves at most this fast anywhere on the travel,
+  // in every state: the ramp to 0, a new model, a step of the inputs.
+  double max_rate_um_per_min = 2.0;
+  // [ingest] samples dated further than this into the future are refused.
+  int max_future_skew_s = 300;
+  // [limits] what one machine or request may make the server hold.
+  int max_events_per_machine_day = 500;  // more: 429 naming events
+  int analysis_max_events = 200;         // the newest events an analysis considers
+  int max_sensors_per_machine = 256;
+  int max_response_points = 200000;  // points in one temperature history response
+  int overview_page_size = 200;      // machines per overview page by default (limit<=1000)
+  // [auth] failed credentials per client address and per credential tried
+  int auth_max_failures = 10;
+  int auth_failure_window_s = 600;
   // [fit]
   int refit_interval_min = 1440;  // 0: off
   int refit_after_new_runs = 5;   // 0: off
@@ -74,6 +102,7 @@ struct Config {
   int web_session_hours = 12;
   bool web_secure_cookie = false;  // true behind an HTTPS proxy
   int web_max_sessions = 1000;     // beyond: the least recently made is signed out
+  int web_max_sessions_per_token = 5;  // beyond: that token's oldest session ends
 
   std::string log_level = "info";
   // [dds]
