@@ -40,47 +40,105 @@ bool KnownControllerFormat(const std::string& f) {
          f == "linuxcnc";
 }
 
-std::string RenderForController(const MachineCompensation& c, const std::string& format) {
+std::string CommentText(const std::string& text, const std::string& format) {
   std::string out;
-  char line[256];
-  const char* comment = format == "linuxcnc" ? "#" : format == "fanuc" ? "(" : ";";
+  for (const char ch : text) {
+    if (out.size() >= 160) break;
+    const auto u = static_cast<unsigned char>(ch);
+    char c = u >= 0x20 && u < 0x7f ? ch : '?';
+    if (format == "fanuc" && (c == '(' || c == ')')) c = c == '(' ? '[' : ']';
+    out += c;
+  }
+  return out;
+}
+
+namespace {
+
+std::string Printf(const char* fmt, auto... args) {
+  char line[512];
+  std::snprintf(line, sizeof line, fmt, args...);
+  return line;
+}
+
+long AgeSeconds(const AxisCompensation& a) {
+  return a.input_age_s ? static_cast<long>(std::floor(*a.input_age_s)) : -1L;
+}
+
+// The lines a control or its PLC tests before it applies the values.
+std::string StatusLines(const MachineCompensation& c, const AxisCompensation& a,
+                        const std::string& format) {
+  const int status = a.StatusWord();
+  const long age = AgeSeconds(a);
+  const std::string& ax = a.axis;
+  if (format == "sinumerik") {
+    return Printf("TC_STATUS_%s=%d\nTC_AGE_%s=%ld\n", ax.c_str(), status, ax.c_str(), age);
+  }
+  if (format == "beckhoff") {
+    return Printf("%s.tc_status=%d\n%s.tc_input_age_s=%ld\n", ax.c_str(), status, ax.c_str(), age);
+  }
+  if (format == "heidenhain") {
+    return Printf("%s_STATUS=%d\n%s_AGE=%ld\n", ax.c_str(), status, ax.c_str(), age);
+  }
+  if (format == "fanuc") {
+    const int n = ControlAxisNumber(c, ax);
+    return n == 0 ? "" : Printf("#%d=%d\n#%d=%ld\n", 980 + n, status, 990 + n, age);
+  }
+  const std::string lower = Lower(ax);
+  return Printf("setp thermocomp.%s.status %d\nsetp thermocomp.%s.input-age-s %ld\n", lower.c_str(),
+                status, lower.c_str(), age);
+}
+
+std::string ComputedLine(const MachineCompensation& c, const std::string& format) {
+  const long long s = c.computed_at_ms / 1000;
+  if (format == "sinumerik") return Printf("TC_COMPUTED=%lld\n", s);
+  if (format == "beckhoff") return Printf("tc_computed=%lld\n", s);
+  if (format == "heidenhain") return Printf("COMPUTED=%lld\n", s);
+  if (format == "fanuc") return Printf("#980=%lld\n", s);
+  return Printf("setp thermocomp.computed-at %lld\n", s);
+}
+
+}  // namespace
+
+std::string RenderForController(const MachineCompensation& c, const std::string& format) {
+  std::string out = ComputedLine(c, format);
+  const std::string open = format == "linuxcnc" ? "# " : format == "fanuc" ? "(" : "; ";
+  const std::string close = format == "fanuc" ? ")" : "";
   for (const auto& a : c.axes) {
+    const std::string ax = CommentText(a.axis, format);
     if (!a.valid) {
-      std::snprintf(line, sizeof line, "%s %s not valid: %s%s\n", comment, a.axis.c_str(),
-                    a.reason.c_str(), format == "fanuc" ? ")" : "");
-      out += line;
+      out += open + ax + " not valid, " + ServedStateName(a.state) + ": " +
+             CommentText(a.reason, format) + close + "\n";
     }
     if (format == "sinumerik") {
-      std::snprintf(line, sizeof line,
-                    "$SA_TEMP_COMP_ABS_VALUE[%s]=%.6f\n$SA_TEMP_COMP_SLOPE[%s]=%.12f\n"
-                    "$SA_TEMP_COMP_REF_POSITION[%s]=%.3f\n",
-                    a.axis.c_str(), a.offset_mm, a.axis.c_str(), SinumerikSlope(a.slope_um_per_m),
-                    a.axis.c_str(), a.reference_position_mm);
+      out += Printf(
+          "$SA_TEMP_COMP_ABS_VALUE[%s]=%.6f\n$SA_TEMP_COMP_SLOPE[%s]=%.12f\n"
+          "$SA_TEMP_COMP_REF_POSITION[%s]=%.3f\n",
+          ax.c_str(), a.offset_mm, ax.c_str(), SinumerikSlope(a.slope_um_per_m), ax.c_str(),
+          a.reference_position_mm);
     } else if (format == "beckhoff") {
-      std::snprintf(line, sizeof line,
-                    "%s.temp_comp_offset_0=%ld\n%s.temp_comp_position_0=%ld\n"
-                    "%s.temp_comp_coefficient=%.3f\n",
-                    a.axis.c_str(), TenthsOfMicron(a.offset_mm), a.axis.c_str(),
-                    TenthsOfMicron(a.reference_position_mm), a.axis.c_str(), a.slope_um_per_m);
+      out += Printf(
+          "%s.temp_comp_offset_0=%ld\n%s.temp_comp_position_0=%ld\n"
+          "%s.temp_comp_coefficient=%.3f\n",
+          ax.c_str(), TenthsOfMicron(a.offset_mm), ax.c_str(),
+          TenthsOfMicron(a.reference_position_mm), ax.c_str(), a.slope_um_per_m);
     } else if (format == "heidenhain") {
       // No slope on these controls: the offset where the datum was probed.
-      double mm = std::fmax(-3.0, std::fmin(3.0, a.offset_at_probe_mm));
-      std::snprintf(line, sizeof line, "%s=%ld\n", a.axis.c_str(), TenthsOfMicron(mm));
+      const double mm = std::fmax(-3.0, std::fmin(3.0, a.offset_at_probe_mm));
+      out += Printf("%s=%ld\n", ax.c_str(), TenthsOfMicron(mm));
     } else if (format == "fanuc") {
       const int n = ControlAxisNumber(c, a.axis);
       if (n == 0) {
-        std::snprintf(line, sizeof line, "(%s is not in the control's axes %s)\n", a.axis.c_str(),
-                      Join(c.control_axes).c_str());
+        out += "(" + ax + " is not in the control's axes " +
+               CommentText(Join(c.control_axes), format) + ")\n";
       } else {
-        std::snprintf(line, sizeof line, "#%d=%.4f\n", 5200 + n, a.offset_at_probe_mm);
+        out += Printf("#%d=%.4f\n", 5200 + n, a.offset_at_probe_mm);
       }
     } else {  // linuxcnc
-      std::string ax = Lower(a.axis);
-      std::snprintf(line, sizeof line,
-                    "setp axis.%s.eoffset-scale 0.0001\nsetp axis.%s.eoffset-counts %ld\n",
-                    ax.c_str(), ax.c_str(), TenthsOfMicron(a.offset_at_probe_mm));
+      const std::string lower = Lower(ax);
+      out += Printf("setp axis.%s.eoffset-scale 0.0001\nsetp axis.%s.eoffset-counts %ld\n",
+                    lower.c_str(), lower.c_str(), TenthsOfMicron(a.offset_at_probe_mm));
     }
-    out += line;
+    out += StatusLines(c, a, format);
   }
   return out;
 }

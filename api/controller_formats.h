@@ -11,7 +11,19 @@
 //  fanuc      external work offset #5200+n in mm, n the axis' number in the
 //             control's axis order (MachineCompensation::control_axes)
 //  linuxcnc   HAL external offsets: eoffset-scale 0.0001 mm per count, eoffset-counts
-// An axis that is not valid is written with offset 0 and a comment line.
+// Every format writes what is served now (the served offset is already held
+// or ramped, never a step: service/compensation_service.h) and, per axis, a
+// variable the control or its PLC can test: the status word
+// (AxisCompensation::StatusWord: 1 valid, 2 stale, 4 clamped, 8 holding,
+// 16 ramping) and the age of the oldest input in whole seconds (-1: none),
+// plus the time the value was decided (Unix seconds):
+//  sinumerik  TC_STATUS_<axis>, TC_AGE_<axis>, TC_COMPUTED (GUD variables)
+//  beckhoff   <axis>.tc_status, <axis>.tc_input_age_s, tc_computed
+//  heidenhain <axis>_STATUS, <axis>_AGE, COMPUTED
+//  fanuc      #980+n status, #990+n age, #980 computed (common variables)
+//  linuxcnc   thermocomp.<axis>.status, .input-age-s, thermocomp.computed-at
+// A comment line with the reason precedes an axis that is not valid; its
+// text keeps to the characters every control's comment syntax allows.
 #pragma once
 
 #include <optional>
@@ -25,5 +37,9 @@ bool KnownControllerFormat(const std::string& format);
 // SD43910 from a slope in um/m: tan(beta) = um/m * 1e-6.
 double SinumerikSlope(double slope_um_per_m);
 std::string RenderForController(const MachineCompensation& c, const std::string& format);
+// `text` made safe inside a comment of `format`: printable ASCII only, no
+// line breaks, and for FANUC no parentheses (a comment there is "(...)",
+// and one cannot nest); at most 160 characters.
+std::string CommentText(const std::string& text, const std::string& format);
 
 }  // namespace thermocomp::api

@@ -23,6 +23,9 @@ struct AxisRecord {
   double reference_position_mm = 0;
   std::vector<std::string> inputs;  // declared model inputs (sensor names)
   double clamp_mm = 0.03;
+  // The axis' travel in machine coordinates (both or neither set): the
+  // correction served is within the clamp over all of it.
+  std::optional<double> travel_min_mm = std::nullopt, travel_max_mm = std::nullopt;
 };
 
 struct MachineRecord {

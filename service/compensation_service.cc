@@ -1,6 +1,7 @@
 #include "service/compensation_service.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "core/time_format.h"
@@ -19,14 +20,39 @@ namespace {
 constexpr double kLogStepMm = 1e-4;
 constexpr int64_t kLogEveryMs = 60000;
 constexpr double kSlopeStepMm = 100.0;
+// Without a configured travel the clamp is kept over this much on either
+// side of the reference position: more than most machines travel.
+constexpr double kDefaultHalfTravelMm = 1000.0;
 
 void Invalidate(AxisCompensation& a, std::string reason) {
   a.valid = false;
-  a.offset_mm = 0;
-  a.offset_at_probe_mm = 0;
-  a.slope_um_per_m = 0;
+  a.model_offset_mm = 0;
+  a.model_slope_um_per_m = 0;
   a.clamped = false;
   if (a.reason.empty()) a.reason = std::move(reason);
+}
+
+Travel TravelOf(const AxisRecord& axis) {
+  if (axis.travel_min_mm && axis.travel_max_mm) return {*axis.travel_min_mm, *axis.travel_max_mm};
+  return {axis.reference_position_mm - kDefaultHalfTravelMm,
+          axis.reference_position_mm + kDefaultHalfTravelMm};
+}
+
+bool SameServed(const MachineCompensation& a, const MachineCompensation& b) {
+  if (a.axes.size() != b.axes.size()) return false;
+  for (size_t i = 0; i < a.axes.size(); ++i) {
+    const AxisCompensation &x = a.axes[i], &y = b.axes[i];
+    if (x.offset_mm != y.offset_mm || x.slope_um_per_m != y.slope_um_per_m ||
+        x.offset_at_probe_mm != y.offset_at_probe_mm || x.StatusWord() != y.StatusWord() ||
+        x.model_offset_mm != y.model_offset_mm || x.reason != y.reason ||
+        x.model_version != y.model_version ||
+        x.input_age_s.has_value() != y.input_age_s.has_value()) {
+      return false;
+    }
+    // The input age moves on by itself: a new snapshot each second at most.
+    if (x.input_age_s && std::floor(*x.input_age_s) != std::floor(*y.input_age_s)) return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -40,13 +66,28 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
   mc.controller = machine->controller;
   mc.control_axes = machine->ControlAxes();
   mc.computed_at_ms = clock_.NowMs();
+  const int64_t now_mono = clock_.MonotonicMs();
   SampleStore& samples = session->samples();
   ModelStore& models = session->models();
   auto datum = session->probes().LatestDatum(machine->id);
   for (const AxisRecord& axis : machine->axes) {
     AxisCompensation a;
     a.axis = axis.name;
+    a.axis_id = axis.id;
     a.reference_position_mm = axis.reference_position_mm;
+    a.travel = TravelOf(axis);
+    a.travel_configured = axis.travel_min_mm.has_value();
+    a.clamp_mm = axis.clamp_mm;
+    // A restarted server continues from what it served last: that is what
+    // the control still applies.
+    const std::string key = name + "/" + axis.name;
+    if (!served_.Seeded(key)) {
+      auto last = session->log().LatestCompensation(axis.id);
+      served_.Seed(key, last ? last->offset_mm : 0.0, now_mono);
+      std::lock_guard<std::mutex> lock(log_mutex_);
+      if (last)
+        last_logged_.try_emplace(axis.id, Logged{last->offset_mm, last->valid, last->ts_ms});
+    }
     auto active = models.Active(axis.id);
     if (!active) {
       Invalidate(a, "no active model");
@@ -55,6 +96,8 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
     }
     a.model_version = active->version;
     auto model = DriftModelFromJson(active->model_json);
+    // The clamp in force now, not the one the model was fitted under.
+    if (model.ok()) model->clamp_mm = axis.clamp_mm;
     if (!model.ok()) {
       Invalidate(a, model.status().message());
       mc.axes.push_back(a);
@@ -95,6 +138,8 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
         break;
       }
       a.oldest_input_ms = std::min(a.oldest_input_ms.value_or(fs->last_ts_ms), fs->last_ts_ms);
+      const int64_t arrived = ArrivalOf(name + "/" + input, fs->last_ts_ms, now_mono);
+      a.oldest_arrival_mono_ms = std::min(a.oldest_arrival_mono_ms.value_or(arrived), arrived);
       if (fs->last_value < config_.plausible_min_c || fs->last_value > config_.plausible_max_c) {
         Invalidate(a, "input " + input + " implausible: raw value outside plausible range");
       } else if (std::fabs(fs->last_value - fs->state) > config_.max_step_c) {
@@ -116,14 +161,14 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
     }
     if (a.reason.empty()) {
       // Position-dependent terms: the offset at the reference position and
-      // the slope about it (central difference, exact for squares), and the
-      // offset where the datum was probed for controls without a slope.
+      // the slope about it (central difference, exact for squares); controls
+      // without a slope get the served line where the datum was probed.
       const bool positional = DependsOnPosition(*model, axis.name);
       const double pref = axis.reference_position_mm;
       const size_t axis_index = static_cast<size_t>(&axis - machine->axes.data());
       const double probe = live.datum_position_mm[axis_index];
       std::vector<double> positions = {pref};
-      if (positional) positions = {pref, pref - kSlopeStepMm, pref + kSlopeStepMm, probe};
+      if (positional) positions = {pref, pref - kSlopeStepMm, pref + kSlopeStepMm};
       auto values = LiveTermValues(*session, *model, live, positions);
       if (positional && !std::isfinite(probe)) {
         Invalidate(a, "the datum has no " + axis.name + " position for position-dependent terms");
@@ -136,43 +181,31 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
       if (a.reason.empty()) {
         Compensation c = Compensate(*model, values[0], config_.range_margin);
         a.predicted_drift_mm = c.predicted_drift_mm;
-        a.offset_mm = c.offset_mm;
-        a.offset_at_probe_mm = c.offset_mm;
-        a.clamped = c.clamped;
         a.valid = c.valid;
         a.extrapolating = c.extrapolating;
+        CorrectionLine line{c.offset_mm, 0.0};
         if (positional && c.valid) {
           const double slope = -(model->PredictDrift(values[2]) - model->PredictDrift(values[1])) /
                                (2 * kSlopeStepMm) * 1e6;
-          Compensation at_probe = Compensate(*model, values[3], config_.range_margin);
-          if (!std::isfinite(slope) || !at_probe.valid) {
+          if (!std::isfinite(slope)) {
             Invalidate(a, "position-dependent prediction is not finite");
           } else {
-            a.slope_um_per_m = slope;
+            line.slope_um_per_m = slope;
             a.probe_position_mm = probe;
-            a.offset_at_probe_mm = at_probe.offset_mm;
           }
         }
         if (!c.valid) Invalidate(a, "prediction is not finite");
+        // The clamp holds over the whole travel: a slope must not carry the
+        // correction past it at either end.
+        const bool limited = ClampOverTravel(line, pref, a.travel, axis.clamp_mm);
+        if (a.valid) {
+          a.model_offset_mm = line.offset_mm;
+          a.model_slope_um_per_m = line.slope_um_per_m;
+          a.clamped = c.clamped || limited;
+        }
       }
     }
     mc.axes.push_back(a);
-  }
-
-  // The served-offset log: changes and a heartbeat, not every recompute.
-  LogStore& log = session->log();
-  for (const AxisRecord& axis : machine->axes) {
-    const AxisCompensation* a = nullptr;
-    for (const auto& x : mc.axes) {
-      if (x.axis == axis.name) a = &x;
-    }
-    auto last = log.LatestCompensation(axis.id);
-    if (!last || last->valid != a->valid ||
-        std::fabs(last->offset_mm - a->offset_mm) > kLogStepMm ||
-        mc.computed_at_ms - last->ts_ms >= kLogEveryMs) {
-      log.AppendCompensation(axis.id, {mc.computed_at_ms, a->offset_mm, a->predicted_drift_mm,
-                                       a->valid, a->clamped, a->model_version});
-    }
   }
   return mc;
 }
@@ -196,9 +229,91 @@ StatusOr<std::shared_ptr<const MachineCompensation>> CompensationService::Refres
     if (!slot.value || slot.change <= change) slot = {fresh, change};
     current = slot.value;
   }
+  if (current != fresh) return current;
+  auto served = Serve(*fresh);
+  LogServed(*served);
   std::lock_guard<std::mutex> lock(publisher_mutex_);
-  if (publisher_ && current == fresh) publisher_(*fresh);
+  if (publisher_) publisher_(*served);
   return current;
+}
+
+int64_t CompensationService::ArrivalOf(const std::string& key, int64_t last_ts_ms,
+                                       int64_t now_mono_ms) {
+  std::lock_guard<std::mutex> lock(arrival_mutex_);
+  auto [it, first] = arrivals_.try_emplace(key, Arrival{last_ts_ms, now_mono_ms});
+  if (!first && it->second.last_ts_ms != last_ts_ms) it->second = {last_ts_ms, now_mono_ms};
+  return it->second.at_mono_ms;
+}
+
+std::shared_ptr<const MachineCompensation> CompensationService::Serve(
+    const MachineCompensation& target) {
+  const int64_t now = clock_.NowMs();
+  const int64_t mono = clock_.MonotonicMs();
+  const int64_t stale_ms = int64_t{config_.stale_after_s} * 1000;
+  auto out = std::make_shared<MachineCompensation>(target);
+  out->computed_at_ms = now;
+  for (AxisCompensation& a : out->axes) {
+    if (a.oldest_input_ms) {
+      // Judged by the samples' time and by when they arrived here, so
+      // samples dated into the future cannot keep a silent input fresh.
+      const int64_t by_ts = now - *a.oldest_input_ms;
+      const int64_t by_arrival = mono - a.oldest_arrival_mono_ms.value_or(mono);
+      a.input_age_s = static_cast<double>(std::max<int64_t>({by_ts, by_arrival, 0})) / 1000.0;
+      if (a.valid && (by_ts > stale_ms || by_arrival > stale_ms)) {
+        a.stale = true;
+        a.valid = false;
+        a.clamped = false;
+        a.reason = by_ts > stale_ms
+                       ? "no temperature since " + FormatRfc3339(*a.oldest_input_ms)
+                       : "no sample received for " + std::to_string(by_arrival / 1000) + " s";
+      }
+    }
+    ServedCorrections::Target t;
+    t.line = {a.model_offset_mm, a.model_slope_um_per_m};
+    t.valid = a.valid;
+    t.reference_mm = a.reference_position_mm;
+    t.travel = a.travel;
+    t.clamp_mm = a.clamp_mm;
+    const ServedCorrections::Served s = served_.Serve(out->machine + "/" + a.axis, t, mono);
+    a.state = s.state;
+    a.clamped = a.clamped || s.clamped;
+    a.offset_mm = s.line.offset_mm;
+    a.slope_um_per_m = s.line.slope_um_per_m;
+    const double at_probe =
+        s.line.At(a.reference_position_mm, a.probe_position_mm.value_or(a.reference_position_mm));
+    a.offset_at_probe_mm = std::clamp(at_probe, -std::fabs(a.clamp_mm), std::fabs(a.clamp_mm));
+  }
+  std::lock_guard<std::mutex> lock(served_mutex_);
+  auto& last = last_served_[out->machine];
+  if (last && SameServed(*last, *out)) return last;
+  last = out;
+  return out;
+}
+
+void CompensationService::LogServed(const MachineCompensation& served) {
+  const int64_t now = served.computed_at_ms;
+  std::vector<const AxisCompensation*> due;
+  {
+    std::lock_guard<std::mutex> lock(log_mutex_);
+    for (const AxisCompensation& a : served.axes) {
+      auto it = last_logged_.find(a.axis_id);
+      if (it == last_logged_.end() || it->second.valid != a.valid ||
+          std::fabs(it->second.offset_mm - a.offset_mm) > kLogStepMm ||
+          (a.valid && now - it->second.ts_ms >= kLogEveryMs)) {
+        due.push_back(&a);
+      }
+    }
+  }
+  if (due.empty()) return;
+  const std::unique_ptr<Session> session = storage_.Open();
+  for (const AxisCompensation* a : due) {
+    const Status st = session->log().AppendCompensation(
+        a->axis_id,
+        {now, a->offset_mm, a->predicted_drift_mm, a->valid, a->clamped, a->model_version});
+    if (!st.ok()) continue;  // tried again on the next tick
+    std::lock_guard<std::mutex> lock(log_mutex_);
+    last_logged_[a->axis_id] = {a->offset_mm, a->valid, now};
+  }
 }
 
 void CompensationService::SetPublisher(Publisher publisher) {
@@ -213,14 +328,23 @@ Status CompensationService::Recompute(const std::string& machine) {
 
 void CompensationService::Start() {
   worker_ = std::thread([this] {
+    // Recomputes what changed, and once a second serves every machine, so
+    // that holds, ramps and staleness are logged while nobody asks.
     std::unique_lock<std::mutex> lock(dirty_mutex_);
     while (true) {
-      dirty_cv_.wait(lock, [this] { return stop_ || !dirty_.empty(); });
+      dirty_cv_.wait_for(lock, std::chrono::seconds(1),
+                         [this] { return stop_ || !dirty_.empty(); });
       if (stop_) return;
       std::set<std::string> batch;
       batch.swap(dirty_);
       lock.unlock();
       for (const auto& m : batch) (void)Recompute(m);
+      std::vector<std::shared_ptr<const MachineCompensation>> targets;
+      {
+        std::shared_lock read(mutex_);
+        for (const auto& [machine, snapshot] : cache_) targets.push_back(snapshot.value);
+      }
+      for (const auto& t : targets) LogServed(*Serve(*t));
       lock.lock();
     }
   });
@@ -247,33 +371,19 @@ void CompensationService::MarkChanged(const std::string& machine) {
 StatusOr<std::shared_ptr<const MachineCompensation>> CompensationService::Get(
     const std::string& machine) {
   const uint64_t change = ChangeCount(machine);
-  std::shared_ptr<const MachineCompensation> cached;
+  std::shared_ptr<const MachineCompensation> target;
   {
     std::shared_lock lock(mutex_);
     if (auto it = cache_.find(machine); it != cache_.end() && it->second.change >= change) {
-      cached = it->second.value;
+      target = it->second.value;
     }
   }
-  if (!cached) {
+  if (!target) {
     auto fresh = Refresh(machine);
     if (!fresh.ok()) return fresh.status();
-    cached = *fresh;
+    target = *fresh;
   }
-  const int64_t now = clock_.NowMs();
-  auto is_stale = [&](const AxisCompensation& a) {
-    return a.oldest_input_ms && now - *a.oldest_input_ms > int64_t{config_.stale_after_s} * 1000;
-  };
-  if (std::none_of(cached->axes.begin(), cached->axes.end(), is_stale)) return cached;
-  // Staleness is decided now: what is served was computed now.
-  auto out = std::make_shared<MachineCompensation>(*cached);
-  out->computed_at_ms = now;
-  for (auto& a : out->axes) {
-    if (is_stale(a)) {
-      a.stale = true;
-      Invalidate(a, "stale: no temperature since " + FormatRfc3339(*a.oldest_input_ms));
-    }
-  }
-  return std::shared_ptr<const MachineCompensation>(std::move(out));
+  return Serve(*target);
 }
 
 }  // namespace thermocomp

@@ -63,17 +63,21 @@ StatusOr<bool> SqliteMachineStore::Upsert(const MachineRecord& m, int64_t now_ms
     if (Status st = sensor.Run(); !st.ok()) return st;
   }
   Statement axis(db_,
-                 "INSERT INTO axes(machine_id, name, reference_position_mm, inputs, clamp_mm)"
-                 " VALUES (?, ?, ?, ?, ?) ON CONFLICT(machine_id, name) DO UPDATE SET"
+                 "INSERT INTO axes(machine_id, name, reference_position_mm, inputs, clamp_mm,"
+                 " travel_min_mm, travel_max_mm) VALUES (?, ?, ?, ?, ?, ?, ?)"
+                 " ON CONFLICT(machine_id, name) DO UPDATE SET"
                  " reference_position_mm = excluded.reference_position_mm,"
-                 " inputs = excluded.inputs, clamp_mm = excluded.clamp_mm");
+                 " inputs = excluded.inputs, clamp_mm = excluded.clamp_mm,"
+                 " travel_min_mm = excluded.travel_min_mm, travel_max_mm = excluded.travel_max_mm");
   for (const auto& a : m.axes) {
     axis.Reset();
     axis.Bind(1, id)
         .Bind(2, a.name)
         .Bind(3, a.reference_position_mm)
         .Bind(4, Join(a.inputs))
-        .Bind(5, a.clamp_mm);
+        .Bind(5, a.clamp_mm)
+        .Bind(6, a.travel_min_mm)
+        .Bind(7, a.travel_max_mm);
     if (Status st = axis.Run(); !st.ok()) return st;
   }
   return created;
@@ -99,11 +103,16 @@ std::optional<MachineRecord> SqliteMachineStore::Find(const std::string& name) {
   s.Bind(1, m.id);
   while (s.Step()) m.sensors.push_back({s.Int(0), s.Text(1), s.Text(2), s.Double(3)});
   Statement a(db_,
-              "SELECT id, name, reference_position_mm, inputs, clamp_mm FROM axes"
-              " WHERE machine_id = ? ORDER BY name");
+              "SELECT id, name, reference_position_mm, inputs, clamp_mm, travel_min_mm,"
+              " travel_max_mm FROM axes WHERE machine_id = ? ORDER BY name");
   a.Bind(1, m.id);
   while (a.Step()) {
-    m.axes.push_back({a.Int(0), a.Text(1), a.Double(2), Split(a.Text(3)), a.Double(4)});
+    AxisRecord r{a.Int(0), a.Text(1), a.Double(2), Split(a.Text(3)), a.Double(4)};
+    if (!a.IsNull(5) && !a.IsNull(6)) {
+      r.travel_min_mm = a.Double(5);
+      r.travel_max_mm = a.Double(6);
+    }
+    m.axes.push_back(std::move(r));
   }
   return m;
 }

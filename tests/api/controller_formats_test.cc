@@ -38,8 +38,9 @@ TEST(ControllerFormatsTest, SinumerikSlopeIsTanBetaNotMicronsPerMetre) {
   EXPECT_NE(out.find("$SA_TEMP_COMP_ABS_VALUE[Y]=0.013456\n"), std::string::npos) << out;
   EXPECT_NE(out.find("$SA_TEMP_COMP_SLOPE[Y]=-0.000006164000\n"), std::string::npos) << out;
   EXPECT_NE(out.find("$SA_TEMP_COMP_REF_POSITION[Y]=120.000\n"), std::string::npos) << out;
-  // An invalid axis: a comment with the reason, then zeros.
-  EXPECT_NE(out.find("; X not valid: no active model\n$SA_TEMP_COMP_ABS_VALUE[X]=0.000000\n"),
+  // An invalid axis with nothing to hold: a comment with its state and
+  // reason, then zeros.
+  EXPECT_NE(out.find("; X not valid, off: no active model\n$SA_TEMP_COMP_ABS_VALUE[X]=0.000000\n"),
             std::string::npos)
       << out;
 }

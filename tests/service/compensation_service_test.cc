@@ -51,8 +51,11 @@ TEST_F(CompensationServiceTest, ReasonsUntilEverythingIsThere) {
   AxisCompensation y = Y();
   ASSERT_TRUE(y.valid) << y.reason;
   EXPECT_NEAR(y.predicted_drift_mm, 0.001 - 0.01 * 2.0, 1e-12);
-  EXPECT_NEAR(y.offset_mm, 0.019, 1e-12);
+  EXPECT_NEAR(y.model_offset_mm, 0.019, 1e-12);
   EXPECT_FALSE(y.clamped);
+  // Served from what the control had (0), at the rate limit
+  // (tests/service/served_value_test.cc follows it to the model's value).
+  EXPECT_EQ(y.offset_mm, 0.0);
 }
 
 TEST_F(CompensationServiceTest, ClampedAndExtrapolatingButFinite) {
@@ -63,7 +66,7 @@ TEST_F(CompensationServiceTest, ClampedAndExtrapolatingButFinite) {
   AxisCompensation y = Y();
   ASSERT_TRUE(y.valid);
   EXPECT_TRUE(y.clamped);
-  EXPECT_DOUBLE_EQ(y.offset_mm, 0.03);
+  EXPECT_DOUBLE_EQ(y.model_offset_mm, 0.03);
   EXPECT_EQ(y.extrapolating, std::vector<std::string>{"T1"});
 }
 
