@@ -21,6 +21,8 @@ void HttpServer::CompensationRoutes() {
   s.Get(m + "/compensation", [this](const Req& req, Res& res) {
     auto c = app_.compensation().Get(req.matches[1]);
     if (!c.ok()) return WriteProblem(res, c.status());
+    // A control polls this: no cache between may hand it an older value.
+    res.set_header("Cache-Control", "no-store");
     std::string format = req.get_param_value("format");
     if (format.empty() || format == "json") {
       return res.set_content(CompensationBody(req.matches[1], *c), "application/json");

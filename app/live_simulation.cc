@@ -62,7 +62,9 @@ class Http : public MachineLink {
     const auto body = nlohmann::json::parse(r->body, nullptr, false);
     if (body.is_discarded()) return std::nullopt;
     for (const auto& a : body["axes"]) {
-      if (a["axis"] == "Y" && a["valid"].get<bool>()) return a["offset_mm"].get<double>();
+      // The served offset is what a control applies in every state: it is
+      // already held or ramped when not valid.
+      if (a["axis"] == "Y") return a["offset_mm"].get<double>();
     }
     return std::nullopt;
   }
@@ -95,8 +97,7 @@ class Dds : public MachineLink {
   }
   std::optional<double> OffsetY(const std::string& machine) override {
     for (const auto& c : client_.TakeCompensation()) {
-      if (c.axis == "Y")
-        latest_[c.machine] = c.valid ? std::optional<double>(c.offset_mm) : std::nullopt;
+      if (c.axis == "Y") latest_[c.machine] = c.offset_mm;  // held or ramped when not valid
     }
     auto it = latest_.find(machine);
     return it == latest_.end() ? std::nullopt : it->second;

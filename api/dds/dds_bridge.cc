@@ -323,7 +323,7 @@ void DdsBridge::PublishCompensation(const MachineCompensation& c, bool force) {
   for (const AxisCompensation& a : c.axes) {
     Published& last = published_[c.machine + "/" + a.axis];
     const bool changed = std::fabs(a.offset_mm - last.offset_mm) > options_.publish_step_mm ||
-                         a.valid != last.valid || a.stale != last.stale;
+                         a.StatusWord() != last.status;
     if (!force && !changed && now - last.at_ms < options_.publish_every_ms) continue;
     thermocomp_CompensationParameters msg{};
     msg.machine = Str(c.machine);
@@ -338,8 +338,13 @@ void DdsBridge::PublishCompensation(const MachineCompensation& c, bool force) {
     msg.stale = a.stale;
     msg.clamped = a.clamped;
     msg.reason = Str(a.reason);
+    msg.model_offset_mm = a.model_offset_mm;
+    msg.status = a.StatusWord();
+    msg.state = const_cast<char*>(ServedStateName(a.state));
+    msg.input_age_s = a.input_age_s.value_or(-1.0);
+    msg.offset_at_probe_mm = a.offset_at_probe_mm;
     if (dds_write(e_->compensation_writer, &msg) == DDS_RETCODE_OK) {
-      last = {a.offset_mm, a.valid, a.stale, now};
+      last = {a.offset_mm, a.StatusWord(), now};
     }
   }
 }

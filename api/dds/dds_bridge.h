@@ -63,7 +63,7 @@ class DdsBridge {
   std::mutex publish_mutex_;
   struct Published {
     double offset_mm = 0;
-    bool valid = false, stale = false;
+    int status = -1;  // AxisCompensation::StatusWord(); -1: nothing published yet
     int64_t at_ms = 0;
   };
   std::map<std::string, Published> published_;  // by "machine/axis"

@@ -25,6 +25,8 @@ struct CompensationSeen {
   bool valid = false;
   int model_version = -1;
   std::string reason;
+  double model_offset_mm = 0;
+  int status = 0;  // AxisCompensation::StatusWord()
 };
 
 class DdsClient {
@@ -177,7 +179,8 @@ class DdsClient {
       for (int i = 0; i < n; ++i) {
         auto* c = static_cast<thermocomp_CompensationParameters*>(buf[i]);
         if (info[i].valid_data) {
-          out.push_back({c->machine, c->axis, c->offset_mm, c->valid, c->model_version, c->reason});
+          out.push_back({c->machine, c->axis, c->offset_mm, c->valid, c->model_version, c->reason,
+                         c->model_offset_mm, c->status});
         }
       }
       dds_return_loan(compensation_reader_, buf, n);
@@ -199,8 +202,8 @@ class DdsClient {
       for (int i = 0; i < n; ++i) {
         auto* c = static_cast<thermocomp_CompensationParameters*>(buf[i]);
         if (info[i].valid_data && machine == c->machine && axis == c->axis) {
-          seen = CompensationSeen{c->machine, c->axis,          c->offset_mm,
-                                  c->valid,   c->model_version, c->reason};
+          seen = CompensationSeen{c->machine,       c->axis,   c->offset_mm,       c->valid,
+                                  c->model_version, c->reason, c->model_offset_mm, c->status};
         }
       }
       if (n > 0) dds_return_loan(reader, buf, n);

@@ -23,7 +23,7 @@ class ColumnMachineAnalysisTest : public testing::AppFixture {
   void SetUp() override {
     AppFixture::SetUp();
     StartHttp();
-    client_ = std::make_unique<httplib::Client>("127.0.0.1", http_->port());
+    client_ = testing::TestClient(http_->port());
   }
   // Registers and ingests 24 days of the machine up to the test clock.
   void Record(const std::set<ColumnEffect>& hidden, uint64_t seed) {

@@ -21,7 +21,7 @@ class AnalysisHttpTest : public testing::AppFixture {
   void SetUp() override {
     AppFixture::SetUp();
     StartHttp();
-    client_ = std::make_unique<httplib::Client>("127.0.0.1", http_->port());
+    client_ = testing::TestClient(http_->port());
   }
   httplib::Result Post(const std::string& path, const std::string& body,
                        const std::string& type = "application/json") {

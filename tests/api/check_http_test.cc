@@ -22,7 +22,7 @@ class CheckHttpTest : public testing::AppFixture {
   void SetUp() override {
     AppFixture::SetUp();
     StartHttp();
-    client_ = std::make_unique<httplib::Client>("127.0.0.1", http_->port());
+    client_ = testing::TestClient(http_->port());
     FieldErrors errors;
     ASSERT_TRUE(app_->machines().Register(VirtualMachine::Definition("m1"), "test", &errors).ok());
   }

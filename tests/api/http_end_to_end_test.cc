@@ -19,7 +19,7 @@ class HttpEndToEndTest : public testing::AppFixture {
   void SetUp() override {
     AppFixture::SetUp();
     StartHttp();
-    client_ = std::make_unique<httplib::Client>("127.0.0.1", http_->port());
+    client_ = testing::TestClient(http_->port());
   }
   json GetJson(const std::string& path, int expect = 200) {
     auto r = client_->Get(path);

@@ -21,7 +21,7 @@ class StorageTroubleTest : public testing::AppFixture {
     AppFixture::SetUp();
     StartHttp();
     ASSERT_TRUE(app_->machines().Register(VirtualMachine::Definition("m1"), "test", nullptr).ok());
-    client_ = std::make_unique<httplib::Client>("127.0.0.1", http_->port());
+    client_ = testing::TestClient(http_->port());
   }
   httplib::Result PostSample(int minute) {
     json body = {{"samples",

@@ -130,9 +130,11 @@ TEST_F(DdsBridgeTest, LateJoinerGetsTheCurrentCompensation) {
   ASSERT_TRUE(seen.has_value());
   EXPECT_TRUE(seen->valid) << seen->reason;
   EXPECT_EQ(seen->model_version, 1);
-  EXPECT_NEAR(seen->offset_mm, -(0.001 - 0.01 * 2.0), 1e-12);
+  EXPECT_NEAR(seen->model_offset_mm, -(0.001 - 0.01 * 2.0), 1e-12);
   auto served = app_->compensation().Get(machine_);
   EXPECT_DOUBLE_EQ(seen->offset_mm, (*served)->axes[0].offset_mm);
+  EXPECT_EQ(seen->status, (*served)->axes[0].StatusWord());
+  EXPECT_TRUE(seen->status & kStatusValid);
 }
 
 TEST_F(DdsBridgeTest, OpenCheckRequestsArePublishedAndWithdrawnWhenAnswered) {
