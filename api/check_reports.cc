@@ -5,11 +5,13 @@
 #include <cstdio>
 
 #include "api/report_page.h"
+#include "service/report_text.h"
 
 namespace thermocomp::api {
 namespace {
 
 using nlohmann::json;
+using report_text::Text;
 
 std::string F(double v, const char* format = "%.2f") {
   char buf[48];
@@ -71,8 +73,8 @@ std::string ErrorPlotSvg(const json& per) {
 std::string ColumnCheckMarkdown(const json& r) {
   const json& z = r["machine_zero_mm"];
   std::string md = "# Column check " + std::to_string(r.value("id", 0)) + ": " +
-                   r.value("machine", "") + "\n\nMeasured " + r.value("ts", "") + " on artifact " +
-                   r.value("artifact", "") + " at " +
+                   Text(r.value("machine", "")) + "\n\nMeasured " + Text(r.value("ts", "")) +
+                   " on artifact " + Text(r.value("artifact", "")) + " at " +
                    F(r.value("artifact_temperature_c", 0.0), "%.2f") +
                    " degC (points corrected for its expansion).\n\n## Machine zero\n\n"
                    "| | X | Y | Z |\n|---|---|---|---|\n| offset um | " +
@@ -80,8 +82,8 @@ std::string ColumnCheckMarkdown(const json& r) {
                    F(z["Z"].get<double>() * 1000) + " |\n";
   if (r.contains("zero_change_um")) {
     const json& c = r["zero_change_um"];
-    md += "| change since " + c.value("since", "") + " um | " + F(c["X"].get<double>()) + " | " +
-          F(c["Y"].get<double>()) + " | " + F(c["Z"].get<double>()) + " |\n";
+    md += "| change since " + Text(c.value("since", "")) + " um | " + F(c["X"].get<double>()) +
+          " | " + F(c["Y"].get<double>()) + " | " + F(c["Z"].get<double>()) + " |\n";
   }
   md += std::string("\n") +
         (r.value("beyond_tolerance", false) ? "**Beyond tolerance**: logged as an event.\n\n"
@@ -102,9 +104,9 @@ std::string ColumnCheckMarkdown(const json& r) {
     std::string points;
     for (const auto& [id, v] : r["straightness_points_um"][scheme].items()) {
       if (!points.empty()) points += ", ";
-      points += id + " " + F(v.get<double>());
+      points += Text(id) + " " + F(v.get<double>());
     }
-    md += "| " + scheme + " | ";
+    md += "| " + Text(scheme) + " | ";
     md += F(value.get<double>()) + " | " + points + " |\n";
   }
   return md;
@@ -120,8 +122,8 @@ std::string PositioningMarkdown(const json& r) {
   const json& u = r["uncertainty_um"];
   const json& in = r["input"];
   std::string md = "# Positioning check " + std::to_string(r.value("id", 0)) + ": " +
-                   r.value("machine", "") + " axis " + in.value("axis", "") + "\n\n";
-  md += "Measured " + in.value("ts", "") + "; " +
+                   Text(r.value("machine", "")) + " axis " + Text(in.value("axis", "")) + "\n\n";
+  md += "Measured " + Text(in.value("ts", "")) + "; " +
         std::to_string(iso.value("runs_per_direction", 0)) + " runs per direction at " +
         std::to_string(iso["per_position"].size()) + " targets; compensation " +
         (in.value("compensation_active", false) ? "active" : "off") +

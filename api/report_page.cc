@@ -37,20 +37,27 @@ std::string Escape(const std::string& s) {
   return out;
 }
 
+// Without CMARK_OPT_UNSAFE raw HTML is left out ("raw HTML omitted") and
+// links to javascript:, vbscript:, file: and data: (but images) are
+// emptied; invalid UTF-8 becomes U+FFFD. User text is escaped before it
+// gets here (service/report_text.h); this is the second wall.
+constexpr int kCmarkOptions = CMARK_OPT_DEFAULT | CMARK_OPT_VALIDATE_UTF8;
+static_assert((kCmarkOptions & CMARK_OPT_UNSAFE) == 0, "reports never pass raw HTML through");
+
 std::string MarkdownToHtml(const std::string& markdown) {
   static std::once_flag registered;
   std::call_once(registered, [] { cmark_gfm_core_extensions_ensure_registered(); });
-  // CMARK_OPT_DEFAULT leaves raw HTML out ("raw HTML omitted"): text from
-  // users (notes, reasons) cannot become markup.
   std::unique_ptr<cmark_parser, decltype(&cmark_parser_free)> parser(
-      cmark_parser_new(CMARK_OPT_DEFAULT), cmark_parser_free);
+      cmark_parser_new(kCmarkOptions), cmark_parser_free);
+  // Tables only: the autolink extension is never attached, so a bare
+  // "www.example" or URL in a report stays text.
   if (cmark_syntax_extension* table = cmark_find_syntax_extension("table")) {
     cmark_parser_attach_syntax_extension(parser.get(), table);
   }
   cmark_parser_feed(parser.get(), markdown.data(), markdown.size());
   std::unique_ptr<cmark_node, decltype(&cmark_node_free)> doc(cmark_parser_finish(parser.get()),
                                                               cmark_node_free);
-  char* html = cmark_render_html(doc.get(), CMARK_OPT_DEFAULT,
+  char* html = cmark_render_html(doc.get(), kCmarkOptions,
                                  cmark_parser_get_syntax_extensions(parser.get()));
   std::string out = html ? html : "";
   cmark_get_default_mem_allocator()->free(html);

@@ -10,9 +10,11 @@
 namespace thermocomp {
 namespace {
 
+using report_text::Code;
 using report_text::Fixed;
 using report_text::Join;
 using report_text::P;
+using report_text::Text;
 using report_text::Um;
 
 std::string Confidence(const PairedGain& g) {
@@ -31,13 +33,13 @@ std::string EffectsMarkdown(const AnalysisReport& r) {
       "|---|---|---|---|---|\n";
   int i = 0;
   for (const auto& e : r.effects) {
-    md += "| " + std::to_string(++i) + " | `" + e.term.Name() + "` | " +
-          Fixed(e.coefficient_mm, "%.4g") + " mm/" + e.term.Unit() + " | " + P(e.p_adjusted) +
+    md += "| " + std::to_string(++i) + " | " + Code(e.term.Name()) + " | " +
+          Fixed(e.coefficient_mm, "%.4g") + " mm/" + Text(e.term.Unit()) + " | " + P(e.p_adjusted) +
           " | " + Um(e.cv_rmse_before_mm) + " -> " + Um(e.cv_rmse_after_mm) + " |\n";
   }
   md += "\n";
   i = 0;
-  for (const auto& e : r.effects) md += std::to_string(++i) + ". " + e.interpretation + "\n";
+  for (const auto& e : r.effects) md += std::to_string(++i) + ". " + Text(e.interpretation) + "\n";
   md += "\n";
   if (!r.superseded.empty()) {
     md +=
@@ -51,7 +53,7 @@ std::string ClosestMarkdown(const AnalysisReport& r) {
   std::string list;
   for (const auto& c : r.closest) {
     const double t = c.confidence ? c.confidence->t : kNotComputed;
-    list += (list.empty() ? "" : ", ") + ("`" + c.name + "` " + Um(c.cv_rmse_mm) + ", " +
+    list += (list.empty() ? "" : ", ") + (Code(c.name) + " " + Um(c.cv_rmse_mm) + ", " +
                                           P(c.p_adjusted) + ", t " + Fixed(t, "%.1f"));
   }
   return "Closest candidates that did not pass (CV RMSE with it, um; adjusted p; t of its "
@@ -68,13 +70,14 @@ std::string ConfidenceMarkdown(const AnalysisReport& r) {
   for (const auto& e : r.effects) {
     std::string alternatives;
     for (const auto& a : e.alternatives) {
-      alternatives += (alternatives.empty() ? "" : ", ") + ("`" + a.name + "`");
+      alternatives += (alternatives.empty() ? "" : ", ") + Code(a.name);
     }
     std::string notes;
-    if (!e.replaces.empty()) notes += "replaces `" + e.replaces + "`; ";
-    if (!e.revises_declared.empty()) notes += e.revises_declared + "; ";
-    if (!e.together_with.empty()) notes += "qualified together with `" + e.together_with + "`; ";
-    md += "| `" + e.term.Name() + "` | " + Confidence(e.confidence) + " | " +
+    if (!e.replaces.empty()) notes += "replaces " + Code(e.replaces) + "; ";
+    if (!e.revises_declared.empty()) notes += Text(e.revises_declared) + "; ";
+    if (!e.together_with.empty())
+      notes += "qualified together with " + Code(e.together_with) + "; ";
+    md += "| " + Code(e.term.Name()) + " | " + Confidence(e.confidence) + " | " +
           (alternatives.empty() ? "none" : alternatives) + " | " + (notes.empty() ? "-" : notes) +
           " |\n";
   }
@@ -85,7 +88,7 @@ std::string FindingsMarkdown(const AnalysisReport& r) {
   std::string md;
   if (r.validation) {
     const BlockedValidation& v = *r.validation;
-    md += "## Validation\n\n" + ValidationMethod(v.block) + ": " + std::to_string(v.blocks) +
+    md += "## Validation\n\n" + Text(ValidationMethod(v.block)) + ": " + std::to_string(v.blocks) +
           " blocks; RMSE " + Um(v.rmse_before_mm) + " -> " + Um(v.rmse_after_mm) + " um.\n\n";
   }
   md += ConfidenceMarkdown(r);
@@ -94,14 +97,14 @@ std::string FindingsMarkdown(const AnalysisReport& r) {
         "## Declared coefficients (um per unit)\n\n| term | declared model | extended model |\n"
         "|---|---|---|\n";
     for (const auto& c : r.coefficient_changes) {
-      md += "| `" + c.term + "` | " + Um(c.before_mm) + " | " + Um(c.after_mm) + " |\n";
+      md += "| " + Code(c.term) + " | " + Um(c.before_mm) + " | " + Um(c.after_mm) + " |\n";
     }
     md += "\n";
   }
   if (!r.filters.empty()) {
     md += "## Filters\n\n";
     for (const auto& f : r.filters) {
-      md += "- `" + f.sensor + "`: white noise " + Fixed(f.noise_c, "%.3f") + " degC every " +
+      md += "- " + Code(f.sensor) + ": white noise " + Fixed(f.noise_c, "%.3f") + " degC every " +
             Fixed(f.interval_min, "%.2f") + " min; read through tau " +
             Fixed(f.recommended_tau_min, "%.1f") + " min (ewma_alpha " +
             Fixed(f.recommended_alpha, "%.3f") + ") instead of " +
@@ -112,7 +115,7 @@ std::string FindingsMarkdown(const AnalysisReport& r) {
   }
   if (!r.ambiguous.empty()) {
     std::string list;
-    for (const auto& a : r.ambiguous) list += (list.empty() ? "" : ", ") + ("`" + a.name + "`");
+    for (const auto& a : r.ambiguous) list += (list.empty() ? "" : ", ") + Code(a.name);
     md +=
         "## Ambiguous\n\nEqually good explanations within the validation's uncertainty; "
         "none was added: " +
@@ -121,16 +124,16 @@ std::string FindingsMarkdown(const AnalysisReport& r) {
   if (!r.set_aside.empty()) {
     md += "## Set aside\n\n";
     for (const auto& s : r.set_aside) {
-      md += "- `" + s.name + "` (" + Confidence(s.confidence) + "): " + s.reason + ".\n";
+      md += "- " + Code(s.name) + " (" + Confidence(s.confidence) + "): " + Text(s.reason) + ".\n";
     }
     md += "\n";
   }
   if (!r.event_comparisons.empty()) {
     md += "## Events\n\n";
     for (const auto& e : r.event_comparisons) {
-      md += "- " + EventStatement(e, r.context.axis) + " Runs " + std::to_string(e.runs_before) +
-            " before, " + std::to_string(e.runs_after) + " after; RMSE " + Um(e.rmse_before_mm) +
-            " / " + Um(e.rmse_after_mm) + " um.\n";
+      md += "- " + Text(EventStatement(e, r.context.axis)) + " Runs " +
+            std::to_string(e.runs_before) + " before, " + std::to_string(e.runs_after) +
+            " after; RMSE " + Um(e.rmse_before_mm) + " / " + Um(e.rmse_after_mm) + " um.\n";
     }
     md += "\n";
   }
@@ -166,9 +169,9 @@ std::string ErrorsMarkdown(const AnalysisReport& r) {
 
 std::string AnalysisMarkdown(const AnalysisReport& r) {
   const AnalysisContext& c = r.context;
-  std::string md =
-      "# Effect analysis " + std::to_string(r.id) + ": " + c.machine + " axis " + c.axis + "\n\n";
-  md += "Created " + FormatRfc3339(c.created_ms) + " (" + c.trigger +
+  std::string md = "# Effect analysis " + std::to_string(r.id) + ": " + Text(c.machine) + " axis " +
+                   Text(c.axis) + "\n\n";
+  md += "Created " + FormatRfc3339(c.created_ms) + " (" + Text(c.trigger) +
         "). Declared inputs: " + Join(c.declared_inputs) +
         ". Held-out runs, never seen by the search: " + Join(c.holdout_runs) + ". " +
         std::to_string(r.candidates) + " candidate effects, " + std::to_string(r.training_runs) +
@@ -178,8 +181,8 @@ std::string AnalysisMarkdown(const AnalysisReport& r) {
   md += FindingsMarkdown(r);
   md += ErrorsMarkdown(r);
   if (r.model) {
-    md += "\n## Model\n\nVersion " + std::to_string(r.model->version) + ": " + r.model->status +
-          ". " + r.model->reason + ".\n";
+    md += "\n## Model\n\nVersion " + std::to_string(r.model->version) + ": " +
+          Text(r.model->status) + ". " + Text(r.model->reason) + ".\n";
   }
   return md;
 }

@@ -5,23 +5,26 @@
 
 namespace thermocomp {
 
+using report_text::Code;
 using report_text::Fixed;
 using report_text::Join;
 using report_text::P;
+using report_text::Text;
 using report_text::Um;
 
 std::string FitReportMarkdown(const FitReport& r) {
-  std::string md = "# Model " + r.machine + " axis " + r.axis + " v" +
+  std::string md = "# Model " + Text(r.machine) + " axis " + Text(r.axis) + " v" +
                    (r.version ? std::to_string(*r.version) : std::string("?")) + "\n\n";
-  md += "**" + r.status + "**: " + r.reason + ". Created " + FormatRfc3339(r.created_ms) + " (" +
-        r.trigger + "). Declared inputs: " + Join(r.declared_inputs) +
-        "; kept: " + Join(r.model.inputs) + ". " + std::to_string(r.fit.n) + " probe points of " +
-        std::to_string(r.training_runs) + " training runs.\n\n";
+  md += "**" + Text(r.status) + "**: " + Text(r.reason) + ". Created " +
+        FormatRfc3339(r.created_ms) + " (" + Text(r.trigger) +
+        "). Declared inputs: " + Join(r.declared_inputs) + "; kept: " + Join(r.model.inputs) +
+        ". " + std::to_string(r.fit.n) + " probe points of " + std::to_string(r.training_runs) +
+        " training runs.\n\n";
   md +=
       "## Coefficients (um per unit of each term)\n\n| term | estimate | std. error | t | p | VIF "
       "|\n|---|---|---|---|---|---|\n";
   for (const TermStats& t : r.fit.terms) {
-    md += "| `" + t.name + "` | " + Fixed(t.estimate * 1000.0, "%.4g") + " | " +
+    md += "| " + Code(t.name) + " | " + Fixed(t.estimate * 1000.0, "%.4g") + " | " +
           Fixed(t.std_error * 1000.0, "%.3g") + " | " + Fixed(t.t, "%.3g") + " | " + P(t.p) +
           " | " + Fixed(t.vif, "%.3g") + " |\n";
   }
@@ -50,8 +53,8 @@ std::string FitReportMarkdown(const FitReport& r) {
   if (!r.removed_terms.empty()) {
     md += "| term | reason | p | VIF |\n|---|---|---|---|\n";
     for (const RemovedTerm& t : r.removed_terms) {
-      md += "| `" + t.name + "` | " + t.reason + " | " + P(t.p) + " | " + Fixed(t.vif, "%.3g") +
-            " |\n";
+      md += "| " + Code(t.name) + " | " + Text(t.reason) + " | " + P(t.p) + " | " +
+            Fixed(t.vif, "%.3g") + " |\n";
     }
     md += "\n";
   }
@@ -59,8 +62,8 @@ std::string FitReportMarkdown(const FitReport& r) {
     md +=
         "## Largest standardized residuals\n\n| run | point | time | value |\n|---|---|---|---|\n";
     for (const NamedResidual& n : r.residuals.largest) {
-      md += "| " + n.run + " | " + std::to_string(n.k) + " | " + FormatRfc3339(n.ts_ms) + " | " +
-            Fixed(n.value, "%.2f") + " |\n";
+      md += "| " + Text(n.run) + " | " + std::to_string(n.k) + " | " + FormatRfc3339(n.ts_ms) +
+            " | " + Fixed(n.value, "%.2f") + " |\n";
     }
   }
   return md;
