@@ -1,7 +1,9 @@
 // The pages (docs/pages.md): one shell per page, filled by its script from
 // the JSON API with the browser's own credentials, plus the scripts, the
 // stylesheet and Debian's dygraphs. The shells carry no data, so they are
-// served without credentials; the API decides what each user sees.
+// served without credentials; the API decides what each user sees. The
+// sign-in shell carries where to go once signed in: ?next= when it is a
+// path on this origin (SignInReturnPath), else "/".
 #include "api/http_server.h"  // first: Eigen before httplib.h
 
 #include <fstream>
@@ -34,13 +36,97 @@ std::string Replace(std::string text, const std::string& from, const std::string
 }
 
 // The shell with the page's script and the plant's time zone (checked to
-// be a zone name when the configuration was read, so it needs no escaping).
+// be a zone name when the configuration was read, so it needs no
+// escaping); "{{next}}" is left for the request to fill.
 std::string Shell(const std::string& page, const std::string& title, const std::string& zone) {
   const WebAsset* shell = FindWebAsset("page.html");
   std::string html = shell ? shell->body : "";
   html = Replace(html, "{{script}}", page + ".js");
   html = Replace(html, "{{title}}", title);
   return Replace(html, "{{time_zone}}", zone);
+}
+
+std::string AttributeEscape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+int HexDigit(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+// One round of percent-decoding; a '%' without two hex digits stays.
+std::string PercentDecoded(const std::string& s) {
+  std::string out;
+  for (size_t i = 0; i < s.size(); ++i) {
+    const int hi = s[i] == '%' && i + 2 < s.size() ? HexDigit(s[i + 1]) : -1;
+    const int lo = hi >= 0 ? HexDigit(s[i + 2]) : -1;
+    if (lo >= 0) {
+      out += static_cast<char>(hi * 16 + lo);
+      i += 2;
+    } else {
+      out += s[i];
+    }
+  }
+  return out;
+}
+
+// A path on this origin, read as a browser would: "/" then anything but a
+// second "/" or a backslash (which browsers read as "/", making "//host"),
+// and no backslash or control character anywhere (browsers drop tab, CR
+// and LF inside a URL, so "/<tab>/host" is "//host"). A scheme
+// ("https:", "javascript:") cannot precede the leading "/".
+bool IsLocalPath(const std::string& s) {
+  if (s.empty() || s[0] != '/') return false;
+  if (s.size() > 1 && (s[1] == '/' || s[1] == '\\')) return false;
+  for (const char ch : s) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c < 0x20 || c == 0x7f || ch == '\\') return false;
+  }
+  return true;
+}
+
+// Where the sign-in page sends the browser: `next` when it is a path on
+// this origin, else "/".
+std::string SignInReturnPath(const std::string& next) {
+  constexpr size_t kMaxLength = 2048;
+  constexpr int kMaxDecodings = 4;
+  if (next.size() > kMaxLength) return "/";
+  // The value as given (the query is decoded once already) and every
+  // further decoding of it must be a local path: "/%2F/host" and
+  // "/%5Chost" are refused as "//host" is.
+  std::string form = next;
+  for (int round = 0; round <= kMaxDecodings; ++round) {
+    if (!IsLocalPath(form)) return "/";
+    std::string decoded = PercentDecoded(form);
+    if (decoded == form) return next;
+    form = std::move(decoded);
+  }
+  return "/";  // still changing: encoded deeper than any link of ours
 }
 
 }  // namespace
@@ -61,7 +147,19 @@ void HttpServer::PageRoutes() {
       {a + "/analysis/([0-9]{1,18})", "analysis", "Effect analysis"},
   };
   for (const auto& [pattern, page, title] : pages) {
-    const std::string html = Shell(page, title, app_.config().web_time_zone);
+    const std::string shell = Shell(page, title, app_.config().web_time_zone);
+    if (page == "sign_in") {
+      // Where to go once signed in, vetted here: the script reads it from
+      // the page, never from the address.
+      s.Get(pattern, [shell](const Req& req, Res& res) {
+        const std::string next = SignInReturnPath(req.get_param_value("next"));
+        PageHeaders(res);
+        res.set_content(Replace(shell, "{{next}}", AttributeEscape(next)),
+                        "text/html; charset=utf-8");
+      });
+      continue;
+    }
+    const std::string html = Replace(shell, "{{next}}", "/");
     s.Get(pattern, [html](const Req&, Res& res) {
       PageHeaders(res);
       res.set_content(html, "text/html; charset=utf-8");

@@ -5,8 +5,7 @@
 (async () => {
   const { el, api, main } = TC;
   document.title = "Sign in · thermocomp";
-  const next = TC.param("next");
-  const target = next && next.startsWith("/") && !next.startsWith("//") ? next : "/";
+  const target = returnTarget();
   try {
     const s = await api("/session", { noRedirect: true });
     if (s.auth === "open") {
@@ -38,4 +37,23 @@
   });
   main(el("h1", {}, "Sign in"), form, message);
   token.focus();
+
+  // Where to go once signed in. The server vetted ?next= and put it in the
+  // page (api/web/page_routes.cc); the address itself is never read here.
+  // Checked again as the browser will read it: a path ("/" then neither
+  // "/" nor "\"), no backslash or control character, and, parsed as a URL
+  // against this page, still on this origin. Anything else: "/".
+  function returnTarget() {
+    const meta = document.querySelector('meta[name="thermocomp-next"]');
+    const next = meta ? meta.content : "/";
+    if (!/^\/(?![\/\\])/.test(next) || /[\\\u0000-\u001f\u007f]/.test(next)) return "/";
+    let url;
+    try {
+      url = new URL(next, location.origin);
+    } catch (e) {
+      return "/";
+    }
+    // The whole URL: a path alone could start with "//" again ("/..//host").
+    return url.origin === location.origin ? url.href : "/";
+  }
 })();
