@@ -1,5 +1,9 @@
 #include "api/auth.h"
 
+#include <arpa/inet.h>
+
+#include <cctype>
+
 namespace thermocomp::api {
 namespace {
 
@@ -70,7 +74,8 @@ AuthDecision Authorizer::Decide(const std::string& method, const std::string& pa
     if (IsLoopback(remote_addr)) return {200, "", "local:" + remote_addr, ""};
     return {403, "no access tokens are configured: only loopback clients are served", "", ""};
   }
-  if (IsPublic(method, path)) return {200, "", "anonymous:" + remote_addr, ""};
+  const bool is_public = IsPublic(method, path);
+  if (is_public && authorization.empty()) return {200, "", "anonymous:" + remote_addr, ""};
   const std::string bearer = "Bearer ";
   if (authorization.rfind(bearer, 0) != 0) {
     return {401, "Authorization: Bearer <token> required", "", R"(Bearer realm="thermocomp")"};
@@ -79,7 +84,7 @@ AuthDecision Authorizer::Decide(const std::string& method, const std::string& pa
   for (const AccessToken& t : tokens_) {
     if (!SameSecret(t.token, secret)) continue;
     const std::string actor = "token:" + t.name;
-    if (!Permitted(t, method, path)) {
+    if (!is_public && !Permitted(t, method, path)) {
       std::string why = "role " + t.role;
       if (!t.machine.empty()) why += " of machine " + t.machine;
       why.append(" may not ").append(method).append(" ").append(path);
@@ -88,6 +93,64 @@ AuthDecision Authorizer::Decide(const std::string& method, const std::string& pa
     return {200, "", actor, ""};
   }
   return {401, "unknown token", "", R"(Bearer realm="thermocomp", error="invalid_token")"};
+}
+
+std::optional<HostName> ParseHost(const std::string& header) {
+  HostName host;
+  std::string rest;
+  if (!header.empty() && header[0] == '[') {
+    const size_t close = header.find(']');
+    if (close == std::string::npos) return std::nullopt;
+    host.name = header.substr(1, close - 1);
+    in6_addr v6{};
+    if (inet_pton(AF_INET6, host.name.c_str(), &v6) != 1) return std::nullopt;
+    rest = header.substr(close + 1);
+  } else {
+    const size_t colon = header.find(':');
+    host.name = header.substr(0, colon);
+    rest = colon == std::string::npos ? "" : header.substr(colon);
+    if (host.name.empty() || host.name.size() > 253) return std::nullopt;
+    for (char c : host.name) {
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-') return std::nullopt;
+    }
+  }
+  if (!rest.empty()) {
+    const std::string digits = rest.substr(1);
+    if (rest[0] != ':' || digits.empty() || digits.size() > 5 ||
+        digits.find_first_not_of("0123456789") != std::string::npos || std::stoi(digits) > 65535) {
+      return std::nullopt;
+    }
+    host.port = std::stoi(digits);
+  }
+  for (char& c : host.name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return host;
+}
+
+bool IsLoopbackName(const std::string& name) {
+  if (name == "localhost") return true;
+  in_addr v4{};
+  if (inet_pton(AF_INET, name.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+  in6_addr v6{};
+  return inet_pton(AF_INET6, name.c_str(), &v6) == 1 && IN6_IS_ADDR_LOOPBACK(&v6);
+}
+
+std::string HostRefusal(const std::string& host_header, bool host_given,
+                        const std::vector<std::string>& allowed_hosts, bool tokens_configured) {
+  if (!host_given || (allowed_hosts.empty() && tokens_configured)) return "";
+  const std::optional<HostName> host = ParseHost(host_header);
+  const std::string shown = host_header.substr(0, 100);
+  if (!host) return "Host '" + shown + "' is not a host name with an optional port";
+  if (IsLoopbackName(host->name)) return "";
+  for (const std::string& entry : allowed_hosts) {
+    const std::optional<HostName> allowed = ParseHost(entry);
+    if (allowed && allowed->name == host->name &&
+        (allowed->port < 0 || allowed->port == host->port)) {
+      return "";
+    }
+  }
+  return "Host '" + shown + "' is not a name of this server" +
+         (allowed_hosts.empty() ? " (without tokens only loopback names are served)"
+                                : " (server.allowed_hosts)");
 }
 
 std::optional<AccessToken> Authorizer::FindToken(const std::string& secret) const {

@@ -10,6 +10,9 @@
 //   maintenance  reads everything; posts events, check requests, column
 //                and positioning checks
 //   admin        everything
+// A credential presented on a public route is checked too (a wrong one is
+// 401 there as well), so no route answers guesses unchecked; the failure
+// throttle (api/auth_throttle.h) is applied by the caller.
 #pragma once
 
 #include <optional>
@@ -45,6 +48,26 @@ class Authorizer {
 };
 
 bool IsLoopback(const std::string& addr);
+
+// A Host header's parts: a name (lower case; an IPv6 address without its
+// brackets) and the port, -1 when none is given.
+struct HostName {
+  std::string name;
+  int port = -1;
+};
+// "name", "name:port", "[v6]" or "[v6]:port"; nullopt when malformed.
+std::optional<HostName> ParseHost(const std::string& header);
+// localhost, an address in 127.0.0.0/8, or ::1.
+bool IsLoopbackName(const std::string& name);
+// Why the Host header is refused, or "" (docs/api.md, "Host names"): with
+// allowed_hosts, only those names (an entry without a port allows any
+// port) and loopback names; without, and without tokens, loopback names
+// only; with tokens and no list, any name. Guards a server without tokens
+// on this host against DNS rebinding (a site whose name a browser resolves
+// to 127.0.0.1 would otherwise be this server's origin). A request without
+// Host (not a browser) is not checked.
+std::string HostRefusal(const std::string& host_header, bool host_given,
+                        const std::vector<std::string>& allowed_hosts, bool tokens_configured);
 // Compares without an early exit, so timing does not reveal a prefix.
 bool SameSecret(const std::string& a, const std::string& b);
 // What to tell the operator when the server listens beyond this host
