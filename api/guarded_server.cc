@@ -12,20 +12,23 @@
 #include <string_view>
 #include <tuple>
 
+#include "api/body_guard.h"
+#include "api/problem.h"
+
 namespace thermocomp::api {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using Ms = std::chrono::milliseconds;
 
-// A head that takes longer than this to arrive is not a client on a LAN
-// sending one packet: under pressure its connection may be closed.
-constexpr auto kSlowHead = std::chrono::milliseconds(250);
 // The largest request head (request line and headers) read at all.
 constexpr size_t kMaxHeadBytes = 64 * 1024;
+// The longest header line cpp-httplib reads (CPPHTTPLIB_HEADER_MAX_LENGTH).
+constexpr size_t kMaxHeaderLine = 8192;
 constexpr int kListenBacklog = 1024;
 
 int MsUntil(Clock::time_point deadline) {
-  auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+  auto ms = std::chrono::duration_cast<Ms>(deadline - Clock::now()).count();
   return ms < 0 ? 0 : static_cast<int>(std::min<int64_t>(ms, 1 << 30));
 }
 
@@ -76,8 +79,8 @@ bool SendAll(int fd, const char* data, size_t size, Clock::time_point deadline) 
 // One connection's bytes, request by request. The read buffer lives as
 // long as the connection, so bytes of a pipelined next request are kept.
 // Each request's head must arrive within the header timeout of its first
-// byte and its body within the body timeout; body bytes beyond the limit
-// end the request.
+// byte and its body by its deadline (ExpectBody); body bytes beyond the
+// limit end the request.
 class ConnectionStream : public httplib::Stream {
  public:
   ConnectionStream(int fd, const ConnectionLimits& limits, ConnectionRegistry& registry)
@@ -89,17 +92,27 @@ class ConnectionStream : public httplib::Stream {
   // Waits for the next request's first byte; false when the connection
   // was closed, went idle too long or was evicted. The head must then
   // arrive within `head_timeout`.
-  bool AwaitRequest(std::chrono::milliseconds head_timeout) {
+  bool AwaitRequest(Ms head_timeout) {
     if (pos_ == len_) {
       const auto deadline = Clock::now() + std::chrono::seconds(limits_.keep_alive_timeout_s);
       if (!WaitFor(fd_, POLLIN, deadline) || !Fill()) return false;
     }
     in_head_ = true;
-    head_bytes_ = body_bytes_ = 0;
+    head_bytes_ = body_bytes_ = written_ = 0;
     line_end_ = 0;
-    too_large_ = timed_out_ = close_after_ = false;
+    line_bytes_ = 0;
+    head_line_ = 0;
+    head_too_large_ = GuardedServer::HeadTooLarge::kNo;
+    chunked_ = too_large_ = timed_out_ = close_after_ = false;
     deadline_ = Clock::now() + head_timeout;
     return true;
+  }
+
+  // The body's deadline: the grace plus the body at the minimum rate,
+  // counted from the head's end, never beyond the body timeout.
+  void ExpectBody(uint64_t content_length, bool chunked) {
+    chunked_ = chunked;
+    if (!in_head_) deadline_ = BodyDeadline(chunked ? body_bytes_ : content_length);
   }
 
   bool is_readable() const override { return pos_ < len_ || WaitFor(fd_, POLLIN, deadline_); }
@@ -117,10 +130,15 @@ class ConnectionStream : public httplib::Stream {
     size_t n = std::min(size, len_ - pos_);
     if (in_head_) {
       n = ConsumeHead(n);  // head bytes only: a read never spans head and body
+      if (head_too_large_ != GuardedServer::HeadTooLarge::kNo) close_after_ = true;
       if (head_bytes_ > kMaxHeadBytes) return -1;
-    } else if ((body_bytes_ += n) > limits_.max_body_bytes) {
-      too_large_ = close_after_ = true;
-      return -1;
+    } else {
+      if ((body_bytes_ += n) > limits_.max_body_bytes) {
+        too_large_ = close_after_ = true;
+        return -1;
+      }
+      // A chunked body's deadline grows with what has arrived.
+      if (chunked_) deadline_ = BodyDeadline(body_bytes_);
     }
     std::memcpy(ptr, buf_ + pos_, n);
     pos_ += n;
@@ -128,7 +146,9 @@ class ConnectionStream : public httplib::Stream {
   }
   ssize_t write(const char* ptr, size_t size) override {
     const auto deadline = Clock::now() + std::chrono::seconds(limits_.write_timeout_s);
-    return SendAll(fd_, ptr, size, deadline) ? static_cast<ssize_t>(size) : -1;
+    if (!SendAll(fd_, ptr, size, deadline)) return -1;
+    written_ += size;
+    return static_cast<ssize_t>(size);
   }
   void get_remote_ip_and_port(std::string& ip, int& port) const override {
     ip = remote_ip_;
@@ -149,10 +169,13 @@ class ConnectionStream : public httplib::Stream {
     }
     return false;
   }
+  GuardedServer::HeadTooLarge head_too_large() const { return head_too_large_; }
   bool too_large() const { return too_large_; }
   bool timed_out() const { return timed_out_; }
   bool close_after() const { return close_after_; }
   void set_close_after() { close_after_ = true; }
+  // Whether anything of a response was written for this request.
+  bool answered() const { return written_ > 0; }
 
  private:
   bool Fill() {
@@ -165,22 +188,40 @@ class ConnectionStream : public httplib::Stream {
     len_ = static_cast<size_t>(n);
     return true;
   }
+  Clock::time_point BodyDeadline(uint64_t bytes) const {
+    const int64_t rate = std::max(1, limits_.body_min_rate_bytes_per_s);
+    const auto cap = std::chrono::seconds(limits_.body_timeout_s);
+    const auto allowed =
+        std::chrono::seconds(limits_.body_grace_s) +
+        Ms(static_cast<int64_t>(std::min<uint64_t>(bytes, 1ULL << 40)) * 1000 / rate);
+    return head_end_ + std::min<Ms>(allowed, cap);
+  }
   // Scans up to n buffered head bytes for the blank line that ends the
   // head; returns how many of them belong to the head (all n while it
   // goes on). From the head's end on, the request is busy and its body
-  // has the body timeout.
+  // has the body timeout until ExpectBody tells its length.
   size_t ConsumeHead(size_t n) {
     for (size_t i = 0; i < n; ++i) {
       const char c = buf_[pos_ + i];
       ++head_bytes_;
+      ++line_bytes_;
+      if (head_bytes_ > kMaxHeadBytes || (head_line_ > 0 && line_bytes_ > kMaxHeaderLine + 2)) {
+        if (head_too_large_ == GuardedServer::HeadTooLarge::kNo) {
+          head_too_large_ = head_line_ == 0 ? GuardedServer::HeadTooLarge::kRequestLine
+                                            : GuardedServer::HeadTooLarge::kHeaders;
+        }
+      }
       if (c == '\n') {
         if (line_end_ > 0) {  // an empty line: the head is complete
           in_head_ = false;
           registry_.Set(fd_, ConnectionRegistry::State::kBusy);
-          deadline_ = Clock::now() + std::chrono::seconds(limits_.body_timeout_s);
+          head_end_ = Clock::now();
+          deadline_ = head_end_ + std::chrono::seconds(limits_.body_timeout_s);
           return i + 1;
         }
         line_end_ = 1;
+        line_bytes_ = 0;
+        ++head_line_;
       } else if (c != '\r') {
         line_end_ = 0;
       }
@@ -197,157 +238,61 @@ class ConnectionStream : public httplib::Stream {
   size_t pos_ = 0, len_ = 0;
   bool in_head_ = true;
   int line_end_ = 0;  // 1 right after a line feed
-  size_t head_bytes_ = 0, body_bytes_ = 0;
-  bool too_large_ = false, timed_out_ = false, close_after_ = false;
-  Clock::time_point deadline_;
+  size_t line_bytes_ = 0, head_line_ = 0;
+  size_t head_bytes_ = 0, body_bytes_ = 0, written_ = 0;
+  GuardedServer::HeadTooLarge head_too_large_ = GuardedServer::HeadTooLarge::kNo;
+  bool chunked_ = false, too_large_ = false, timed_out_ = false, close_after_ = false;
+  Clock::time_point deadline_, head_end_;
 };
 
-thread_local ConnectionStream* t_stream = nullptr;
+// What the hooks learned about the request being served on this thread.
+struct RequestContext {
+  ConnectionStream* stream = nullptr;  // none for an in-memory request
+  bool compressed = false;
+  // Where the anonymous worker share taken by this request goes back to.
+  std::atomic<int>* anonymous = nullptr;
 
-void RejectConnection(int fd, const ConnectionLimits& limits) {
-  static const std::string body =
-      "{\"type\":\"about:blank\",\"title\":\"Service Unavailable\",\"status\":503,"
-      "\"detail\":\"too many connections from this client: close idle ones or retry\"}";
+  void ReleaseAnonymous() {
+    if (anonymous) anonymous->fetch_sub(1);
+    anonymous = nullptr;
+  }
+};
+
+thread_local RequestContext* t_request = nullptr;
+
+// Serves one request with `context` as this thread's, then gives back
+// what the request held.
+template <typename Serve>
+bool WithContext(RequestContext& context, Serve serve) {
+  t_request = &context;
+  const bool ok = serve();
+  context.ReleaseAnonymous();
+  t_request = nullptr;
+  return ok;
+}
+
+// A problem response written straight to the socket, for requests
+// httplib cannot answer (no worker for them, or no request line read).
+void WriteRawProblem(int fd, const ConnectionLimits& limits, int status, const std::string& title,
+                     const std::string& detail, const std::string& extra_headers = "") {
+  const std::string body = "{\"type\":\"about:blank\",\"title\":\"" + title +
+                           "\",\"status\":" + std::to_string(status) + ",\"detail\":\"" + detail +
+                           "\"}";
   const std::string response =
-      "HTTP/1.1 503 Service Unavailable\r\nContent-Type: application/problem+json\r\n"
-      "Retry-After: 1\r\nConnection: close\r\nContent-Length: " +
-      std::to_string(body.size()) + "\r\n\r\n" + body;
+      "HTTP/1.1 " + std::to_string(status) + " " + title +
+      "\r\nContent-Type: application/problem+json\r\n" + extra_headers +
+      "Connection: close\r\nContent-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body;
   SendAll(fd, response.data(), response.size(),
           Clock::now() + std::chrono::seconds(limits.write_timeout_s));
 }
 
+void RejectConnection(int fd, const ConnectionLimits& limits) {
+  WriteRawProblem(fd, limits, 503, "Service Unavailable",
+                  "too many connections from this client: close idle ones or retry",
+                  "Retry-After: 1\r\n");
+}
+
 }  // namespace
-
-// ------------------------------------------------------------ registry
-
-bool ConnectionRegistry::Admit(int fd, const std::string& client) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  int held = 0;
-  for (const auto& [other, e] : open_) held += e.client == client;
-  if (held >= limits_.max_connections_per_client && !EvictLocked(client)) return false;
-  open_[fd] = {client, State::kIdle, Clock::now()};
-  return true;
-}
-
-void ConnectionRegistry::Set(int fd, State state) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  auto it = open_.find(fd);
-  if (it == open_.end() || it->second.state == state) return;
-  it->second.state = state;
-  it->second.since = Clock::now();
-}
-
-void ConnectionRegistry::Remove(int fd) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  open_.erase(fd);
-}
-
-bool ConnectionRegistry::EvictOne(const std::string& client) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return EvictLocked(client);
-}
-
-bool ConnectionRegistry::EvictLocked(const std::string& client) {
-  const auto now = Clock::now();
-  auto victim = open_.end();
-  // Lower is a better victim; -1 not at all. Nothing is closed within
-  // kSlowHead of its last change: a connection just accepted, or idle
-  // between two requests of a client that is still talking, is spared.
-  auto rank = [&](const Entry& e) {
-    if (now - e.since < kSlowHead) return -1;
-    if (e.state == State::kHead) return 0;
-    if (e.state == State::kIdle) return 1;
-    return -1;
-  };
-  for (auto it = open_.begin(); it != open_.end(); ++it) {
-    if (!client.empty() && it->second.client != client) continue;
-    const int r = rank(it->second);
-    if (r < 0) continue;
-    if (victim == open_.end() || r < rank(victim->second) ||
-        (r == rank(victim->second) && it->second.since < victim->second.since)) {
-      victim = it;
-    }
-  }
-  if (victim == open_.end()) return false;
-  // The owner's wait wakes up, reads end of file and closes the socket; the
-  // entry goes now, so the descriptor is never shut down twice.
-  ::shutdown(victim->first, SHUT_RDWR);
-  open_.erase(victim);
-  return true;
-}
-
-void ConnectionRegistry::CloseAll() {
-  std::lock_guard<std::mutex> lock(mutex_);
-  for (const auto& [fd, e] : open_) ::shutdown(fd, SHUT_RDWR);
-  open_.clear();
-}
-
-size_t ConnectionRegistry::size() {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return open_.size();
-}
-
-// ------------------------------------------------------------ task queue
-
-GuardedTaskQueue::GuardedTaskQueue(int workers, ConnectionRegistry& registry)
-    : registry_(registry) {
-  for (int i = 0; i < workers; ++i) threads_.emplace_back([this] { Work(); });
-}
-
-void GuardedTaskQueue::enqueue(std::function<void()> fn) {
-  bool wait = false;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    jobs_.push_back(std::move(fn));
-    wait = static_cast<int>(jobs_.size()) > idle_;
-  }
-  cv_.notify_one();
-  if (wait) registry_.EvictOne();
-}
-
-void GuardedTaskQueue::on_idle() {
-  // Connections still waiting for a worker: make room for them.
-  size_t waiting = 0;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (static_cast<int>(jobs_.size()) > idle_) waiting = jobs_.size() - idle_;
-  }
-  for (size_t i = 0; i < waiting && registry_.EvictOne(); ++i) {
-  }
-}
-
-void GuardedTaskQueue::shutdown() {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stop_ = true;
-  }
-  cv_.notify_all();
-  for (auto& t : threads_) t.join();
-}
-
-void GuardedTaskQueue::Work() {
-  while (true) {
-    std::function<void()> fn;
-    {
-      std::unique_lock<std::mutex> lock(mutex_);
-      ++idle_;
-      cv_.wait(lock, [this] { return stop_ || !jobs_.empty(); });
-      --idle_;
-      if (jobs_.empty()) return;  // stopping
-      // Adaptive LIFO: while connections queue up (a flood), the newest is
-      // served first. It is the one most likely to have a client still
-      // waiting (a health probe, a retry); the flood's old ones wait.
-      if (jobs_.size() > threads_.size()) {
-        fn = std::move(jobs_.back());
-        jobs_.pop_back();
-      } else {
-        fn = std::move(jobs_.front());
-        jobs_.pop_front();
-      }
-    }
-    fn();
-  }
-}
 
 // ------------------------------------------------------------ server
 
@@ -363,16 +308,94 @@ void GuardedServer::Shutdown() {
   registry_.CloseAll();
 }
 
+GuardedServer::HeadTooLarge GuardedServer::HeadTooLargeIn() {
+  return t_request && t_request->stream ? t_request->stream->head_too_large() : HeadTooLarge::kNo;
+}
+
 bool GuardedServer::BodyTooLarge() {
-  return t_stream && t_stream->too_large();
+  return t_request && t_request->stream && t_request->stream->too_large();
 }
 
 bool GuardedServer::TimedOut() {
-  return t_stream && t_stream->timed_out();
+  return t_request && t_request->stream && t_request->stream->timed_out();
 }
 
 void GuardedServer::CloseAfterResponse() {
-  if (t_stream) t_stream->set_close_after();
+  if (t_request && t_request->stream) t_request->stream->set_close_after();
+}
+
+void GuardedServer::ExpectBody(uint64_t content_length, bool chunked) {
+  if (t_request && t_request->stream) t_request->stream->ExpectBody(content_length, chunked);
+}
+
+void GuardedServer::ExpectCompressedBody() {
+  if (t_request) t_request->compressed = true;
+}
+
+bool GuardedServer::HoldAnonymousWorker() {
+  if (!t_request || t_request->anonymous) return true;
+  const int share = std::max(1, static_cast<int>(limits_.workers * limits_.anonymous_worker_share));
+  int held = anonymous_bodies_.load();
+  do {
+    if (held >= share) return false;
+  } while (!anonymous_bodies_.compare_exchange_weak(held, held + 1));
+  t_request->anonymous = &anonymous_bodies_;
+  return true;
+}
+
+httplib::Server::Handler GuardedServer::Guarded(Handler handler) {
+  return [this, handler = std::move(handler)](const httplib::Request& req, httplib::Response& res) {
+    if (t_request) {
+      t_request->ReleaseAnonymous();  // the body has been read
+      if (t_request->compressed) {
+        std::string inflated;
+        switch (Inflate(req.body, limits_.max_body_bytes, &inflated)) {
+          case InflateResult::kOk:
+            break;
+          case InflateResult::kTooLarge:
+            return WriteProblem(res, 413,
+                                "request body larger than server.max_body_bytes (" +
+                                    std::to_string(limits_.max_body_bytes) +
+                                    " bytes) once inflated (Content-Encoding)");
+          case InflateResult::kCorrupt:
+            return WriteProblem(res, 400,
+                                "the body is not valid for its Content-Encoding (gzip or deflate)",
+                                {{0, "Content-Encoding", "body does not inflate"}});
+        }
+        auto& body = const_cast<httplib::Request&>(req).body;
+        body.swap(inflated);
+      }
+    }
+    handler(req, res);
+  };
+}
+
+GuardedServer& GuardedServer::Post(const std::string& pattern, Handler handler) {
+  httplib::Server::Post(pattern, Guarded(std::move(handler)));
+  return *this;
+}
+
+GuardedServer& GuardedServer::Put(const std::string& pattern, Handler handler) {
+  httplib::Server::Put(pattern, Guarded(std::move(handler)));
+  return *this;
+}
+
+GuardedServer& GuardedServer::Patch(const std::string& pattern, Handler handler) {
+  httplib::Server::Patch(pattern, Guarded(std::move(handler)));
+  return *this;
+}
+
+GuardedServer& GuardedServer::Delete(const std::string& pattern, Handler handler) {
+  httplib::Server::Delete(pattern, Guarded(std::move(handler)));
+  return *this;
+}
+
+bool GuardedServer::ServeOne(httplib::Stream& stream) {
+  RequestContext context;
+  return WithContext(context, [&] {
+    bool closed = false;
+    return process_request(stream, true, closed, nullptr);
+  });
 }
 
 bool GuardedServer::Listen(const std::string& host, int port, int* bound_port) {
@@ -393,11 +416,12 @@ bool GuardedServer::process_and_close_socket(socket_t sock) {
     // Beyond its share a client is served its health probes, once per
     // connection, so monitoring on the same host keeps working; anything
     // else gets 503.
-    bool closed = false;
-    if (stream.AwaitRequest(kSlowHead) && stream.IsHealthProbe()) {
-      t_stream = &stream;
-      ok = process_request(stream, true, closed, nullptr);
-      t_stream = nullptr;
+    if (stream.AwaitRequest(ConnectionRegistry::kSlowHead) && stream.IsHealthProbe()) {
+      RequestContext context{&stream};
+      ok = WithContext(context, [&] {
+        bool closed = false;
+        return process_request(stream, true, closed, nullptr);
+      });
     } else {
       RejectConnection(sock, limits_);
     }
@@ -407,9 +431,16 @@ bool GuardedServer::process_and_close_socket(socket_t sock) {
       if (!stream.AwaitRequest(std::chrono::seconds(limits_.header_timeout_s))) break;
       registry_.Set(sock, ConnectionRegistry::State::kHead);
       bool closed = false;
-      t_stream = &stream;
-      ok = process_request(stream, left == 1 || svr_sock_ == INVALID_SOCKET, closed, nullptr);
-      t_stream = nullptr;
+      RequestContext context{&stream};
+      ok = WithContext(context, [&] {
+        return process_request(stream, left == 1 || svr_sock_ == INVALID_SOCKET, closed, nullptr);
+      });
+      // httplib gives up on a request line it could not read to its end
+      // without answering: the client is told why before the close.
+      if (!stream.answered() && stream.head_too_large() == HeadTooLarge::kRequestLine) {
+        WriteRawProblem(sock, limits_, 414, "URI Too Long",
+                        "request line longer than " + std::to_string(kMaxHeadBytes) + " bytes");
+      }
       if (!ok || closed || stream.close_after()) break;
     }
     registry_.Remove(sock);

@@ -4,9 +4,17 @@
 // headers with a per-byte timeout only, and does not count chunked bodies,
 // so a few clients could hold every worker or fill the memory. Here:
 //  - a request's head must arrive within `header_timeout_s` of its first
-//    byte, its body within `body_timeout_s`;
+//    byte; a head over 64 KiB is answered 414 (request line) or 431;
+//  - a body must arrive within `body_grace_s` plus its length at
+//    `body_min_rate_bytes_per_s` (chunked: the bytes received so far, so
+//    the deadline grows as data comes), never beyond `body_timeout_s`:
+//    else 408, and the connection is closed;
 //  - a body may not exceed `max_body_bytes` however it is framed (a chunked
-//    body counts its framing too): 413, and the connection is closed;
+//    body counts its framing too) or encoded (a gzip or deflate body is
+//    inflated before the handler runs, and stops at the limit): 413, and
+//    the connection is closed;
+//  - anonymous requests may hold `anonymous_worker_share` of the workers
+//    while their bodies arrive (HoldAnonymousWorker);
 //  - duplicate Content-Length, or Content-Length with Transfer-Encoding, is
 //    refused (400) before any body is read: no request smuggling;
 //  - connections are counted per client address. When a client holds
@@ -20,6 +28,7 @@
 //    the connection, so the unread body is never taken for a request.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstddef>
@@ -47,12 +56,18 @@ struct ConnectionLimits {
   int keep_alive_timeout_s = 60;
   int write_timeout_s = 10;
   size_t max_body_bytes = 16 * 1024 * 1024;
+  int body_grace_s = 5;
+  int body_min_rate_bytes_per_s = 16384;
+  double anonymous_worker_share = 0.25;
 };
 
 // The open connections, what each is doing, and who may be closed.
 class ConnectionRegistry {
  public:
   enum class State { kIdle, kHead, kBusy };
+  // A head that takes longer than this to arrive is not a client on a LAN
+  // sending one packet: under pressure its connection may be closed.
+  static constexpr std::chrono::milliseconds kSlowHead{250};
 
   explicit ConnectionRegistry(const ConnectionLimits& limits) : limits_(limits) {}
   // False when the client is at its limit and none of its connections can
@@ -110,25 +125,44 @@ class GuardedServer : public httplib::Server {
   void Shutdown();
   ConnectionRegistry& registry() { return registry_; }
 
-  // About the request being handled on this thread (for handlers): whether
-  // its body went beyond the limit or it was not sent in time, and a way to
-  // close the connection after the response.
+  // Routes whose requests carry a body. They hide httplib::Server's, so
+  // that every such handler first gives back an anonymous worker share
+  // (the body has been read) and gets a compressed body inflated within
+  // max_body_bytes: beyond, 413; not inflatable, 400.
+  GuardedServer& Post(const std::string& pattern, Handler handler);
+  GuardedServer& Put(const std::string& pattern, Handler handler);
+  GuardedServer& Patch(const std::string& pattern, Handler handler);
+  GuardedServer& Delete(const std::string& pattern, Handler handler);
+
   // Serves one request read from `stream` (an in-memory connection: the
   // HTTP fuzzer) through the same handlers as a socket.
-  bool ServeOne(httplib::Stream& stream) {
-    bool closed = false;
-    return process_request(stream, true, closed, nullptr);
-  }
+  bool ServeOne(httplib::Stream& stream);
 
+  // About the request being handled on this thread, for the hooks and
+  // handlers. Its head was too large: in the request line or the headers.
+  enum class HeadTooLarge { kNo, kRequestLine, kHeaders };
+  static HeadTooLarge HeadTooLargeIn();
+  // Its body went beyond the limit, or was not sent in time.
   static bool BodyTooLarge();
   static bool TimedOut();
   static void CloseAfterResponse();
+  // Called once its head is parsed: the body's deadline follows from its
+  // announced length, or from the bytes received when chunked.
+  static void ExpectBody(uint64_t content_length, bool chunked);
+  // Its body arrives gzip- or deflate-compressed (the Content-Encoding
+  // header was taken off the request so httplib reads it as it is).
+  static void ExpectCompressedBody();
+  // Takes one of the workers anonymous requests may hold while their
+  // bodies arrive, until the body was read or the request ends; false
+  // when all of them are taken (the caller answers 503).
+  bool HoldAnonymousWorker();
 
  private:
   bool process_and_close_socket(socket_t sock) override;
+  Handler Guarded(Handler handler);
 
   ConnectionLimits limits_;
   ConnectionRegistry registry_;
+  std::atomic<int> anonymous_bodies_{0};
 };
-
 }  // namespace thermocomp::api

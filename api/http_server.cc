@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/body_guard.h"
 #include "api/http_util.h"
 #include "api/json_mapping.h"
 #include "api/openapi.h"
@@ -20,6 +21,9 @@ using nlohmann::json;
 
 constexpr const char* kBase = "/api/v1";
 thread_local std::chrono::steady_clock::time_point t_request_start;
+// The request was turned away to shed load (the anonymous share): not a
+// failure of the server, and a flood of them must not flood the log.
+thread_local bool t_shed = false;
 
 }  // namespace
 
@@ -27,7 +31,7 @@ HttpServer::Credentials HttpServer::CredentialsOf(const Req& req) {
   Credentials c{req.get_header_value("Authorization"), std::nullopt};
   if (!c.authorization.empty()) return c;
   c.session = sessions_.Find(CookieValue(req.get_header_value("Cookie"), kSessionCookie),
-                             app_.clock().NowMs());
+                             app_.clock().MonotonicMs());
   if (c.session) c.authorization = "Bearer " + c.session->token.token;
   return c;
 }
@@ -36,6 +40,28 @@ HttpServer::Credentials HttpServer::CredentialsOf(const Req& req) {
 std::string HttpServer::Actor(const Req& req) {
   return auth_.Decide(req.method, req.path, req.remote_addr, CredentialsOf(req).authorization)
       .actor;
+}
+
+AuthDecision HttpServer::Throttled(const std::string& client, const std::string& presented,
+                                   const std::function<AuthDecision()>& check) {
+  const int64_t now = app_.clock().MonotonicMs();
+  auto too_many = [](const std::string& who, int wait_s) {
+    AuthDecision d;
+    d.status = 429;
+    d.reason =
+        "too many failed credentials " + who + ": try again in " + std::to_string(wait_s) + " s";
+    d.retry_after_s = wait_s;
+    return d;
+  };
+  // Before the credential is looked at: it failed too often, from anywhere.
+  if (int wait = auth_throttle_.CredentialWaitS(presented, now); wait > 0) {
+    return too_many("with this credential", wait);
+  }
+  AuthDecision d = check();
+  if (d.status != 401) return d;
+  const int wait = auth_throttle_.AddressWaitS(client, now);
+  auth_throttle_.Failed(client, presented, now);
+  return wait > 0 ? too_many("from this address", wait) : d;
 }
 
 namespace {
@@ -48,6 +74,9 @@ ConnectionLimits LimitsOf(const Config& c) {
   l.body_timeout_s = c.body_timeout_s;
   l.keep_alive_timeout_s = c.keep_alive_timeout_s;
   l.max_body_bytes = c.max_body_bytes;
+  l.body_grace_s = c.body_grace_s;
+  l.body_min_rate_bytes_per_s = c.body_min_rate_bytes_per_s;
+  l.anonymous_worker_share = c.anonymous_worker_share;
   return l;
 }
 
@@ -142,6 +171,20 @@ void AcceptNoBrotli(const Req& req) {
   }
 }
 
+// Nothing here needs byte ranges (no large downloads), and a request for
+// thousands of overlapping ranges of one asset multiplies the response:
+// the Range header is dropped (httplib parsed it already), so every
+// response is the whole resource.
+void DropRanges(const Req& req) {
+  auto& request = const_cast<Req&>(req);
+  request.ranges.clear();
+  request.headers.erase("Range");
+}
+
+bool IsProbe(const Req& req) {
+  return req.path == "/healthz" || req.path == "/readyz";
+}
+
 bool HasBody(const Req& req) {
   return req.has_header("Transfer-Encoding") ||
          (req.has_header("Content-Length") && req.get_header_value("Content-Length") != "0");
@@ -153,7 +196,10 @@ HttpServer::HttpServer(App& app)
     : app_(app),
       auth_(app.config().tokens),
       sessions_(static_cast<size_t>(app.config().web_max_sessions),
+                static_cast<size_t>(app.config().web_max_sessions_per_token),
                 int64_t{app.config().web_session_hours} * 3600 * 1000),
+      auth_throttle_(app.config().auth_max_failures,
+                     int64_t{app.config().auth_failure_window_s} * 1000),
       server_(LimitsOf(app.config())) {
   Routes();
 }
@@ -197,7 +243,9 @@ void HttpServer::Routes() {
   const size_t max_body = app_.config().max_body_bytes;
   s.set_pre_routing_handler([this, max_body](const Req& req, Res& res) {
     t_request_start = std::chrono::steady_clock::now();
+    t_shed = false;
     AcceptNoBrotli(req);
+    DropRanges(req);
     // Answered before the body is read: the connection closes after the
     // response, so the unread body is never taken for the next request.
     auto refuse = [&](int status, const std::string& detail, const FieldErrors& errors = {}) {
@@ -221,9 +269,36 @@ void HttpServer::Routes() {
       return refuse(413, "request body larger than server.max_body_bytes (" +
                              std::to_string(max_body) + " bytes)");
     }
+    GuardedServer::ExpectBody(length.empty() ? 0 : std::stoull(length),
+                              req.has_header("Transfer-Encoding"));
+    if (!IsProbe(req)) {
+      const std::string why =
+          HostRefusal(req.get_header_value("Host"), req.get_header_value_count("Host") == 1,
+                      app_.config().allowed_hosts, !auth_.open());
+      if (!why.empty() || req.get_header_value_count("Host") > 1) {
+        const std::string detail = why.empty() ? "more than one Host header" : why;
+        return refuse(421, detail, {{0, "Host", detail}});
+      }
+    }
+    switch (TakeContentEncoding(req)) {
+      case BodyEncoding::kIdentity:
+        break;
+      case BodyEncoding::kCompressed:
+        GuardedServer::ExpectCompressedBody();
+        break;
+      case BodyEncoding::kUnsupported:
+        return refuse(415, "Content-Encoding: only gzip and deflate request bodies are accepted",
+                      {{0, "Content-Encoding", "must be gzip, deflate or identity"}});
+    }
     const Credentials credentials = CredentialsOf(req);
-    AuthDecision d = auth_.Decide(req.method, req.path, req.remote_addr, credentials.authorization);
+    auto decide = [&] {
+      return auth_.Decide(req.method, req.path, req.remote_addr, credentials.authorization);
+    };
+    const std::string presented = req.get_header_value("Authorization");
+    const bool checked = !auth_.open() && !IsProbe(req) && !presented.empty();
+    AuthDecision d = checked ? Throttled(req.remote_addr, presented, decide) : decide();
     if (!d.challenge.empty()) res.set_header("WWW-Authenticate", d.challenge);
+    if (d.retry_after_s > 0) res.set_header("Retry-After", std::to_string(d.retry_after_s));
     if (d.status != 200) return refuse(d.status, d.reason);
     if (std::string why = CrossSiteWrite(req, credentials.session); !why.empty()) {
       return refuse(403, why, {{0, "X-CSRF-Token", why}});
@@ -232,19 +307,47 @@ void HttpServer::Routes() {
       return refuse(400, "unknown query parameter '" + name + "'",
                     {{0, name, "not a parameter of " + req.method + " " + req.path}});
     }
+    // A request without a valid credential, or signing in, may hold only a
+    // share of the workers while its body arrives (without tokens every
+    // loopback client is authorized: its sign-ins are still anonymous).
+    const bool anonymous = d.actor.rfind("anonymous:", 0) == 0 ||
+                           (req.method == "POST" && req.path == "/api/v1/session");
+    if (anonymous && HasBody(req) && !server_.HoldAnonymousWorker()) {
+      t_shed = true;
+      return refuse(503, "too many anonymous requests are sending their bodies: retry");
+    }
     return httplib::Server::HandlerResponse::Unhandled;
+  });
+  // Every HTML response (pages and ?format=html reports) carries the
+  // policy; no response offers byte ranges.
+  s.set_post_routing_handler([](const Req&, Res& res) {
+    if (res.get_header_value("Content-Type").rfind("text/html", 0) == 0 &&
+        !res.has_header("Content-Security-Policy")) {
+      res.set_header("Content-Security-Policy", kHtmlSecurityPolicy);
+    }
+    res.headers.erase("Accept-Ranges");
+    res.set_header("Accept-Ranges", "none");
   });
   s.set_logger([this](const Req& req, const Res& res) {
     double secs =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t_request_start).count();
     app_.metrics().ObserveRequest(secs);
-    if (res.status >= 500)
+    if (res.status >= 500 && !t_shed)
       log::Error("request failed", "method=" + req.method + " path=" + req.path);
+    t_shed = false;
   });
   s.set_error_handler([max_body](const Req& req, Res& res) {
     if (!res.body.empty()) return;
     // It runs outside the handlers' exception handling: it must not throw.
     try {
+      if (auto head = GuardedServer::HeadTooLargeIn(); head != GuardedServer::HeadTooLarge::kNo) {
+        res.set_header("Connection", "close");
+        if (head == GuardedServer::HeadTooLarge::kRequestLine) {
+          return WriteProblem(res, 414, "request line longer than 64 KiB");
+        }
+        return WriteProblem(res, 431,
+                            "request headers too large (a line over 8 KiB, or 64 KiB in all)");
+      }
       if (GuardedServer::BodyTooLarge() || res.status == 413) {
         res.set_header("Connection", "close");
         return WriteProblem(res, 413,

@@ -2,6 +2,7 @@
 // and validate, call a service, and map the result to JSON; nothing else.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -16,11 +17,19 @@
 #include <httplib.h>
 
 #include "api/auth.h"
+#include "api/auth_throttle.h"
 #include "api/guarded_server.h"
-#include "api/web/sign_in_throttle.h"
 #include "api/web/web_sessions.h"
 
 namespace thermocomp::api {
+
+// The Content-Security-Policy of every HTML response (the pages' shells and
+// the ?format=html reports): no script but the server's own files, nothing
+// framed, nothing sent elsewhere.
+inline constexpr const char* kHtmlSecurityPolicy =
+    "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; "
+    "img-src 'self' data: blob:; object-src 'none'; base-uri 'none'; "
+    "frame-ancestors 'none'; form-action 'self'";
 
 class HttpServer {
  public:
@@ -57,10 +66,17 @@ class HttpServer {
   };
   Credentials CredentialsOf(const httplib::Request& req);
   std::string Actor(const httplib::Request& req);
+  // `check` (which looks up the credential `presented` by `client`) under
+  // the failure throttle: 429 when this credential failed too often; a 401
+  // of `check` is a failure, and 429 when the address failed too often.
+  // A valid credential is never refused here (docs/api.md, "Failed
+  // credentials").
+  AuthDecision Throttled(const std::string& client, const std::string& presented,
+                         const std::function<AuthDecision()>& check);
   App& app_;
   Authorizer auth_;
   WebSessions sessions_;
-  SignInThrottle sign_in_throttle_{10, 10 * 60 * 1000, 10000};  // 10 failures in 10 min
+  AuthThrottle auth_throttle_;
   std::shared_mutex rendered_mutex_;
   std::map<std::string, std::pair<std::shared_ptr<const MachineCompensation>, std::string>>
       rendered_;

@@ -47,22 +47,28 @@ void HttpServer::SessionRoutes() {
                           "no access tokens are configured: the pages work without signing in "
                           "(loopback clients only)");
     }
-    // Guessing is slowed per client address, before the token is looked at.
-    const int64_t now = app_.clock().NowMs();
-    if (int64_t wait = sign_in_throttle_.WaitMs(req.remote_addr, now); wait > 0) {
-      res.set_header("Retry-After", std::to_string((wait + 999) / 1000));
-      return WriteProblem(res, 429,
-                          "too many failed sign-ins from this address: try again in " +
-                              std::to_string((wait + 999) / 1000) + " s");
+    // Guessing is slowed per client address and per token tried; a right
+    // token is never refused, and a success forgets no failure.
+    std::optional<AccessToken> token;
+    const AuthDecision d = Throttled(req.remote_addr, "Bearer " + *secret, [&] {
+      token = auth_.FindToken(*secret);
+      AuthDecision found;
+      if (!token) {
+        found.status = 401;
+        found.reason = "unknown token";
+      }
+      return found;
+    });
+    if (d.status == 429) {
+      res.set_header("Retry-After", std::to_string(d.retry_after_s));
+      return WriteProblem(res, 429, d.reason);
     }
-    auto token = auth_.FindToken(*secret);
     if (!token) {
-      sign_in_throttle_.Failed(req.remote_addr, now);
       res.set_header("WWW-Authenticate", R"(Bearer realm="thermocomp", error="invalid_token")");
       return WriteProblem(res, 401, "unknown token", {{0, "token", "not a configured token"}});
     }
-    sign_in_throttle_.Succeeded(req.remote_addr);
-    const WebSession session = sessions_.Create(*token, app_.clock().NowMs());
+    const WebSession session =
+        sessions_.Create(*token, app_.clock().NowMs(), app_.clock().MonotonicMs());
     const Config& c = app_.config();
     res.set_header("Set-Cookie", SessionCookie(session.id, int64_t{c.web_session_hours} * 3600,
                                                c.web_secure_cookie));

@@ -32,26 +32,41 @@ std::string CookieValue(const std::string& header, const std::string& name) {
   return "";
 }
 
-WebSession WebSessions::Create(const AccessToken& token, int64_t now_ms) {
-  WebSession s{RandomHex256(), RandomHex256(), token, now_ms, now_ms + lifetime_ms_};
+WebSession WebSessions::Create(const AccessToken& token, int64_t now_ms, int64_t now_mono_ms) {
+  WebSession s{
+      RandomHex256(), RandomHex256(), token, now_ms + lifetime_ms_, now_mono_ms + lifetime_ms_, 0};
   std::lock_guard lock(mutex_);
-  while (sessions_.size() >= max_sessions_) {
-    auto oldest = sessions_.begin();
-    for (auto it = sessions_.begin(); it != sessions_.end(); ++it) {
-      if (it->second.created_ms < oldest->second.created_ms) oldest = it;
-    }
-    sessions_.erase(oldest);
+  s.sequence = next_sequence_++;
+  std::map<std::string, size_t> held;  // sessions per token secret
+  for (const auto& [id, other] : sessions_) ++held[other.token.token];
+  if (held[token.token] >= max_per_token_) {
+    EndOldestLocked(token.token);
+  } else if (sessions_.size() >= max_sessions_) {
+    // The token holding the most gives one up (the newcomer's own count
+    // included, so it never takes from one holding fewer).
+    auto most = std::max_element(held.begin(), held.end(),
+                                 [](const auto& a, const auto& b) { return a.second < b.second; });
+    EndOldestLocked(most->second > held[token.token] ? most->first : token.token);
   }
   sessions_[s.id] = s;
   return s;
 }
 
-std::optional<WebSession> WebSessions::Find(const std::string& id, int64_t now_ms) {
+void WebSessions::EndOldestLocked(const std::string& secret) {
+  auto oldest = sessions_.end();
+  for (auto it = sessions_.begin(); it != sessions_.end(); ++it) {
+    if (it->second.token.token != secret) continue;
+    if (oldest == sessions_.end() || it->second.sequence < oldest->second.sequence) oldest = it;
+  }
+  if (oldest != sessions_.end()) sessions_.erase(oldest);
+}
+
+std::optional<WebSession> WebSessions::Find(const std::string& id, int64_t now_mono_ms) {
   if (id.size() != 64) return std::nullopt;
   std::lock_guard lock(mutex_);
   auto it = sessions_.find(id);
   if (it == sessions_.end()) return std::nullopt;
-  if (it->second.expires_ms <= now_ms) {
+  if (it->second.expires_mono_ms <= now_mono_ms) {
     sessions_.erase(it);
     return std::nullopt;
   }

@@ -11,6 +11,7 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "tests/api/guard_test_util.h"
 #include "tests/raw_http.h"
 #include "tests/test_util.h"
 
@@ -18,18 +19,10 @@ namespace thermocomp {
 namespace {
 
 using nlohmann::json;
+using testing::PeakMb;
 using testing::RawConnection;
 using testing::RawRequest;
 using Ms = std::chrono::milliseconds;
-
-long PeakMb() {
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind("VmHWM:", 0) == 0) return std::stol(line.substr(6)) / 1024;
-  }
-  return 0;
-}
 
 class ConnectionGuardTest : public testing::AppFixture {
  protected:
@@ -66,9 +59,10 @@ TEST_F(ConnectionGuardTest, ChunkedBodyPastTheLimitIs413WithBoundedMemory) {
   std::ofstream("/proc/self/clear_refs") << "5";
   const long before = PeakMb();
   RawConnection c(http_->port());
-  ASSERT_TRUE(c.Send(
-      "POST /api/v1/machines/m1/temperatures HTTP/1.1\r\nHost: x\r\nContent-Type: text/csv\r\n"
-      "Transfer-Encoding: chunked\r\n\r\n"));
+  ASSERT_TRUE(
+      c.Send("POST /api/v1/machines/m1/temperatures HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: "
+             "text/csv\r\n"
+             "Transfer-Encoding: chunked\r\n\r\n"));
   const std::string piece = Chunk(std::string(64 * 1024, '1'));
   size_t sent = 0;
   // 64 MiB offered against a 1 MiB limit; the server stops reading early.
@@ -85,19 +79,21 @@ TEST_F(ConnectionGuardTest, ChunkedBodyPastTheLimitIs413WithBoundedMemory) {
 
   // A chunked body within the limit is read as any other.
   const std::string csv = "ts,sensor,value\n2026-03-15T00:00:00Z,Tcb,21.5\n";
-  const std::string r = RawRequest(
-      http_->port(),
-      "POST /api/v1/machines/m1/temperatures HTTP/1.1\r\nHost: x\r\nContent-Type: text/csv\r\n"
-      "Transfer-Encoding: chunked\r\nConnection: close\r\n\r\n" +
-          Chunk(csv.substr(0, 10)) + Chunk(csv.substr(10)) + "0\r\n\r\n");
+  const std::string r =
+      RawRequest(http_->port(),
+                 "POST /api/v1/machines/m1/temperatures HTTP/1.1\r\nHost: "
+                 "127.0.0.1\r\nContent-Type: text/csv\r\n"
+                 "Transfer-Encoding: chunked\r\nConnection: close\r\n\r\n" +
+                     Chunk(csv.substr(0, 10)) + Chunk(csv.substr(10)) + "0\r\n\r\n");
   EXPECT_EQ(RawConnection::Status(r), 200) << r;
 }
 
 TEST_F(ConnectionGuardTest, ALengthPastTheLimitIsRefusedWithoutReadingIt) {
   RawConnection c(http_->port());
-  ASSERT_TRUE(c.Send(
-      "POST /api/v1/machines/m1/temperatures HTTP/1.1\r\nHost: x\r\nContent-Type: text/csv\r\n"
-      "Content-Length: 536870912\r\n\r\n"));
+  ASSERT_TRUE(
+      c.Send("POST /api/v1/machines/m1/temperatures HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: "
+             "text/csv\r\n"
+             "Content-Length: 536870912\r\n\r\n"));
   const std::string response = c.ReadResponse(Ms(3000));
   EXPECT_EQ(RawConnection::Status(response), 413) << response.substr(0, 300);
 }
@@ -107,7 +103,7 @@ TEST_F(ConnectionGuardTest, IdleKeepAliveConnectionsDoNotStarveOtherClients) {
   std::vector<std::unique_ptr<RawConnection>> idle;
   for (int i = 0; i < 40; ++i) {
     auto c = std::make_unique<RawConnection>(http_->port());
-    ASSERT_TRUE(c->Send("GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n"));
+    ASSERT_TRUE(c->Send("GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"));
     idle.push_back(std::move(c));
   }
   for (auto& c : idle) c->ReadResponse(Ms(3000));
@@ -125,7 +121,8 @@ TEST_F(ConnectionGuardTest, TrickledHeadersNeitherBlockOthersNorStayOpen) {
   std::vector<std::unique_ptr<RawConnection>> slow;
   for (int i = 0; i < 200; ++i) {
     auto c = std::make_unique<RawConnection>(http_->port());
-    if (c->ok() && c->Send("GET /healthz HTTP/1.1\r\nHost: x\r\n")) slow.push_back(std::move(c));
+    if (c->ok() && c->Send("GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n"))
+      slow.push_back(std::move(c));
   }
   const auto start = std::chrono::steady_clock::now();
   long worst = 0;
@@ -151,18 +148,19 @@ TEST_F(ConnectionGuardTest, AClientBeyondItsShareIsTurnedAwayWith503) {
   for (int i = 0; i < 12; ++i) {
     auto c = std::make_unique<RawConnection>(http_->port());
     ASSERT_TRUE(
-        c->Send("POST /api/v1/machines/m1/temperatures HTTP/1.1\r\nHost: x\r\n"
+        c->Send("POST /api/v1/machines/m1/temperatures HTTP/1.1\r\nHost: 127.0.0.1\r\n"
                 "Content-Type: text/csv\r\nContent-Length: 1000\r\n\r\nts,"));
     busy.push_back(std::move(c));
   }
   std::this_thread::sleep_for(Ms(300));
   const std::string refused =
-      RawRequest(http_->port(), "GET /api/v1/machines HTTP/1.1\r\nHost: x\r\n\r\n");
+      RawRequest(http_->port(), "GET /api/v1/machines HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
   EXPECT_EQ(RawConnection::Status(refused), 503) << refused;
   EXPECT_NE(refused.find("Retry-After: 1"), std::string::npos);
   EXPECT_TRUE(json::accept(RawConnection::Body(refused)));
   // Its health probes are still answered, for monitoring on the same host.
-  const std::string probe = RawRequest(http_->port(), "GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n");
+  const std::string probe =
+      RawRequest(http_->port(), "GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
   EXPECT_EQ(RawConnection::Status(probe), 200) << probe;
   // Their bodies never complete: after the body timeout they are answered
   // 408 and closed, and the client is served again.
@@ -177,10 +175,11 @@ TEST_F(ConnectionGuardTest, AnEarlyAnswerClosesAConnectionWhoseBodyWasNotRead) {
   // A refused framing comes before the body is read: the rest of the bytes
   // must not be parsed as a second request on the same connection.
   RawConnection c(http_->port());
-  ASSERT_TRUE(c.Send(
-      "POST /api/v1/machines/m1/events HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
-      "Content-Length: 60\r\nContent-Length: 60\r\n\r\n"
-      "GET /api/v1/machines HTTP/1.1\r\nHost: x\r\n\r\n                "));
+  ASSERT_TRUE(
+      c.Send("POST /api/v1/machines/m1/events HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: "
+             "application/json\r\n"
+             "Content-Length: 60\r\nContent-Length: 60\r\n\r\n"
+             "GET /api/v1/machines HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n                "));
   const std::string first = c.ReadResponse();
   EXPECT_EQ(RawConnection::Status(first), 400) << first;
   EXPECT_TRUE(c.ClosedWithin(Ms(2000))) << "the unread body was taken for a request";
@@ -197,8 +196,9 @@ class TokenGuardTest : public ConnectionGuardTest {
 TEST_F(TokenGuardTest, AnUnauthorizedBodyIsNeverReadAsTheNextRequest) {
   RawConnection c(http_->port());
   ASSERT_TRUE(c.Send(
-      "POST /api/v1/machines/m1/events HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
-      "Content-Length: 44\r\n\r\nGET /healthz HTTP/1.1\r\nHost: x\r\n\r\n         "));
+      "POST /api/v1/machines/m1/events HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: "
+      "application/json\r\n"
+      "Content-Length: 44\r\n\r\nGET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n         "));
   const std::string first = c.ReadResponse();
   EXPECT_EQ(RawConnection::Status(first), 401) << first;
   EXPECT_TRUE(c.ClosedWithin(Ms(2000)));

@@ -29,17 +29,60 @@ TEST(WebSessionsTest, CookieValuesAreFoundByExactName) {
 }
 
 TEST(WebSessionsTest, SessionsAreRandomExpireAndAreBounded) {
-  api::WebSessions sessions(3, 1000);
+  api::WebSessions sessions(3, 5, 1000);
   const AccessToken t{"u", kReader, "reader", ""};
-  auto a = sessions.Create(t, 0);
+  auto a = sessions.Create(t, 0, 0);
   EXPECT_EQ(a.id.size(), 64u);
   EXPECT_NE(a.id, a.csrf);
-  EXPECT_NE(sessions.Create(t, 1).id, a.id);
+  EXPECT_NE(sessions.Create(t, 1, 1).id, a.id);
   EXPECT_TRUE(sessions.Find(a.id, 999));
   EXPECT_FALSE(sessions.Find(a.id, 1000));  // expired, and removed
-  for (int i = 0; i < 10; ++i) sessions.Create(t, 10 + i);
+  for (int i = 0; i < 10; ++i) sessions.Create(t, 10 + i, 10 + i);
   EXPECT_EQ(sessions.size(), 3u);
   EXPECT_FALSE(sessions.Find("short", 0));
+}
+
+TEST(WebSessionsTest, ASessionsLifetimeIsMonotonicNotTheWallClock) {
+  api::WebSessions sessions(10, 5, 1000);
+  // Created with the wall clock a day ahead, then set back: the lifetime
+  // counts on the monotonic clock alone.
+  auto s = sessions.Create({"u", kReader, "reader", ""}, 86400000, 500);
+  EXPECT_EQ(s.expires_ms, 86400000 + 1000);
+  EXPECT_TRUE(sessions.Find(s.id, 1499));
+  EXPECT_FALSE(sessions.Find(s.id, 1500));
+}
+
+TEST(WebSessionsTest, OneTokensSignInsNeverSignAnotherTokenOut) {
+  const AccessToken admin{"ada", kAdmin, "admin", ""};
+  const AccessToken cell{"cell", kReader, "machine", "m1"};
+  {
+    // Per token: beyond 5, that token's oldest session ends.
+    api::WebSessions sessions(20, 5, 3600000);
+    const auto first_admin = sessions.Create(admin, 0, 0);
+    std::vector<std::string> cells;
+    cells.reserve(25);
+    for (int i = 0; i < 25; ++i) cells.push_back(sessions.Create(cell, i, i).id);
+    EXPECT_TRUE(sessions.Find(first_admin.id, 100));
+    EXPECT_EQ(sessions.size(), 6u);
+    for (int i = 0; i < 20; ++i) EXPECT_FALSE(sessions.Find(cells[i], 100)) << i;
+    for (int i = 20; i < 25; ++i) EXPECT_TRUE(sessions.Find(cells[i], 100)) << i;
+  }
+  {
+    // In all: at the global bound the token holding the most gives one up.
+    api::WebSessions sessions(4, 3, 3600000);
+    const auto a1 = sessions.Create(admin, 0, 0);
+    const auto c1 = sessions.Create(cell, 1, 1);
+    sessions.Create(cell, 2, 2);
+    sessions.Create(cell, 3, 3);
+    const auto a2 = sessions.Create(admin, 4, 4);  // full: cell holds the most
+    EXPECT_EQ(sessions.size(), 4u);
+    EXPECT_TRUE(sessions.Find(a1.id, 10));
+    EXPECT_TRUE(sessions.Find(a2.id, 10));
+    EXPECT_FALSE(sessions.Find(c1.id, 10));
+    sessions.Create(cell, 5, 5);  // full, and cell holds the most: its own oldest ends
+    EXPECT_TRUE(sessions.Find(a1.id, 10));
+    EXPECT_TRUE(sessions.Find(a2.id, 10));
+  }
 }
 
 class WebSessionHttpTest : public testing::AppFixture {
@@ -146,22 +189,26 @@ TEST_F(WebSessionHttpTest, GuessingTokensIsSlowedDownPerAddress) {
                            "application/json");
     EXPECT_EQ(r->status, 401) << i;
   }
-  // The eleventh attempt is refused before the token is looked at, even the right one.
+  // The eleventh guess is refused; a right token is not (it is not guessing).
   auto blocked =
-      client_->Post("/api/v1/session", json{{"token", kAdmin}}.dump(), "application/json");
+      client_->Post("/api/v1/session", json{{"token", "guess-x"}}.dump(), "application/json");
   EXPECT_EQ(blocked->status, 429);
   EXPECT_EQ(blocked->get_header_value("Retry-After"), "600");
   EXPECT_TRUE(blocked->get_header_value("Set-Cookie").empty());
-  // Bearer tokens on the API are not affected.
-  EXPECT_EQ(client_->Get("/api/v1/machines", {{"Authorization", "Bearer " + kAdmin}})->status, 200);
-  clock_.Advance(10 * 60 * 1000);
   EXPECT_EQ(
       client_->Post("/api/v1/session", json{{"token", kAdmin}}.dump(), "application/json")->status,
       201);
+  EXPECT_EQ(client_->Get("/api/v1/machines", {{"Authorization", "Bearer " + kAdmin}})->status, 200);
+  clock_.Advance(10 * 60 * 1000);
+  EXPECT_EQ(client_->Post("/api/v1/session", json{{"token", "guess-y"}}.dump(), "application/json")
+                ->status,
+            401);
 }
 
 TEST_F(WebSessionHttpTest, ASessionEndsAfterItsLifetime) {
   auto [cookie, csrf] = SignIn(kReader);
+  EXPECT_EQ(client_->Get("/api/v1/machines", {{"Cookie", cookie}})->status, 200);
+  clock_.StepWall(2 * 3600 * 1000);  // the wall clock set ahead ends nothing
   EXPECT_EQ(client_->Get("/api/v1/machines", {{"Cookie", cookie}})->status, 200);
   clock_.Advance(3600 * 1000 + 1);
   EXPECT_EQ(client_->Get("/api/v1/machines", {{"Cookie", cookie}})->status, 401);
@@ -179,6 +226,7 @@ TEST_F(WebSessionHttpTest, PagesAndAssetsCarryNoDataAndAreServedWithTheirGuards)
               std::string::npos);
     EXPECT_EQ(r->get_header_value("X-Frame-Options"), "DENY");
     EXPECT_NE(r->body.find("<script src=\"/static/app.js\""), std::string::npos) << path;
+    EXPECT_EQ(r->get_header_value_count("Content-Security-Policy"), 1u) << path;
   }
   EXPECT_EQ(client_->Get("/static/app.js")->get_header_value("Content-Type"),
             "text/javascript; charset=utf-8");
