@@ -28,6 +28,10 @@ std::string Metrics::Render(const std::string& extra) const {
           "Ingest batches refused as a whole (a body that does not parse, or a batch the "
           "ingest rules refuse), over every face.",
           ingest_rejected);
+  counter("thermocomp_ingest_future_refused_total",
+          "Samples and probe points refused for a timestamp further ahead of this server's clock "
+          "than ingest.max_future_skew_s (a control or logger with a wrong clock).",
+          ingest_future_refused);
   out +=
       "# HELP thermocomp_http_request_duration_seconds HTTP request latency.\n"
       "# TYPE thermocomp_http_request_duration_seconds histogram\n";

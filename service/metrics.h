@@ -17,6 +17,8 @@ class Metrics {
   std::atomic<uint64_t> samples_duplicate{0};
   std::atomic<uint64_t> probe_points_accepted{0};
   std::atomic<uint64_t> ingest_rejected{0};
+  // Samples and points refused for a timestamp beyond ingest.max_future_skew_s.
+  std::atomic<uint64_t> ingest_future_refused{0};
 
   void ObserveRequest(double seconds);
   // `extra` is appended verbatim (gauges computed at scrape time).

@@ -344,12 +344,12 @@ TEST_F(HostileInputTest, SloppyFramingIsRefused) {
        415, "Content-Type"},
       {"two content lengths",
        "POST " + m +
-           "/temperatures HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+           "/temperatures HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
            "Content-Length: 2\r\nContent-Length: 60\r\nConnection: close\r\n\r\n{}",
        400, "Content-Length"},
       {"length and chunked",
        "POST " + m +
-           "/temperatures HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+           "/temperatures HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
            "Content-Length: 2\r\nTransfer-Encoding: chunked\r\nConnection: close\r\n\r\n{}",
        400, "Transfer-Encoding"},
       {"uri too long", Request("GET", m + "?" + std::string(9000, 'a'), "", ""), 414,
