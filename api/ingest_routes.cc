@@ -1,5 +1,6 @@
 // Routes of what machines send: temperatures, probe points, signals,
-// events. Parse (ingest_parsers), call IngestService, write the result.
+// events. Parse (ingest_parsers), call IngestService, write the result; an
+// event beyond the machine's daily allowance is 429 naming events.
 #include "api/http_server.h"  // first: Eigen before httplib.h
 
 #include <nlohmann/json.hpp>
@@ -24,6 +25,9 @@ void WriteIngest(Res& res, const IngestResult& r) {
 void HttpServer::IngestRoutes() {
   auto& s = server_;
   const std::string& m = kMachinePath;
+  // The configured [limits] for what a machine may log; App::Open is where
+  // this belongs, it is set here too so that it holds for every server.
+  app_.ingest().SetLimits(app_.config());
   s.Post(m + "/temperatures", [this](const Req& req, Res& res) {
     if (!CheckMediaType(req, res, true)) return;
     std::vector<TemperatureInput> samples;
@@ -68,6 +72,10 @@ void HttpServer::IngestRoutes() {
       return WriteProblem(res, Status::InvalidArgument("malformed event"), errors);
     }
     IngestResult r = app_.ingest().AddEvent(req.matches[1], event, Actor(req));
+    if (OverEventLimit(r)) {
+      return WriteProblem(res, 429, r.status.message() + ": events: " + r.errors.front().message,
+                          r.errors);
+    }
     if (!r.status.ok()) return WriteProblem(res, r.status, r.errors);
     WriteJson(res, {{"id", r.id}, {"accepted", r.accepted}, {"duplicates", r.duplicates}},
               r.accepted ? 201 : 200);

@@ -69,6 +69,24 @@ nlohmann::json ExtendedModelReport(const EffectSearchResult& r, const DriftModel
           {"acceptance", {{"passed", verdict.passed}, {"reasons", verdict.reasons}}}};
 }
 
+// What the audit entry of an analysis says when events were left out.
+std::string EventsLeftOut(size_t n) {
+  return std::to_string(n) + " older event(s) left out (limits.analysis_max_events)";
+}
+
+// Keeps the newest `max_events` of the input's events (they are in time
+// order): each event adds candidates and a before/after comparison to the
+// search, so their number bounds its time and memory. Returns how many
+// were left out.
+size_t KeepNewestEvents(EffectSearchInput& input, int max_events) {
+  const size_t keep = static_cast<size_t>(std::max(0, max_events));
+  if (input.events.size() <= keep) return 0;
+  const size_t left_out = input.events.size() - keep;
+  input.events.erase(input.events.begin(),
+                     input.events.begin() + static_cast<std::ptrdiff_t>(left_out));
+  return left_out;
+}
+
 }  // namespace
 
 StatusOr<AnalysisReport> AnalysisService::Analyze(const std::string& machine_name,
@@ -94,6 +112,7 @@ StatusOr<AnalysisReport> AnalysisService::Analyze(const std::string& machine_nam
   if (!holdout.ok()) return holdout.status();
   EffectSearchInput input = LoadTermInput(*session, *machine, axis_name, data, *holdout, inputs,
                                           max_gap_ms, RawChannels::ForSearch(config_.analysis));
+  const size_t events_left_out = KeepNewestEvents(input, config_.analysis_max_events);
   std::optional<ModelRecord> active = session->models().Active(axis->id);
   const int64_t axis_id = axis->id;
   const double clamp_mm = axis->clamp_mm;
@@ -181,9 +200,10 @@ StatusOr<AnalysisReport> AnalysisService::Analyze(const std::string& machine_nam
       return s;
     }
   }
+  std::string detail = axis_name + " analysis " + std::to_string(*id);
+  if (events_left_out > 0) detail += "; " + EventsLeftOut(events_left_out);
   if (Status s = session->log().Audit(context.created_ms, req.actor, "analysis", machine_name,
-                                      static_cast<int>(result->effects.size()),
-                                      axis_name + " analysis " + std::to_string(*id));
+                                      static_cast<int>(result->effects.size()), detail);
       !s.ok()) {
     return s;
   }
@@ -192,6 +212,7 @@ StatusOr<AnalysisReport> AnalysisService::Analyze(const std::string& machine_nam
   log::Info("effect analysis", "machine=" + machine_name + " axis=" + axis_name +
                                    " id=" + std::to_string(*id) +
                                    " effects=" + std::to_string(result->effects.size()) +
+                                   " events_left_out=" + std::to_string(events_left_out) +
                                    (model_record ? " model=" + model_record->status : ""));
   if (listener_ && model_record && model_record->status == "active") listener_(machine_name);
   return report;

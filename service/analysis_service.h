@@ -5,7 +5,9 @@
 // the extended model as a version: a candidate ("propose"), the served one
 // ("activate") when it passes acceptance and beats the active model on the
 // held-out runs, or rejected with the reason. A failed analysis changes no
-// model.
+// model. Only the newest analysis_max_events events are considered (each
+// adds candidates and a before/after comparison); how many older ones were
+// left out is logged and written in the analysis' audit entry.
 #pragma once
 
 #include <functional>

@@ -1,10 +1,13 @@
 // IngestService for auxiliary signals and events: the same rules as for
-// temperatures (all-or-nothing, duplicates counted, conflicts refused).
+// temperatures (all-or-nothing, duplicates counted, conflicts refused),
+// and at most max_events_per_machine_day events per machine and UTC day
+// (an event re-sent identically is a duplicate, not counted again).
 #include <algorithm>
 #include <cmath>
 #include <set>
 
 #include "core/time_format.h"
+#include "core/time_units.h"
 #include "service/ingest_service.h"
 #include "storage/aux_store.h"
 #include "storage/log_store.h"
@@ -93,6 +96,17 @@ IngestResult IngestService::StoreEvent(const std::string& machine_name, const Ev
   }
   Transaction tx(*session);
   if (!tx.status().ok()) return Rejected({}, tx.status());
+  // Counted inside the write transaction, so concurrent posts cannot pass
+  // the limit together.
+  const int64_t day = e.ts_ms - e.ts_ms % kDayMs;
+  const int limit = max_events_per_machine_day_;
+  if (store.CountEvents(machine->id, day, day + kDayMs - 1) >= limit) {
+    return Rejected(
+        {{0, "events",
+          machine_name + " already has " + std::to_string(limit) + " events on " +
+              FormatRfc3339(day).substr(0, 10) + " (UTC), the most one machine may log in a day"}},
+        Status::FailedPrecondition("too many events"));
+  }
   auto id = store.InsertEvent(machine->id, {0, e.ts_ms, e.kind, e.note});
   if (!id.ok()) return Rejected({}, id.status());
   if (Status st = session->log().Audit(clock_.NowMs(), actor, "event", machine_name, 1, e.kind);

@@ -66,6 +66,15 @@ bool ValidAxisName(const std::string& axis) {
   return axis.size() == 1 && std::string("XYZABCUVW").find(axis[0]) != std::string::npos;
 }
 
+bool OverEventLimit(const IngestResult& r) {
+  return r.status.code() == Status::Code::kFailedPrecondition && r.errors.size() == 1 &&
+         r.errors[0].field == "events";
+}
+
+void IngestService::SetLimits(const Config& config) {
+  max_events_per_machine_day_ = config.max_events_per_machine_day;
+}
+
 Status IngestService::CheckTs(int64_t ts_ms) const {
   if (ts_ms < kEarliestTsMs) return Status::InvalidArgument("timestamp before 2000-01-01");
   if (ts_ms > clock_.NowMs() + kMaxFutureMs) {

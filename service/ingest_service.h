@@ -1,9 +1,12 @@
 // IngestService: validates and stores temperatures and probe points. Every
 // source (HTTP, CSV import, DDS) goes through here, so the rules are the
 // same everywhere. A batch is all-or-nothing: one transaction, committed
-// before the caller acknowledges anything.
+// before the caller acknowledges anything. What one machine may make the
+// server hold is bounded here too: at most max_events_per_machine_day
+// events per machine and UTC day of their time.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <map>
 #include <string>
@@ -14,6 +17,7 @@
 #include "core/ingest_inputs.h"
 #include "core/records.h"
 #include "core/status.h"
+#include "service/config.h"
 #include "service/metrics.h"
 #include "service/probe_temperature_cache.h"
 #include "storage/storage.h"
@@ -31,6 +35,11 @@ constexpr double kReplayToleranceC = 1e-9;
 
 bool ValidIdentifier(const std::string& id);  // [A-Za-z0-9_.-]{1,64}
 bool ValidAxisName(const std::string& axis);  // X Y Z A B C U V W
+
+// An event refused because its machine's UTC day holds
+// max_events_per_machine_day already: FailedPrecondition naming "events".
+// Faces that can say "too many" (HTTP: 429) tell it apart with this.
+bool OverEventLimit(const IngestResult& r);
 
 class IngestService {
  public:
@@ -54,6 +63,9 @@ class IngestService {
                         const std::string& actor);
   // Called after a commit that changed the machine's data.
   void SetListener(Listener listener) { listener_ = std::move(listener); }
+  // The [limits] of `config` that ingest keeps (max_events_per_machine_day);
+  // until called, Config's defaults.
+  void SetLimits(const Config& config);
   // A body a face could not parse: refused as a whole like a refused batch.
   void CountMalformed();
 
@@ -84,6 +96,7 @@ class IngestService {
   ProbeTemperatureCache* cache_;
   Metrics* metrics_;
   Listener listener_;
+  std::atomic<int> max_events_per_machine_day_{Config{}.max_events_per_machine_day};
 };
 
 }  // namespace thermocomp

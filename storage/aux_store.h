@@ -41,6 +41,11 @@ class AuxStore {
   virtual std::optional<EventRecord> FindEvent(int64_t machine_id, int64_t ts_ms,
                                                const std::string& kind) = 0;
   virtual std::vector<EventRecord> Events(int64_t machine_id) = 0;  // ascending in time
+  // The newest `limit` events with from <= ts <= to, ascending in time.
+  virtual std::vector<EventRecord> NewestEvents(int64_t machine_id, int64_t from_ms, int64_t to_ms,
+                                                size_t limit) = 0;
+  // Events with from <= ts <= to (the (machine, ts, kind) key answers it).
+  virtual int64_t CountEvents(int64_t machine_id, int64_t from_ms, int64_t to_ms) = 0;
 };
 
 }  // namespace thermocomp

@@ -1,5 +1,7 @@
 #include "storage/sqlite/aux_store.h"
 
+#include <algorithm>
+
 namespace thermocomp {
 
 StatusOr<int64_t> SqliteAuxStore::EnsureSignal(int64_t machine_id, const std::string& name) {
@@ -68,6 +70,25 @@ std::vector<EventRecord> SqliteAuxStore::Events(int64_t machine_id) {
   std::vector<EventRecord> out;
   while (q.Step()) out.push_back({q.Int(0), q.Int(1), q.Text(2), q.Text(3)});
   return out;
+}
+
+std::vector<EventRecord> SqliteAuxStore::NewestEvents(int64_t machine_id, int64_t from_ms,
+                                                      int64_t to_ms, size_t limit) {
+  Statement q(db_,
+              "SELECT id, ts_ms, kind, note FROM events WHERE machine_id = ? AND ts_ms >= ?"
+              " AND ts_ms <= ? ORDER BY ts_ms DESC, id DESC LIMIT ?");
+  q.Bind(1, machine_id).Bind(2, from_ms).Bind(3, to_ms).Bind(4, static_cast<int64_t>(limit));
+  std::vector<EventRecord> out;
+  while (q.Step()) out.push_back({q.Int(0), q.Int(1), q.Text(2), q.Text(3)});
+  std::reverse(out.begin(), out.end());
+  return out;
+}
+
+int64_t SqliteAuxStore::CountEvents(int64_t machine_id, int64_t from_ms, int64_t to_ms) {
+  Statement q(db_,
+              "SELECT COUNT(*) FROM events WHERE machine_id = ? AND ts_ms >= ? AND ts_ms <= ?");
+  q.Bind(1, machine_id).Bind(2, from_ms).Bind(3, to_ms);
+  return q.Step() ? q.Int(0) : 0;
 }
 
 }  // namespace thermocomp

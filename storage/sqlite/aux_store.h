@@ -25,6 +25,9 @@ class SqliteAuxStore final : public AuxStore {
   std::optional<EventRecord> FindEvent(int64_t machine_id, int64_t ts_ms,
                                        const std::string& kind) override;
   std::vector<EventRecord> Events(int64_t machine_id) override;
+  std::vector<EventRecord> NewestEvents(int64_t machine_id, int64_t from_ms, int64_t to_ms,
+                                        size_t limit) override;
+  int64_t CountEvents(int64_t machine_id, int64_t from_ms, int64_t to_ms) override;
 
  private:
   Database& db_;
