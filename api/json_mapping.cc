@@ -157,9 +157,10 @@ json AxisOverviewToJson(const AxisOverview& a, const AxisCompensation* served) {
 
 }  // namespace
 
-json OverviewToJson(const std::vector<MachineOverview>& machines,
+json OverviewToJson(const OverviewPage& page,
                     const std::vector<std::shared_ptr<const MachineCompensation>>& served,
-                    int64_t now_ms) {
+                    int64_t now_ms, const std::optional<std::string>& next) {
+  const std::vector<MachineOverview>& machines = page.machines;
   json list = json::array();
   for (size_t i = 0; i < machines.size(); ++i) {
     const MachineOverview& m = machines[i];
@@ -181,7 +182,10 @@ json OverviewToJson(const std::vector<MachineOverview>& machines,
                     {"checks", {{"pending", m.checks.pending}, {"overdue", m.checks.overdue}}},
                     {"axes", axes}});
   }
-  return {{"computed_at", FormatRfc3339(now_ms)}, {"machines", list}};
+  return {{"computed_at", FormatRfc3339(now_ms)},
+          {"machines", list},
+          {"total", page.total},
+          {"next", next ? json(*next) : json(nullptr)}};
 }
 
 json TemperatureHistoryToJson(const TemperatureHistory& h) {

@@ -22,10 +22,12 @@ std::optional<MachineDefinition> MachineFromJson(const std::string& name, const 
 // model_version}]}.
 nlohmann::json AnalysesToJson(const std::vector<AnalysisRecord>& list);
 nlohmann::json CompensationToJson(const MachineCompensation& c);
-// GET /overview: each machine at a glance, with the compensation served now.
-nlohmann::json OverviewToJson(const std::vector<MachineOverview>& machines,
+// GET /overview: one page of machines at a glance, with the compensation
+// served now, how many machines there are (`total`) and the URL of the
+// next page (`next`, null on the last).
+nlohmann::json OverviewToJson(const OverviewPage& page,
                               const std::vector<std::shared_ptr<const MachineCompensation>>& served,
-                              int64_t now_ms);
+                              int64_t now_ms, const std::optional<std::string>& next);
 nlohmann::json TemperatureHistoryToJson(const TemperatureHistory& h);
 StatusOr<nlohmann::json> ListModels(App& app, const std::string& machine, const std::string& axis);
 StatusOr<nlohmann::json> GetModel(App& app, const std::string& machine, const std::string& axis,

@@ -1,5 +1,6 @@
-// Routes the pages read most: the line at a glance, and a machine's
-// temperatures over a range.
+// Routes the pages read most: the line at a glance, a page of machines at
+// a time (?limit=&offset=, by name, with total and the next page's URL),
+// and a machine's temperatures over a range.
 #include "api/http_server.h"  // first: Eigen before httplib.h
 
 #include <nlohmann/json.hpp>
@@ -9,18 +10,59 @@
 #include "api/problem.h"
 
 namespace thermocomp::api {
+namespace {
+
+constexpr size_t kMaxOverviewLimit = 1000;
+// Far beyond any line; keeps offset + limit well inside size_t.
+constexpr size_t kMaxOverviewOffset = 1000000000;
+
+// The query parameter `name` as an integer in [min, max]; `value` is kept
+// when it is absent. False with an error naming it when it is not.
+bool IntParam(const Req& req, const char* name, size_t min, size_t max, size_t& value,
+              FieldErrors& errors) {
+  if (!req.has_param(name)) return true;
+  const std::string text = req.get_param_value(name);
+  size_t n = 0;
+  bool ok = !text.empty() && text.size() <= 10;
+  for (const char c : text) {
+    ok = ok && c >= '0' && c <= '9';
+    if (ok) n = n * 10 + static_cast<size_t>(c - '0');
+  }
+  if (ok && n >= min && n <= max) {
+    value = n;
+    return true;
+  }
+  errors.push_back(
+      {0, name, "must be an integer from " + std::to_string(min) + " to " + std::to_string(max)});
+  return false;
+}
+
+}  // namespace
 
 void HttpServer::OverviewRoutes() {
   auto& s = server_;
-  s.Get("/api/v1/overview", [this](const Req&, Res& res) {
-    const std::vector<MachineOverview> machines = app_.machines().Overview();
+  s.Get("/api/v1/overview", [this](const Req& req, Res& res) {
+    size_t limit = static_cast<size_t>(app_.config().overview_page_size);
+    size_t offset = 0;
+    FieldErrors errors;
+    IntParam(req, "limit", 1, kMaxOverviewLimit, limit, errors);
+    IntParam(req, "offset", 0, kMaxOverviewOffset, offset, errors);
+    if (!errors.empty()) {
+      return WriteProblem(res, Status::InvalidArgument("invalid overview query"), errors);
+    }
+    const OverviewPage page = app_.machines().Overview(offset, limit);
     std::vector<std::shared_ptr<const MachineCompensation>> served;
-    served.reserve(machines.size());
-    for (const MachineOverview& m : machines) {
+    served.reserve(page.machines.size());
+    for (const MachineOverview& m : page.machines) {
       auto c = app_.compensation().Get(m.name);
       served.push_back(c.ok() ? *c : nullptr);
     }
-    WriteJson(res, OverviewToJson(machines, served, app_.clock().NowMs()));
+    std::optional<std::string> next;
+    if (offset + page.machines.size() < page.total) {
+      next = "/api/v1/overview?limit=" + std::to_string(limit) +
+             "&offset=" + std::to_string(offset + limit);
+    }
+    WriteJson(res, OverviewToJson(page, served, app_.clock().NowMs(), next));
   });
   s.Get(kMachinePath + "/temperatures", [this](const Req& req, Res& res) {
     TemperatureQuery q;

@@ -1,5 +1,7 @@
 #include "service/history_service.h"
 
+#include <algorithm>
+
 #include "core/time_format.h"
 #include "model/drift_model.h"
 #include "model/thinning.h"
@@ -28,6 +30,11 @@ std::vector<TimedValue> Series(const std::vector<int64_t>& ts, const std::vector
 }
 
 }  // namespace
+
+size_t PointsPerSensor(size_t asked, size_t sensors, size_t max_response_points) {
+  if (sensors == 0) return asked;
+  return std::min(asked, std::max<size_t>(1, max_response_points / sensors));
+}
 
 StatusOr<DriftHistory> HistoryService::Drift(const HistoryQuery& q) {
   const std::unique_ptr<Session> session = storage_.Open();
@@ -116,7 +123,8 @@ StatusOr<TemperatureHistory> HistoryService::Temperatures(const TemperatureQuery
   if (!machine.ok()) return machine.status();
   TemperatureHistory out;
   out.machine = machine->name;
-  out.max_points = q.max_points;
+  out.max_points = PointsPerSensor(q.max_points, machine->sensors.size(),
+                                   static_cast<size_t>(std::max(1, config_.max_response_points)));
   std::vector<int64_t> ts;
   std::vector<double> values;
   SampleStore& samples = session->samples();
@@ -128,7 +136,7 @@ StatusOr<TemperatureHistory> HistoryService::Temperatures(const TemperatureQuery
     // as 17 520 points instead of 525 600.
     const SampleStore::Extent extent = samples.RangeExtent(sensor.id, q.from_ms, q.to_ms);
     const bool envelope =
-        extent.last_ms - extent.first_ms > static_cast<int64_t>(q.max_points) * 3600000 / 2;
+        extent.last_ms - extent.first_ms > static_cast<int64_t>(out.max_points) * 3600000 / 2;
     auto add = [&](int64_t t, double v) {
       ts.push_back(t);
       values.push_back(v);
@@ -139,10 +147,12 @@ StatusOr<TemperatureHistory> HistoryService::Temperatures(const TemperatureQuery
       samples.ScanRaw(sensor.id, q.from_ms, q.to_ms, add);
     }
     out.sensors.push_back({sensor.name, sensor.location, static_cast<size_t>(extent.count),
-                           envelope ? "hourly envelope" : "raw", Series(ts, values, q.max_points)});
+                           envelope ? "hourly envelope" : "raw",
+                           Series(ts, values, out.max_points)});
   }
-  for (const EventRecord& e : session->aux().Events(machine->id)) {
-    if (e.ts_ms >= q.from_ms && e.ts_ms <= q.to_ms) out.events.push_back({e.ts_ms, e.kind, e.note});
+  for (const EventRecord& e :
+       session->aux().NewestEvents(machine->id, q.from_ms, q.to_ms, kMaxEventMarks)) {
+    out.events.push_back({e.ts_ms, e.kind, e.note});
   }
   return out;
 }

@@ -31,6 +31,17 @@ bool ValidControllerName(const std::string& c) {
   });
 }
 
+// A definition that would leave the machine with more sensors than allowed.
+Status TooManySensors(size_t sensors, size_t max, FieldErrors* errors) {
+  if (errors) {
+    *errors = {{0, "sensors",
+                "a machine has at most " + std::to_string(max) +
+                    " sensors (limits.max_sensors_per_machine); this definition would give it " +
+                    std::to_string(sensors)}};
+  }
+  return Status::InvalidArgument("too many sensors");
+}
+
 }  // namespace
 
 bool KnownController(const std::string& controller) {
@@ -44,6 +55,12 @@ MachineDefinition MachineDefinition::Of(const MachineRecord& m) {
 
 StatusOr<bool> MachineService::Register(const MachineDefinition& machine, const std::string& actor,
                                         FieldErrors* errors) {
+  // Refused before any of it is looked at: a definition's sensors cost
+  // work and memory here and in every later read of the machine.
+  const auto max_sensors = static_cast<size_t>(std::max(1, max_sensors_per_machine_.load()));
+  if (machine.sensors.size() > max_sensors) {
+    return TooManySensors(machine.sensors.size(), max_sensors, errors);
+  }
   FieldErrors e;
   if (!ValidIdentifier(machine.name))
     e.push_back({0, "machine", "must match [A-Za-z0-9_.-]{1,64}"});
@@ -76,6 +93,8 @@ StatusOr<bool> MachineService::Register(const MachineDefinition& machine, const 
   if (machine.control_axes) m.control_axes = *machine.control_axes;
   if (machine.automatic_checks) m.automatic_checks = *machine.automatic_checks;
   for (const auto& s : m.sensors) sensors.insert(s.name);
+  // The stored sensors are kept, so they count with the new ones.
+  if (sensors.size() > max_sensors) return TooManySensors(sensors.size(), max_sensors, errors);
   std::set<std::string> axes;
   for (size_t i = 0; i < machine.axes.size(); ++i) {
     const auto& a = machine.axes[i];
@@ -174,11 +193,22 @@ MachineStatus MachineService::Summary(const MachineRecord& m) {
   return status;
 }
 
-std::vector<MachineOverview> MachineService::Overview() {
+void MachineService::SetLimits(const Config& config) {
+  max_sensors_per_machine_ = config.max_sensors_per_machine;
+}
+
+OverviewPage MachineService::Overview(size_t offset, size_t limit) {
   const std::unique_ptr<Session> session = storage_.Open();
   const int64_t now = clock_.NowMs();
-  std::vector<MachineOverview> out;
-  for (const MachineRecord& m : session->machines().List()) {
+  const std::vector<MachineRecord> all = session->machines().List();  // by name
+  OverviewPage page;
+  page.total = all.size();
+  const size_t from = std::min(offset, all.size());
+  const size_t to = from + std::min(limit, all.size() - from);
+  std::vector<MachineOverview>& out = page.machines;
+  out.reserve(to - from);
+  for (size_t i = from; i < to; ++i) {
+    const MachineRecord& m = all[i];
     MachineOverview o;
     o.name = m.name;
     o.controller = m.controller;
@@ -213,7 +243,7 @@ std::vector<MachineOverview> MachineService::Overview() {
     }
     out.push_back(std::move(o));
   }
-  return out;
+  return page;
 }
 
 }  // namespace thermocomp

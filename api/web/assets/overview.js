@@ -1,5 +1,7 @@
 // The line at a glance: every machine and axis, refreshed every 15 s
-// without reloading the page.
+// without reloading the page. The API answers a page of machines at a
+// time; the script follows each page's `next` so the whole line is shown,
+// however many pages it takes.
 "use strict";
 
 (async () => {
@@ -69,9 +71,25 @@
     body.dataset.machines = data.machines.length;
   }
 
+  // Every page, in order (by machine name). `next` is followed only while
+  // it is this API's overview, and never more often than the first
+  // page's total allows.
+  async function whole() {
+    const first = await TC.api("/overview");  // the server's page size (limits.overview_page_size)
+    const machines = first.machines.slice();
+    const pages = Math.ceil(first.total / Math.max(1, machines.length));
+    let next = first.next;
+    for (let n = 1; next && n < pages && next.startsWith("/api/v1/overview?"); ++n) {
+      const page = await TC.api(next.slice("/api/v1".length));
+      machines.push(...page.machines);
+      next = page.next;
+    }
+    return { computed_at: first.computed_at, total: first.total, machines };
+  }
+
   async function refresh() {
     try {
-      render(await TC.api("/overview"));
+      render(await whole());
     } catch (err) {
       status.replaceChildren(el("span", { class: "error" }, "Refresh failed: " + TC.problemText(err)));
     }
