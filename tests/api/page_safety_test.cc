@@ -17,7 +17,7 @@ class PageSafetyTest : public testing::AppFixture {
   void SetUp() override {
     AppFixture::SetUp();
     StartHttp();
-    client_ = std::make_unique<httplib::Client>("127.0.0.1", http_->port());
+    client_ = testing::TestClient(http_->port());
   }
   // The return path the sign-in page is given for ?next=<encoded>, read
   // back from its meta tag (HTML entities undone).
