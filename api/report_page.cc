@@ -57,8 +57,8 @@ std::string MarkdownToHtml(const std::string& markdown) {
   cmark_parser_feed(parser.get(), markdown.data(), markdown.size());
   std::unique_ptr<cmark_node, decltype(&cmark_node_free)> doc(cmark_parser_finish(parser.get()),
                                                               cmark_node_free);
-  char* html = cmark_render_html(doc.get(), kCmarkOptions,
-                                 cmark_parser_get_syntax_extensions(parser.get()));
+  char* html =
+      cmark_render_html(doc.get(), kCmarkOptions, cmark_parser_get_syntax_extensions(parser.get()));
   std::string out = html ? html : "";
   cmark_get_default_mem_allocator()->free(html);
   return out;
