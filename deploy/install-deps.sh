@@ -4,7 +4,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config curl ca-certificates python3 python3-jsonschema
-  libsqlite3-dev sqlite3 libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev
+  libsqlite3-dev sqlite3 libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev zlib1g-dev libssl-dev
   libboost-math-dev libtomlplusplus-dev
   libgtest-dev libbenchmark-dev cyclonedds-dev cyclonedds-tools
   clang libclang-rt-14-dev clang-tidy-14
