@@ -25,9 +25,6 @@ void WriteIngest(Res& res, const IngestResult& r) {
 void HttpServer::IngestRoutes() {
   auto& s = server_;
   const std::string& m = kMachinePath;
-  // The configured [limits] for what a machine may log; App::Open is where
-  // this belongs, it is set here too so that it holds for every server.
-  app_.ingest().SetLimits(app_.config());
   s.Post(m + "/temperatures", [this](const Req& req, Res& res) {
     if (!CheckMediaType(req, res, true)) return;
     std::vector<TemperatureInput> samples;

@@ -18,9 +18,13 @@ json MachineToJson(const MachineRecord& m) {
     sensors.push_back({{"id", s.name}, {"location", s.location}, {"ewma_alpha", s.ewma_alpha}});
   }
   for (const auto& a : m.axes) {
-    axes.push_back({{"id", a.name},
-                    {"reference_position_mm", a.reference_position_mm},
-                    {"model", {{"inputs", a.inputs}, {"clamp_mm", a.clamp_mm}}}});
+    json axis = {{"id", a.name},
+                 {"reference_position_mm", a.reference_position_mm},
+                 {"model", {{"inputs", a.inputs}, {"clamp_mm", a.clamp_mm}}}};
+    if (a.travel_min_mm && a.travel_max_mm) {
+      axis["travel_mm"] = {*a.travel_min_mm, *a.travel_max_mm};
+    }
+    axes.push_back(axis);
   }
   return {{"machine", m.name},
           {"name", m.display_name},
@@ -71,6 +75,14 @@ std::optional<MachineDefinition> MachineFromJson(const std::string& name, const 
       r.name = a.String("id", JsonFields::kRequired, 8).value_or("");
       r.reference_position_mm =
           a.Number("reference_position_mm", JsonFields::kOptional).value_or(0.0);
+      if (auto travel = a.Numbers("travel_mm", JsonFields::kOptional, 2)) {
+        if (travel->size() == 2) {
+          r.travel_min_mm = (*travel)[0];
+          r.travel_max_mm = (*travel)[1];
+        } else {
+          errors.push_back({i, "axes.travel_mm", "must be [min, max] in mm"});
+        }
+      }
       if (const json* model = a.Object("model", JsonFields::kOptional)) {
         JsonFields mf = a.Field(*model, "model");
         r.inputs =
@@ -106,6 +118,13 @@ json CompensationToJson(const MachineCompensation& c) {
               {"offset_at_probe_mm", a.offset_at_probe_mm},
               {"probe_position_mm", a.probe_position_mm ? json(*a.probe_position_mm) : nullptr},
               {"predicted_drift_mm", a.predicted_drift_mm},
+              {"model_offset_mm", a.model_offset_mm},
+              {"model_slope_um_per_m", a.model_slope_um_per_m},
+              {"state", ServedStateName(a.state)},
+              {"status", a.StatusWord()},
+              {"input_age_s", a.input_age_s ? json(*a.input_age_s) : json(nullptr)},
+              {"clamp_mm", a.clamp_mm},
+              {"travel_mm", {a.travel.min_mm, a.travel.max_mm}},
               {"clamped", a.clamped},
               {"valid", a.valid},
               {"stale", a.stale},

@@ -15,9 +15,6 @@ using nlohmann::json;
 void HttpServer::MachineRoutes() {
   auto& s = server_;
   const std::string& m = kMachinePath;
-  // The configured [limits] for registration; App::Open is where this
-  // belongs, it is set here too so that it holds for every server.
-  app_.machines().SetLimits(app_.config());
   s.Get("/api/v1/machines", [this](const Req&, Res& res) {
     json list = json::array();
     for (const auto& mr : app_.machines().List()) list.push_back(MachineToJson(mr));

@@ -14,6 +14,8 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
   ProbeTemperatureCache* cache = &app->probe_temperatures_;
   app->machines_ = std::make_unique<MachineService>(d, clock, cache);
   app->ingest_ = std::make_unique<IngestService>(d, clock, cache, &app->metrics_);
+  app->machines_->SetLimits(c);
+  app->ingest_->SetLimits(c);
   app->fits_ = std::make_unique<FitService>(d, clock, c, cache);
   app->analyses_ = std::make_unique<AnalysisService>(d, clock, c, cache);
   app->checks_ = std::make_unique<CheckService>(d, clock, c);

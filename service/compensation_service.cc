@@ -230,7 +230,7 @@ StatusOr<std::shared_ptr<const MachineCompensation>> CompensationService::Refres
     current = slot.value;
   }
   if (current != fresh) return current;
-  auto served = Serve(*fresh);
+  auto served = Serve(fresh);
   LogServed(*served);
   std::lock_guard<std::mutex> lock(publisher_mutex_);
   if (publisher_) publisher_(*served);
@@ -246,7 +246,8 @@ int64_t CompensationService::ArrivalOf(const std::string& key, int64_t last_ts_m
 }
 
 std::shared_ptr<const MachineCompensation> CompensationService::Serve(
-    const MachineCompensation& target) {
+    const std::shared_ptr<const MachineCompensation>& target_snapshot) {
+  const MachineCompensation& target = *target_snapshot;
   const int64_t now = clock_.NowMs();
   const int64_t mono = clock_.MonotonicMs();
   const int64_t stale_ms = int64_t{config_.stale_after_s} * 1000;
@@ -284,9 +285,13 @@ std::shared_ptr<const MachineCompensation> CompensationService::Serve(
     a.offset_at_probe_mm = std::clamp(at_probe, -std::fabs(a.clamp_mm), std::fabs(a.clamp_mm));
   }
   std::lock_guard<std::mutex> lock(served_mutex_);
-  auto& last = last_served_[out->machine];
-  if (last && SameServed(*last, *out)) return last;
-  last = out;
+  // The same object while neither the model snapshot nor what time does
+  // to it (ramp, hold, staleness, the input age in seconds) changed.
+  LastServed& last = last_served_[out->machine];
+  if (last.target == target_snapshot && last.served && SameServed(*last.served, *out)) {
+    return last.served;
+  }
+  last = {target_snapshot, out};
   return out;
 }
 
@@ -344,7 +349,7 @@ void CompensationService::Start() {
         std::shared_lock read(mutex_);
         for (const auto& [machine, snapshot] : cache_) targets.push_back(snapshot.value);
       }
-      for (const auto& t : targets) LogServed(*Serve(*t));
+      for (const auto& t : targets) LogServed(*Serve(t));
       lock.lock();
     }
   });
@@ -383,7 +388,7 @@ StatusOr<std::shared_ptr<const MachineCompensation>> CompensationService::Get(
     if (!fresh.ok()) return fresh.status();
     target = *fresh;
   }
-  return Serve(*target);
+  return Serve(target);
 }
 
 }  // namespace thermocomp

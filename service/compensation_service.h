@@ -127,7 +127,8 @@ class CompensationService {
   StatusOr<std::shared_ptr<const MachineCompensation>> Refresh(const std::string& machine);
   uint64_t ChangeCount(const std::string& machine);
   // The served compensation derived from a model snapshot now.
-  std::shared_ptr<const MachineCompensation> Serve(const MachineCompensation& target);
+  std::shared_ptr<const MachineCompensation> Serve(
+      const std::shared_ptr<const MachineCompensation>& target);
   // Appends what is served to the log where it changed (see Recompute).
   void LogServed(const MachineCompensation& served);
   // When each input last received a sample, as this server saw it.
@@ -140,7 +141,10 @@ class CompensationService {
   std::shared_mutex mutex_;
   std::map<std::string, Snapshot> cache_;
   std::mutex served_mutex_;
-  std::map<std::string, std::shared_ptr<const MachineCompensation>> last_served_;
+  struct LastServed {
+    std::shared_ptr<const MachineCompensation> target, served;
+  };
+  std::map<std::string, LastServed> last_served_;
   struct Logged {
     double offset_mm = 0;
     bool valid = false;

@@ -73,12 +73,18 @@ bool OverEventLimit(const IngestResult& r) {
 
 void IngestService::SetLimits(const Config& config) {
   max_events_per_machine_day_ = config.max_events_per_machine_day;
+  max_future_skew_ms_ = int64_t{config.max_future_skew_s} * 1000;
 }
 
 Status IngestService::CheckTs(int64_t ts_ms) const {
   if (ts_ms < kEarliestTsMs) return Status::InvalidArgument("timestamp before 2000-01-01");
-  if (ts_ms > clock_.NowMs() + kMaxFutureMs) {
-    return Status::InvalidArgument("timestamp more than a day in the future");
+  // Dated further ahead than a synchronised clock can be: a sample that
+  // would keep a silent sensor looking fresh (docs/api.md, Compensation out).
+  const int64_t skew_ms = max_future_skew_ms_;
+  if (ts_ms > clock_.NowMs() + std::min(skew_ms, kMaxFutureMs)) {
+    if (metrics_) ++metrics_->ingest_future_refused;
+    return Status::InvalidArgument("timestamp more than " + std::to_string(skew_ms / 1000) +
+                                   " s ahead of this server's clock (ingest.max_future_skew_s)");
   }
   return Status::Ok();
 }

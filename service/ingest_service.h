@@ -97,6 +97,7 @@ class IngestService {
   Metrics* metrics_;
   Listener listener_;
   std::atomic<int> max_events_per_machine_day_{Config{}.max_events_per_machine_day};
+  std::atomic<int64_t> max_future_skew_ms_{int64_t{Config{}.max_future_skew_s} * 1000};
 };
 
 }  // namespace thermocomp

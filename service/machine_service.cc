@@ -107,6 +107,13 @@ StatusOr<bool> MachineService::Register(const MachineDefinition& machine, const 
     if (!std::isfinite(a.reference_position_mm) || std::fabs(a.reference_position_mm) > 1e5) {
       e.push_back({i, "axes.reference_position_mm", "must be a finite number within +-100 m"});
     }
+    if (a.travel_min_mm.has_value() != a.travel_max_mm.has_value() ||
+        (a.travel_min_mm &&
+         !(std::isfinite(*a.travel_min_mm) && std::isfinite(*a.travel_max_mm) &&
+           std::fabs(*a.travel_min_mm) <= 1e5 && std::fabs(*a.travel_max_mm) <= 1e5 &&
+           *a.travel_min_mm < *a.travel_max_mm))) {
+      e.push_back({i, "axes.travel_mm", "must be [min, max] in mm within +-100 m, min below max"});
+    }
     for (const auto& in : a.inputs) {
       if (!sensors.count(in)) e.push_back({i, "axes.model.inputs", "unknown sensor '" + in + "'"});
     }
@@ -144,10 +151,15 @@ StatusOr<bool> MachineService::Register(const MachineDefinition& machine, const 
   for (const auto& a : machine.axes) {
     auto it = std::find_if(m.axes.begin(), m.axes.end(),
                            [&](const AxisRecord& x) { return x.name == a.name; });
-    if (it == m.axes.end())
+    if (it == m.axes.end()) {
       m.axes.push_back(a);
-    else
-      *it = {it->id, a.name, a.reference_position_mm, a.inputs, a.clamp_mm};
+      continue;
+    }
+    AxisRecord updated{it->id, a.name, a.reference_position_mm, a.inputs, a.clamp_mm};
+    // A travel left out of the update keeps the stored one.
+    updated.travel_min_mm = a.travel_min_mm ? a.travel_min_mm : it->travel_min_mm;
+    updated.travel_max_mm = a.travel_max_mm ? a.travel_max_mm : it->travel_max_mm;
+    *it = updated;
   }
   const std::unique_ptr<Session> session = storage_.Open();
   Transaction tx(*session);

@@ -137,6 +137,8 @@ TEST_F(AnalysisHttpTest, PositionDependentExpansionIsServedAsSlopeAndAtTheProbe)
   ASSERT_TRUE(y && (*y)["valid"].get<bool>()) << comp.dump();
   // Slope about the reference (0 mm): -alpha * (Tcb - 20 degC) in um/m,
   // with the simulator's true alpha and the filtered column-base temperature.
+  // The model's slope; the served one ramps towards it (compensation.max_rate_um_per_min).
+  const double model_slope = (*y)["model_slope_um_per_m"].get<double>();
   const double slope = (*y)["slope_um_per_m"].get<double>();
   double tcb = 0;
   {
@@ -148,12 +150,12 @@ TEST_F(AnalysisHttpTest, PositionDependentExpansionIsServedAsSlopeAndAtTheProbe)
       tcb = q.Double(0);
     });
   }
-  // The fitted expansion coefficient is the simulator's, and the served
+  // The fitted expansion coefficient is the simulator's, and the model's
   // slope is exactly -coefficient * (Tcb - 20) in um/m.
   const double coefficient = report["effects"][0]["coefficient"].get<double>();
   EXPECT_NEAR(coefficient, vm.hidden().position_mm_per_m_c,
               0.15 * std::fabs(vm.hidden().position_mm_per_m_c));
-  EXPECT_NEAR(slope, -coefficient * (tcb - 20.0) * 1000.0, 1e-6);
+  EXPECT_NEAR(model_slope, -coefficient * (tcb - 20.0) * 1000.0, 1e-6);
   // The offset at the datum hole follows from offset and slope (linear in P).
   ASSERT_TRUE((*y)["probe_position_mm"].is_number());
   const double probe = (*y)["probe_position_mm"].get<double>();

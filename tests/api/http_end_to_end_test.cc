@@ -91,8 +91,9 @@ TEST_F(HttpEndToEndTest, RegisterPostFitCompensateHistory) {
   EXPECT_TRUE(y["valid"].get<bool>()) << y;
   EXPECT_FALSE(y["stale"].get<bool>());
   EXPECT_EQ(y["model_version"], report["version"]);
-  EXPECT_NEAR(y["offset_mm"].get<double>(), -y["predicted_drift_mm"].get<double>(), 1e-12);
+  EXPECT_NEAR(y["model_offset_mm"].get<double>(), -y["predicted_drift_mm"].get<double>(), 1e-12);
   EXPECT_LE(std::fabs(y["offset_mm"].get<double>()), 0.03);
+  EXPECT_EQ(y["status"].get<int>() & 1, 1);  // valid; the served offset ramps towards the model's
   EXPECT_EQ(y["datum_ts"], FormatRfc3339(now));
   // Independent check of the law: intercept + sum(b_i * (Tf_i - Tref_i)).
   // Temperatures jumped from the datum's filtered values to 26 degC through
@@ -123,7 +124,9 @@ TEST_F(HttpEndToEndTest, RegisterPostFitCompensateHistory) {
     if (a["axis"] == "Y") {
       EXPECT_TRUE(a["stale"].get<bool>());
       EXPECT_FALSE(a["valid"].get<bool>());
-      EXPECT_EQ(a["offset_mm"], 0.0);
+      EXPECT_EQ(a["status"].get<int>() & 3, 2);  // stale, not valid
+      // Held at what was served, not stepped (ramped to 0 after hold_s).
+      EXPECT_EQ(a["offset_mm"], y["offset_mm"]);
     }
   }
 

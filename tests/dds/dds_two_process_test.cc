@@ -288,8 +288,8 @@ namespace thermocomp {
 namespace {
 
 // Accelerated: 1 440 simulated minutes a wall minute, two simulated hours in
-// about five seconds; the machine runs ahead of the clock and the server
-// takes it (up to a day ahead).
+// about five seconds; the machine runs ahead of the clock and a server
+// configured for it takes it (up to a day ahead).
 TEST(DdsTwoProcessTest, AcceleratedLiveSimulatorRunsAhead) {
   testing::UseRepoDdsConfig();
   auto dir = testing::TempDir();
@@ -298,7 +298,13 @@ TEST(DdsTwoProcessTest, AcceleratedLiveSimulatorRunsAhead) {
   const std::string bin = THERMOCOMP_BINARY;
   SimulateInto(db, machine, 1);
   const int port = testing::FreePort();
-  testing::ServerGuard server(testing::StartServer(db, port, DdsArgs()));
+  // A machine simulated ahead of the clock is refused beyond
+  // ingest.max_future_skew_s (300 s by default): this server allows a day.
+  const std::string config = (dir / "ahead.toml").string();
+  std::ofstream(config) << "[ingest]\nmax_future_skew_s = 86400\n";
+  std::vector<std::string> args = DdsArgs();
+  args.insert(args.end(), {"--config", config});
+  testing::ServerGuard server(testing::StartServer(db, port, args));
   ASSERT_GT(server.pid(), 0);
   httplib::Client http("127.0.0.1", port);
   const std::string base = "/api/v1/machines/" + machine;

@@ -92,6 +92,10 @@ class ServedValueTest : public testing::AppFixture {
     c.hold_s = 600;
     c.max_rate_um_per_min = 2.0;
     c.stale_after_s = 300;
+    // Samples up to a day ahead are taken (as for an accelerated
+    // simulation), so that staleness by arrival is tested on its own; the
+    // refusal beyond the default 300 s is tested over HTTP.
+    c.max_future_skew_s = 86400;
   }
   void Register(double clamp_mm, std::optional<std::pair<double, double>> travel = {}) {
     MachineRecord m;
