@@ -163,6 +163,9 @@ json AxisOverviewToJson(const AxisOverview& a, const AxisCompensation* served) {
     j["stale"] = served->stale;
     j["clamped"] = served->clamped;
     j["reason"] = served->valid ? json(nullptr) : json(served->reason);
+    j["state"] = ServedStateName(served->state);
+    j["status"] = served->StatusWord();
+    j["model_offset_mm"] = served->model_offset_mm;
   } else {
     j["offset_mm"] = 0.0;
     j["slope_um_per_m"] = 0.0;
@@ -170,6 +173,9 @@ json AxisOverviewToJson(const AxisOverview& a, const AxisCompensation* served) {
     j["stale"] = false;
     j["clamped"] = false;
     j["reason"] = "no compensation computed yet";
+    j["state"] = "off";
+    j["status"] = 0;
+    j["model_offset_mm"] = 0.0;
   }
   return j;
 }

@@ -125,6 +125,17 @@ def open_access(d, s):
     check(names == listed and "sim-1" in names,
           f"overview lists the demo machines of every page {names}")
     check(not d.find_elements(By.ID, "empty"), "overview of the demo shows no empty state")
+    # A freshly served model ramps in (never a step): the page says so and
+    # to which value, as the API does.
+    axes, page = [], overview
+    while True:
+        axes += [a for m in page["machines"] for a in m["axes"]]
+        if not page["next"]:
+            break
+        page = s.api(page["next"][len("/api/v1"):])
+    if any(a["state"] == "ramping" and a["valid"] for a in axes):
+        text = d.find_element(By.ID, "overview").text
+        check("valid, ramping to" in text, "overview names a ramping value and its target")
 
     # It refreshes itself: new data shows up without a reload.
     d.get(s.base + "/?refresh=2")

@@ -14,10 +14,24 @@
   const body = el("div", { id: "overview" });
   TC.main(el("h1", {}, "Line overview"), status, body);
 
+  // What the control is given: the model's value, on its way to it (a
+  // served value never steps), held, or ramping to 0 (docs/api.md).
   function state(a) {
-    if (a.valid) return el("span", { class: "ok" }, a.clamped ? "valid (clamped)" : "valid");
-    return el("span", { class: a.stale ? "warn" : "bad", title: a.reason || "" },
-      (a.stale ? "stale: " : "not served: ") + (a.reason || ""));
+    const um = (mm) => (mm * 1000).toFixed(2) + " µm";
+    if (a.valid) {
+      const text = a.state === "ramping" ? "valid, ramping to " + um(a.model_offset_mm)
+        : a.clamped ? "valid (clamped)" : "valid";
+      return el("span", { class: "ok" }, text);
+    }
+    const why = a.reason || "";
+    if (a.state === "holding") {
+      return el("span", { class: "warn", title: why }, "holding the last value: " + why);
+    }
+    if (a.state === "ramping") {
+      return el("span", { class: "warn", title: why }, "ramping to 0: " + why);
+    }
+    return el("span", { class: a.stale ? "warn" : "bad", title: why },
+      (a.stale ? "stale: " : "not served: ") + why);
   }
   function analysis(m, a) {
     if (!a.analysis) return el("span", { class: "muted" }, "none");
