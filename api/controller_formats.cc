@@ -106,8 +106,8 @@ std::string RenderForController(const MachineCompensation& c, const std::string&
   for (const auto& a : c.axes) {
     const std::string ax = CommentText(a.axis, format);
     if (!a.valid) {
-      out += open + ax + " not valid, " + ServedStateName(a.state) + ": " +
-             CommentText(a.reason, format) + close + "\n";
+      out.append(open).append(ax).append(" not valid, ").append(ServedStateName(a.state));
+      out.append(": ").append(CommentText(a.reason, format)).append(close).append("\n");
     }
     if (format == "sinumerik") {
       out += Printf(
@@ -128,8 +128,8 @@ std::string RenderForController(const MachineCompensation& c, const std::string&
     } else if (format == "fanuc") {
       const int n = ControlAxisNumber(c, a.axis);
       if (n == 0) {
-        out += "(" + ax + " is not in the control's axes " +
-               CommentText(Join(c.control_axes), format) + ")\n";
+        out.append("(").append(ax).append(" is not in the control's axes ");
+        out.append(CommentText(Join(c.control_axes), format)).append(")\n");
       } else {
         out += Printf("#%d=%.4f\n", 5200 + n, a.offset_at_probe_mm);
       }

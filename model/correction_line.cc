@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace thermocomp {
 namespace {
@@ -29,7 +30,8 @@ bool ClampOverTravel(CorrectionLine& line, double reference_mm, const Travel& tr
   // Each end e bounds the slope s (mm per mm) by |o + s (e - ref)| <= c;
   // with |o| <= c the allowed interval contains 0, so the slope is only
   // ever shortened towards 0.
-  double lo = -INFINITY, hi = INFINITY;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double lo = -kInf, hi = kInf;
   for (const double end : {travel.min_mm, travel.max_mm}) {
     const double d = end - reference_mm;
     if (d == 0) continue;

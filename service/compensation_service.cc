@@ -32,6 +32,13 @@ void Invalidate(AxisCompensation& a, std::string reason) {
   if (a.reason.empty()) a.reason = std::move(reason);
 }
 
+// "machine/name": the key of an axis or an input in the per-axis maps.
+std::string KeyOf(const std::string& machine, const std::string& name) {
+  std::string key = machine;
+  key.append("/").append(name);
+  return key;
+}
+
 Travel TravelOf(const AxisRecord& axis) {
   if (axis.travel_min_mm && axis.travel_max_mm) return {*axis.travel_min_mm, *axis.travel_max_mm};
   return {axis.reference_position_mm - kDefaultHalfTravelMm,
@@ -80,7 +87,7 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
     a.clamp_mm = axis.clamp_mm;
     // A restarted server continues from what it served last: that is what
     // the control still applies.
-    const std::string key = name + "/" + axis.name;
+    const std::string key = KeyOf(name, axis.name);
     if (!served_.Seeded(key)) {
       auto last = session->log().LatestCompensation(axis.id);
       served_.Seed(key, last ? last->offset_mm : 0.0, now_mono);
@@ -138,7 +145,7 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
         break;
       }
       a.oldest_input_ms = std::min(a.oldest_input_ms.value_or(fs->last_ts_ms), fs->last_ts_ms);
-      const int64_t arrived = ArrivalOf(name + "/" + input, fs->last_ts_ms, now_mono);
+      const int64_t arrived = ArrivalOf(KeyOf(name, input), fs->last_ts_ms, now_mono);
       a.oldest_arrival_mono_ms = std::min(a.oldest_arrival_mono_ms.value_or(arrived), arrived);
       if (fs->last_value < config_.plausible_min_c || fs->last_value > config_.plausible_max_c) {
         Invalidate(a, "input " + input + " implausible: raw value outside plausible range");
@@ -275,7 +282,7 @@ std::shared_ptr<const MachineCompensation> CompensationService::Serve(
     t.reference_mm = a.reference_position_mm;
     t.travel = a.travel;
     t.clamp_mm = a.clamp_mm;
-    const ServedCorrections::Served s = served_.Serve(out->machine + "/" + a.axis, t, mono);
+    const ServedCorrections::Served s = served_.Serve(KeyOf(out->machine, a.axis), t, mono);
     a.state = s.state;
     a.clamped = a.clamped || s.clamped;
     a.offset_mm = s.line.offset_mm;
