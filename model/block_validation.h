@@ -35,6 +35,7 @@ struct PairedGain {
   double t = 0;         // gain / se
   double relative = 0;  // gain / base SSE
   int blocks = 0;
+  std::vector<int> won;  // the blocks in which the candidate's error is smaller
 };
 PairedGain CompareBlocks(const BlockErrors& base, const BlockErrors& candidate);
 

@@ -40,6 +40,7 @@ int Complexity(const EffectTerm& t) {
     case EffectKind::kStep:
       return 0;
     case EffectKind::kSquare:
+    case EffectKind::kQuadratic:
     case EffectKind::kPosition:
     case EffectKind::kPositionXTemperature:
     case EffectKind::kEventSensor:
@@ -47,6 +48,8 @@ int Complexity(const EffectTerm& t) {
     case EffectKind::kRate:  // with its sensor in the model, a rate is a 10-min lag
     case EffectKind::kLag:
       return 3;
+    case EffectKind::kAsymmetricLag:
+      return 4;
     case EffectKind::kSignal:
       return t.tau_min > 0 ? 3 : 1;
   }

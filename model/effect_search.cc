@@ -27,7 +27,7 @@ std::string Family(const EffectTerm& t) {
 // A smoothing term: what noise filtering can imitate. A lag averages; a
 // rate of a sensor in the model turns it into a partial lag of itself.
 bool Smoothing(const Design& d, const EffectTerm& t) {
-  return t.kind == EffectKind::kLag ||
+  return t.kind == EffectKind::kLag || t.kind == EffectKind::kAsymmetricLag ||
          (t.kind == EffectKind::kRate && d.Has(EffectTerm::Sensor(t.source)));
 }
 
@@ -180,6 +180,9 @@ double Search::NoiseSse(const Design& design, const LinearFit& fit) {
     switch (t.kind) {
       case EffectKind::kLag:
         return FilteredNoiseVariance(sigma->second, AlphaFor(t.tau_min, dt));
+      case EffectKind::kAsymmetricLag:  // the shorter time constant lets more through
+        return FilteredNoiseVariance(sigma->second,
+                                     AlphaFor(std::min(t.tau_min, t.tau2_min), dt));
       case EffectKind::kRate:
         return sigma->second * sigma->second;
       default:

@@ -78,6 +78,13 @@ struct EffectSearchOptions {
   int min_blocks = 5;            // with fewer day (week) blocks, runs are the blocks
   double min_t = 2.5;            // a gain must exceed this many of its standard errors
   double min_gain = 0.01;        // and this share of the cross-validated error
+  // Power on few blocks (docs/model.md §9): a candidate that removes at
+  // least strong_gain of the error and wins in all blocks but at most
+  // strong_lost_blocks qualifies without reaching min_t, given at least
+  // strong_min_blocks blocks.
+  double strong_gain = 0.3;
+  int strong_lost_blocks = 1;
+  int strong_min_blocks = 5;
   int forward_blocks = 3;        // newest training blocks predicted from the past only
   double equivalent_t = 1.0;     // two explanations closer than this are equivalent
   // Guards.
@@ -130,6 +137,28 @@ struct FilterRecommendation {
   bool applied = false;          // the extended model reads the sensor through it
 };
 
+// The error of the declared and of the extended model on held-out points:
+// one held-out run, or all of them (run -1).
+struct HeldOutError {
+  int run = -1;  // EffectSearchInput::run index; -1 for the total
+  int n = 0;
+  double mae_before_mm = 0, rmse_before_mm = 0, max_before_mm = 0;
+  double mae_after_mm = 0, rmse_after_mm = 0, max_after_mm = 0;
+};
+
+// A declared sensor whose reading departs from what its neighbours say
+// from some time on: a fault to check, not a thermal effect. Training
+// points from the onset on are left out of the search.
+struct SensorFault {
+  std::string sensor;
+  std::string kind;  // drift | step | lost_contact
+  int64_t onset_ms = 0;
+  double size_c = 0;          // the reading's departure at the newest data, degC
+  double effect_mm = 0;       // what that departure does through the sensor's coefficient
+  int points_left_out = 0;    // training points from the onset on
+  std::string reason;         // one sentence, for the report
+};
+
 // A candidate not added, and why.
 struct SetAside {
   ScoredCandidate candidate;
@@ -178,6 +207,12 @@ struct EffectSearchResult {
   double holdout_r2_before = 0, holdout_r2_after = 0;
   int holdout_n = 0, training_n = 0, training_runs = 0;
   ResidualStructure structure_before, structure_after;
+  std::vector<HeldOutError> holdout_runs;  // per held-out run, in time order
+  HeldOutError holdout_total;
+  std::vector<SensorFault> sensor_faults;
+  // What each validation block is, in block order: "2026-03-04" (a day),
+  // "week of 2026-03-02" or "run 17" (EffectSearchInput::run index).
+  std::vector<std::string> block_labels;
   std::vector<ScoredCandidate> closest;  // best of the last round, which added nothing
   int candidates = 0;                    // generated in the first round
   int not_evaluable = 0;                 // of them, unknown on some training point

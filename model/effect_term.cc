@@ -1,6 +1,7 @@
 #include "model/effect_term.h"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -93,12 +94,16 @@ const char* EffectKindName(EffectKind kind) {
       return "signal";
     case EffectKind::kEventSensor:
       return "event_sensor";
+    case EffectKind::kQuadratic:
+      return "quadratic";
+    case EffectKind::kAsymmetricLag:
+      return "asymmetric_lag";
   }
   return "unknown";
 }
 
 std::optional<EffectKind> ParseEffectKind(const std::string& name) {
-  for (int k = 0; k <= static_cast<int>(EffectKind::kEventSensor); ++k) {
+  for (int k = 0; k <= static_cast<int>(EffectKind::kAsymmetricLag); ++k) {
     if (name == EffectKindName(static_cast<EffectKind>(k))) return static_cast<EffectKind>(k);
   }
   return std::nullopt;
@@ -128,6 +133,10 @@ std::string EffectTerm::Name() const {
       return "signal(" + source + (tau_min > 0 ? "," + Minutes(tau_min) : "") + ")";
     case EffectKind::kEventSensor:
       return "change(" + source + "," + event_kind + " " + FormatUtcMinute(ref_ms) + ")";
+    case EffectKind::kQuadratic:
+      return "quad(" + source + ")";
+    case EffectKind::kAsymmetricLag:
+      return "lag(" + source + "," + Minutes(tau_min) + " up," + Minutes(tau2_min) + " down)";
   }
   return source;
 }
@@ -136,11 +145,13 @@ std::string EffectTerm::Unit() const {
   switch (kind) {
     case EffectKind::kSensor:
     case EffectKind::kLag:
+    case EffectKind::kAsymmetricLag:
     case EffectKind::kEventSensor:
       return "degC";
     case EffectKind::kRate:
       return "degC/h";
     case EffectKind::kSquare:
+    case EffectKind::kQuadratic:
       return "degC^2";
     case EffectKind::kPosition:
       return power == 1 ? "m" : "m^" + std::to_string(power);
@@ -210,18 +221,29 @@ std::string EffectTerm::Interpretation(double c, const TermContext& context) con
              "'s sensitivity is " + Signed(base + um) + " um/degC instead of " + Signed(base) +
              ": the event changed how the machine responds to it.";
     }
+    case EffectKind::kQuadratic:
+      return "The response to " + source + " is quadratic in its temperature: " + Signed(um) +
+             " um per degC^2 of (T - 20 degC)^2, so each degC moves " + error +
+             " more the warmer it is.";
+    case EffectKind::kAsymmetricLag:
+      return "Part of the structure follows " + source + " faster while it heats (about " +
+             Minutes(tau_min) + ") than while it cools (about " + Minutes(tau2_min) +
+             "): each degC of that lagged temperature moves " + error + " by " + Signed(um) +
+             " um.";
   }
   return "";
 }
 
 bool EffectTerm::NeedsRawSeries() const {
-  return kind == EffectKind::kLag || kind == EffectKind::kRate || kind == EffectKind::kSignal;
+  return kind == EffectKind::kLag || kind == EffectKind::kRate || kind == EffectKind::kSignal ||
+         kind == EffectKind::kAsymmetricLag;
 }
 
 int64_t EffectTerm::HistoryMs() const {
   double tau = 0;
   if (kind == EffectKind::kLag || kind == EffectKind::kSignal) tau = tau_min;
   if (kind == EffectKind::kRate) tau = kRateTauMin;
+  if (kind == EffectKind::kAsymmetricLag) tau = std::max(tau_min, tau2_min);
   return static_cast<int64_t>(kLagHistoryTaus * tau * 60000.0);
 }
 

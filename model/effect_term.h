@@ -24,6 +24,10 @@ enum class EffectKind {
   kSignal,                // an auxiliary signal's change, optionally through a lag tau
   kEventSensor,           // dT of a sensor for runs whose datum follows an event: a changed
                           // sensitivity from then on
+  kQuadratic,             // (T - 20 degC)^2 at pk minus the same at p0: a response quadratic in
+                          // absolute temperature (filtered T)
+  kAsymmetricLag,         // dT of a sensor's raw temperature through a first-order lag whose
+                          // time constant is tau_min while it heats, tau2_min while it cools
 };
 
 // What an interpretation needs besides the term and its coefficient: the
@@ -38,7 +42,8 @@ struct EffectTerm {
   EffectKind kind = EffectKind::kSensor;
   std::string source;      // sensor or signal name
   std::string axis;        // position terms
-  double tau_min = 0;      // lag and lagged signal; 0 = none
+  double tau_min = 0;      // lag and lagged signal; 0 = none; asymmetric lag: heating
+  double tau2_min = 0;     // asymmetric lag: cooling
   int power = 1;           // position terms
   int64_t ref_ms = 0;      // trend: reference date; step: event time
   std::string event_kind;  // step: maintenance | collision | column_check | other
@@ -52,7 +57,8 @@ struct EffectTerm {
   // "Ty2", "lag(Ty2,60min)", "rate(Ty2)", "sq(Ty2)", "pos(Y)", "pos(Y)^2",
   // "pos(Y)*Ty2", "elapsed", "trend(since 2026-03-01)",
   // "step(maintenance 2026-03-05T14:00Z)", "signal(rpm)", "signal(rpm,30min)",
-  // "change(Ty2,maintenance 2026-03-05T14:00Z)".
+  // "change(Ty2,maintenance 2026-03-05T14:00Z)", "quad(Ty2)",
+  // "lag(Ty2,5min up,60min down)".
   std::string Name() const;
   // Unit of the term's value, e.g. "degC", "m*degC", "h".
   std::string Unit() const;

@@ -63,6 +63,24 @@ double ValueAt(const TimeSeries& s, int64_t t, int64_t max_gap_ms) {
   return t - s.ts_ms[i] <= max_gap_ms ? s.value[i] : kNaN;
 }
 
+TimeSeries AsymmetricLagSeries(const TimeSeries& raw, double tau_up_min, double tau_down_min) {
+  TimeSeries out;
+  out.ts_ms = raw.ts_ms;
+  out.value.resize(raw.value.size());
+  double y = 0;
+  for (size_t i = 0; i < raw.value.size(); ++i) {
+    if (i == 0) {
+      y = raw.value[0];
+    } else {
+      const double dt_min = static_cast<double>(raw.ts_ms[i] - raw.ts_ms[i - 1]) / 60000.0;
+      const double tau = raw.value[i] > y ? tau_up_min : tau_down_min;
+      y += -std::expm1(-dt_min / tau) * (raw.value[i] - y);
+    }
+    out.value[i] = y;
+  }
+  return out;
+}
+
 const std::pair<Eigen::VectorXd, Eigen::VectorXd>& FeatureBuilder::RawAtPoints(bool signal,
                                                                                int index) {
   return LagAtPoints(signal, index, 0.0);
@@ -70,8 +88,9 @@ const std::pair<Eigen::VectorXd, Eigen::VectorXd>& FeatureBuilder::RawAtPoints(b
 
 const std::pair<Eigen::VectorXd, Eigen::VectorXd>& FeatureBuilder::LagAtPoints(bool signal,
                                                                                int index,
-                                                                               double tau_min) {
-  auto key = std::make_tuple(signal, index, tau_min);
+                                                                               double tau_min,
+                                                                               double tau_down_min) {
+  auto key = std::make_tuple(signal, index, tau_min, tau_down_min);
   if (auto it = cache_.find(key); it != cache_.end()) return it->second;
   const auto& channels = signal ? in_.signal_raw : in_.sensor_raw;
   const int n = size();
@@ -80,7 +99,10 @@ const std::pair<Eigen::VectorXd, Eigen::VectorXd>& FeatureBuilder::LagAtPoints(b
   if (index >= 0 && index < static_cast<int>(channels.size())) {
     const TimeSeries& raw = channels[index];
     TimeSeries lagged;
-    if (tau_min > 0) lagged = LagSeries(raw, tau_min);
+    if (tau_min > 0) {
+      lagged = tau_down_min > 0 ? AsymmetricLagSeries(raw, tau_min, tau_down_min)
+                                : LagSeries(raw, tau_min);
+    }
     const TimeSeries& s = tau_min > 0 ? lagged : raw;
     for (int i = 0; i < n; ++i) {
       out.first(i) = ValueAt(s, points_[i].ts_ms, in_.max_gap_ms);
@@ -112,6 +134,18 @@ Eigen::VectorXd FeatureBuilder::Column(const EffectTerm& term) {
       col = lag.first - lag.second;
       break;
     }
+    case EffectKind::kAsymmetricLag: {
+      const auto& lag = LagAtPoints(false, sensor, term.tau_min, term.tau2_min);
+      col = lag.first - lag.second;
+      break;
+    }
+    case EffectKind::kQuadratic:
+      for (int i = 0; i < n; ++i) {
+        const double t = At(points_[i].temperature, sensor) - kReferenceTemperatureC;
+        const double t0 = At(points_[i].datum_temperature, sensor) - kReferenceTemperatureC;
+        col(i) = t * t - t0 * t0;
+      }
+      break;
     case EffectKind::kRate: {
       // (x - lag10(x)) / 10 min, in degC/h, at the point minus at the datum.
       const auto& raw = RawAtPoints(false, sensor);
@@ -174,6 +208,13 @@ bool FeatureBuilder::NoiseSlopes(const EffectTerm& term, Eigen::VectorXd* at_poi
   switch (term.kind) {
     case EffectKind::kSensor:
     case EffectKind::kLag:
+    case EffectKind::kAsymmetricLag:
+      break;
+    case EffectKind::kQuadratic:
+      for (int i = 0; i < n; ++i) {
+        (*at_point)(i) = 2 * (At(points_[i].temperature, sensor) - kReferenceTemperatureC);
+        (*at_datum)(i) = 2 * (At(points_[i].datum_temperature, sensor) - kReferenceTemperatureC);
+      }
       break;
     case EffectKind::kRate:
       at_point->setConstant(n, 60.0 / kRateTauMin);

@@ -27,6 +27,9 @@ struct TimeSeries {
 // First-order lag of irregularly sampled x with time constant tau:
 //   y_i = y_{i-1} + (1 - exp(-(t_i - t_{i-1}) / tau)) * (x_i - y_{i-1}),  y_0 = x_0.
 TimeSeries LagSeries(const TimeSeries& raw, double tau_min);
+// The same with tau_up_min while x_i is above y_{i-1} (heating) and
+// tau_down_min otherwise (cooling).
+TimeSeries AsymmetricLagSeries(const TimeSeries& raw, double tau_up_min, double tau_down_min);
 // The newest value at or before t when it is at most max_gap_ms old; NaN otherwise.
 double ValueAt(const TimeSeries& series, int64_t t, int64_t max_gap_ms);
 
@@ -72,13 +75,15 @@ class FeatureBuilder {
 
  private:
   // Lagged channel sampled at each point's time and at its datum's time.
+  // tau_down_min 0: a symmetric lag.
   const std::pair<Eigen::VectorXd, Eigen::VectorXd>& LagAtPoints(bool signal, int index,
-                                                                 double tau_min);
+                                                                 double tau_min,
+                                                                 double tau_down_min = 0);
   const std::pair<Eigen::VectorXd, Eigen::VectorXd>& RawAtPoints(bool signal, int index);
 
   const TermInputs& in_;
   const std::vector<TermPoint>& points_;
-  std::map<std::tuple<bool, int, double>, std::pair<Eigen::VectorXd, Eigen::VectorXd>> cache_;
+  std::map<std::tuple<bool, int, double, double>, std::pair<Eigen::VectorXd, Eigen::VectorXd>> cache_;
 };
 
 }  // namespace thermocomp

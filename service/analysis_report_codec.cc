@@ -15,7 +15,7 @@ using nlohmann::json;
 
 PairedGain PairedGainFromJson(const json& j) {
   return {NumberOr(j, "gain_mm2"), NumberOr(j, "se_mm2"), NumberOr(j, "t"), NumberOr(j, "relative"),
-          ValueOr<int>(j, "blocks", 0)};
+          ValueOr<int>(j, "blocks", 0), {}};
 }
 
 json NamedCandidateToJson(const NamedCandidate& c) {

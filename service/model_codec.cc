@@ -16,7 +16,13 @@ nlohmann::json EffectTermToJson(const EffectTerm& t) {
     case EffectKind::kSensor:
     case EffectKind::kRate:
     case EffectKind::kSquare:
+    case EffectKind::kQuadratic:
       j["sensor"] = t.source;
+      break;
+    case EffectKind::kAsymmetricLag:
+      j["sensor"] = t.source;
+      j["tau_min"] = t.tau_min;  // while it heats
+      j["tau_down_min"] = t.tau2_min;
       break;
     case EffectKind::kLag:
       j["sensor"] = t.source;
@@ -59,6 +65,10 @@ StatusOr<EffectTerm> EffectTermFromJson(const nlohmann::json& j) {
     t.source = j.value("sensor", j.value("signal", std::string()));
     t.axis = j.value("axis", std::string());
     t.tau_min = j.value("tau_min", 0.0);
+    t.tau2_min = j.value("tau_down_min", 0.0);
+    if (t.kind == EffectKind::kAsymmetricLag && !(t.tau_min > 0 && t.tau2_min > 0)) {
+      return Status::InvalidArgument("an asymmetric lag needs tau_min and tau_down_min above 0");
+    }
     t.power = j.value("power", 1);
     if (j.contains("since")) t.ref_ms = ParseRfc3339(j.at("since").get<std::string>()).value_or(0);
     if (j.contains("event")) {
