@@ -49,6 +49,7 @@ PairedGain CompareBlocks(const BlockErrors& base, const BlockErrors& candidate) 
     if (base.n[b] == 0) continue;
     d.push_back(base.sse[b] - candidate.sse[b]);
     base_total += base.sse[b];
+    if (candidate.sse[b] < base.sse[b]) g.won.push_back(static_cast<int>(b));
   }
   g.blocks = static_cast<int>(d.size());
   if (d.size() < 2) return g;

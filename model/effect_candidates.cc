@@ -6,6 +6,7 @@
 #include <set>
 
 #include "model/effect_search.h"
+#include "model/sensor_noise.h"
 
 namespace thermocomp {
 
@@ -37,14 +38,21 @@ std::vector<EffectTerm> GenerateCandidates(const EffectSearchInput& in,
     add(EffectTerm::Sensor(name));
     const bool raw = s < in.inputs.sensor_raw.size() && !in.inputs.sensor_raw[s].ts_ms.empty();
     if (raw) {
-      for (double tau : opt.tau_grid_min) add(EffectTerm::Lag(name, tau));
+      // A lag shorter than twice the logging interval cannot be told from the reading.
+      const double shortest = 2.0 * SampleIntervalMin(in.inputs.sensor_raw[s]);
+      for (double tau : opt.tau_grid_min) {
+        if (tau >= shortest) add(EffectTerm::Lag(name, tau));
+      }
       EffectTerm rate = EffectTerm::Sensor(name);
       rate.kind = EffectKind::kRate;
       add(rate);
     }
-    EffectTerm square = EffectTerm::Sensor(name);
-    square.kind = EffectKind::kSquare;
-    add(square);
+    // Quadratic in absolute temperature, datum-relative: what a response
+    // f(T) - f(T0) with curvature leaves (the square of the change since
+    // the datum would miss its cross term with the datum temperature).
+    EffectTerm quadratic = EffectTerm::Sensor(name);
+    quadratic.kind = EffectKind::kQuadratic;
+    add(quadratic);
     for (const auto& a : axes) add(EffectTerm::PositionTimesTemperature(a, name));
   }
   for (const auto& a : axes) {
@@ -96,7 +104,11 @@ std::vector<EffectTerm> GenerateCandidates(const EffectSearchInput& in,
     sig.kind = EffectKind::kSignal;
     sig.source = in.inputs.signals[s];
     add(sig);
+    const double shortest = s < in.inputs.signal_raw.size() && in.inputs.signal_raw[s].ts_ms.size() > 2
+                                ? 2.0 * SampleIntervalMin(in.inputs.signal_raw[s])
+                                : 0.0;
     for (double tau : opt.tau_grid_min) {
+      if (tau < shortest) continue;
       sig.tau_min = tau;
       add(sig);
     }

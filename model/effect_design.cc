@@ -8,9 +8,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <set>
 
 #include <boost/math/distributions/fisher_f.hpp>
+
+#include "model/sensor_noise.h"
 
 namespace thermocomp {
 namespace {}  // namespace
@@ -56,7 +59,20 @@ int Complexity(const EffectTerm& t) {
   return 3;
 }
 
-Status DesignContext::Prepare() {
+bool Qualifies(const PairedGain& g, const EffectSearchOptions& opt) {
+  if (!(g.relative >= opt.min_gain)) return false;
+  if (g.t >= opt.min_t) return true;
+  const int lost = g.blocks - static_cast<int>(g.won.size());
+  return g.blocks >= opt.strong_min_blocks && g.relative >= opt.strong_gain &&
+         lost <= opt.strong_lost_blocks;
+}
+
+double DesignContext::MinTau(const EffectTerm& t) const {
+  auto it = interval_min_.find((t.kind == EffectKind::kSignal ? "s:" : "t:") + t.source);
+  return std::max(2.0 * (it == interval_min_.end() ? 1.0 : it->second), 0.5);
+}
+
+Status DesignContext::Prepare(const std::vector<SensorFault>& faults) {
   const int total = static_cast<int>(in_.points.size());
   if (static_cast<int>(in_.drift_mm.size()) != total || static_cast<int>(in_.run.size()) != total ||
       static_cast<int>(in_.holdout.size()) != total) {
@@ -67,10 +83,28 @@ Status DesignContext::Prepare() {
     const Eigen::VectorXd& c = Column(t);
     for (int i = 0; i < total; ++i) usable[i] = usable[i] && std::isfinite(c(i));
   }
+  for (size_t k = 0; k < in_.inputs.sensors.size() && k < in_.inputs.sensor_raw.size(); ++k) {
+    if (in_.inputs.sensor_raw[k].ts_ms.size() > 2)
+      interval_min_["t:" + in_.inputs.sensors[k]] = SampleIntervalMin(in_.inputs.sensor_raw[k]);
+  }
+  for (size_t k = 0; k < in_.inputs.signals.size() && k < in_.inputs.signal_raw.size(); ++k) {
+    if (in_.inputs.signal_raw[k].ts_ms.size() > 2)
+      interval_min_["s:" + in_.inputs.signals[k]] = SampleIntervalMin(in_.inputs.signal_raw[k]);
+  }
+  left_out_.assign(faults.size(), 0);
   for (int i = 0; i < total; ++i) {
     if (!usable[i]) continue;
     usable_.push_back(i);
-    if (!in_.holdout[i]) train_.push_back(i);
+    if (in_.holdout[i]) continue;
+    // A reading past a fault's onset is the fault, not the machine.
+    bool faulty = false;
+    for (size_t f = 0; f < faults.size(); ++f) {
+      if (in_.points[i].ts_ms >= faults[f].onset_ms) {
+        ++left_out_[f];
+        faulty = true;
+      }
+    }
+    if (!faulty) train_.push_back(i);
   }
   std::set<int> runs;
   for (int i : train_) runs.insert(in_.run[i]);
@@ -92,6 +126,18 @@ Status DesignContext::Prepare() {
     block_kind_ = "run";
     std::vector<int64_t> run_ids(group_.begin(), group_.end());
     block_ = TimeBlocks(run_ids, 1, &blocks_);
+  }
+  block_labels_.assign(blocks_, "");
+  for (size_t i = 0; i < train_.size(); ++i) {
+    std::string& label = block_labels_[block_[i]];
+    if (!label.empty()) continue;
+    if (block_kind_ == "run") {
+      label = "run " + std::to_string(group_[i]);
+    } else {
+      const int64_t day = datum_ts[i] - ((datum_ts[i] % kDayMs) + kDayMs) % kDayMs;
+      label = FormatUtcMinute(day).substr(0, 10);
+      if (block_kind_ == "week") label = "week of " + label;
+    }
   }
   return Status::Ok();
 }
@@ -348,10 +394,11 @@ EffectTerm DesignContext::RefineTau(const Design& d, const LinearFit& fit, const
     return std::make_pair(s.empty() ? -1.0 : s[0].gain, t);
   };
   const double g = (std::sqrt(5.0) - 1.0) / 2.0;
-  const auto [grid_min, grid_max] =
-      std::minmax_element(opt_.tau_grid_min.begin(), opt_.tau_grid_min.end());
-  double lo = std::log(std::max(term.tau_min / 2.0, *grid_min));
-  double hi = std::log(std::min(term.tau_min * 2.0, *grid_max));
+  // From twice the logging interval to the longest the options allow:
+  // a lag of a few minutes (a coolant loop) must not stop at the grid.
+  double lo = std::log(std::max(term.tau_min / 2.0, MinTau(term)));
+  double hi = std::log(std::min(term.tau_min * 2.0, opt_.max_tau_min));
+  if (!(hi > lo)) return term;
   double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
   auto f1 = gain_at(x1), f2 = gain_at(x2);
   for (int i = 0; i < 16; ++i) {
@@ -436,6 +483,8 @@ void DesignContext::Describe(const Design& final_design, EffectSearchResult& r) 
   for (const auto& t : in_.declared) declared_names.push_back(t.Name());
   const std::vector<std::string> final_names = final_design.Names();
   double sse_before = 0, sse_after = 0, sum = 0, sum2 = 0;
+  std::map<int, HeldOutError> per_run;  // sums until the end
+  r.holdout_total = HeldOutError{};
   for (int i : usable_) {
     if (!in_.holdout[i]) continue;
     Eigen::RowVectorXd xb(in_.declared.size()), xa(final_design.terms.size());
@@ -444,12 +493,35 @@ void DesignContext::Describe(const Design& final_design, EffectSearchResult& r) 
     if (!xa.allFinite()) continue;
     const double rb = in_.drift_mm[i] - r.before.Predict(xb, declared_names);
     const double ra = in_.drift_mm[i] - r.after.Predict(xa, final_names);
+    for (HeldOutError* e : {&per_run[in_.run[i]], &r.holdout_total}) {
+      e->n += 1;
+      e->mae_before_mm += std::fabs(rb);
+      e->mae_after_mm += std::fabs(ra);
+      e->rmse_before_mm += rb * rb;
+      e->rmse_after_mm += ra * ra;
+      e->max_before_mm = std::max(e->max_before_mm, std::fabs(rb));
+      e->max_after_mm = std::max(e->max_after_mm, std::fabs(ra));
+    }
     sse_before += rb * rb;
     sse_after += ra * ra;
     sum += in_.drift_mm[i];
     sum2 += in_.drift_mm[i] * in_.drift_mm[i];
     ++r.holdout_n;
   }
+  auto finish = [](HeldOutError& e) {
+    if (e.n == 0) return;
+    e.mae_before_mm /= e.n;
+    e.mae_after_mm /= e.n;
+    e.rmse_before_mm = std::sqrt(e.rmse_before_mm / e.n);
+    e.rmse_after_mm = std::sqrt(e.rmse_after_mm / e.n);
+  };
+  r.holdout_runs.clear();
+  for (auto& [run, e] : per_run) {  // run indices are in time order
+    e.run = run;
+    finish(e);
+    r.holdout_runs.push_back(e);
+  }
+  finish(r.holdout_total);
   if (r.holdout_n > 0) {
     const double n_h = r.holdout_n;
     r.holdout_rmse_before_mm = std::sqrt(sse_before / n_h);

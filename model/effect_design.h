@@ -48,18 +48,34 @@ struct Screened {
 // Fitted parameters beyond the coefficient, roughly: a lag also fits tau.
 int Complexity(const EffectTerm& t);
 
+// Whether a validated gain is a finding (docs/model.md §9): at least
+// min_gain of the error, and either t >= min_t, or (given at least
+// strong_min_blocks blocks) at least strong_gain of the error won in all
+// blocks but strong_lost_blocks. The second arm is a sign test over
+// blocks: with few blocks the spread of the gains makes t small even for a
+// gain that holds everywhere.
+bool Qualifies(const PairedGain& g, const EffectSearchOptions& opt);
+
 class DesignContext {
  public:
   DesignContext(const EffectSearchInput& in, const EffectSearchOptions& opt)
       : in_(in), opt_(opt), features_(in.inputs, in.points) {}
 
-  // Training rows (usable for the declared terms, not held out) and their
-  // blocks; Unprocessable with fewer than 3 training runs.
-  Status Prepare();
+  // Training rows (usable for the declared terms, not held out, not at or
+  // after the onset of a sensor fault) and their blocks; Unprocessable
+  // with fewer than 3 training runs.
+  Status Prepare(const std::vector<SensorFault>& faults = {});
   int n() const { return static_cast<int>(train_.size()); }
   int runs() const { return runs_; }
   int blocks() const { return blocks_; }
   const std::string& block_kind() const { return block_kind_; }
+  // What each block is: "2026-03-04", "week of 2026-03-02", "run 17".
+  const std::vector<std::string>& block_labels() const { return block_labels_; }
+  // Training points left out for a sensor fault (Prepare's `faults`), per fault.
+  const std::vector<int>& left_out() const { return left_out_; }
+  // The shortest time constant worth refining a term of `source` to: twice
+  // its logging interval (a lag shorter than that cannot be told from it).
+  double MinTau(const EffectTerm& t) const;
   int not_evaluable() const { return std::max(not_evaluable_, 0); }
   double SensorAlpha(const std::string& sensor) const;
 
@@ -126,6 +142,9 @@ class DesignContext {
   Eigen::VectorXd y_;
   int runs_ = 0, blocks_ = 0;
   std::string block_kind_;
+  std::vector<std::string> block_labels_;
+  std::vector<int> left_out_;
+  std::map<std::string, double> interval_min_;  // "t:"/"s:" + sensor/signal: logging interval
   int not_evaluable_ = -1;
 };
 

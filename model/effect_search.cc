@@ -14,6 +14,7 @@
 #include <boost/math/distributions/fisher_f.hpp>
 
 #include "model/effect_design.h"
+#include "model/sensor_faults.h"
 #include "model/sensor_noise.h"
 
 namespace thermocomp {
@@ -148,9 +149,12 @@ Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
     const Design retuned = Retuned(without, r, &moved);
     auto keep = d_.Gain(without, with);
     auto keep_retuned = d_.Gain(retuned, with);
-    const bool superfluous = keep.ok() && keep->t < opt_.min_t;
-    if (superfluous || (keep_retuned.ok() && keep_retuned->t < opt_.min_t)) {
+    const bool superfluous = keep.ok() && !Qualifies(*keep, opt_);
+    if (superfluous || (keep_retuned.ok() && !Qualifies(*keep_retuned, opt_))) {
       r.superseded.push_back(effect.term);
+      r.superseded_reasons[effect.term.Name()] =
+          "with the other effects in, it no longer earns its place (its removal does not "
+          "qualify as a loss)";
       r.effects.erase(r.effects.begin() + e);
       design = superfluous ? without : retuned;
       if (!superfluous) {
@@ -264,7 +268,7 @@ std::optional<std::string> Search::Guard(const Design& design, const LinearFit& 
     auto vs_added = d_.Gain(added, replaced);
     auto vs_design = d_.Gain(design, replaced);
     if (vs_added.ok() && vs_design.ok() && vs_added->t > -opt_.equivalent_t &&
-        vs_design->t >= opt_.min_t) {
+        Qualifies(*vs_design, opt_)) {
       return t.Name();
     }
     char buf[200];
@@ -297,7 +301,7 @@ std::vector<ScoredCandidate> Search::Qualify(const Design& design, const LinearF
     // The error it would leave, on the scale of the current model's.
     const double cv = base.Rmse() * std::sqrt(std::max(0.0, 1.0 - g->relative));
     ScoredCandidate c{s.term, cv, s.p_adjusted, *g};
-    if (!(c.gain.t >= opt_.min_t && c.gain.relative >= opt_.min_gain)) {
+    if (!Qualifies(c.gain, opt_)) {
       r.closest.push_back(c);
       continue;
     }
@@ -414,7 +418,7 @@ std::optional<ScoredCandidate> Search::MaskedPair(const Design& design,
     auto joint = d_.Gain(design, d_.With(d, next[0].term));
     // Effects that hide each other are large together; a pair has two
     // chances to fit noise, so it must explain a real share of the error.
-    if (!joint.ok() || joint->t < opt_.min_t || joint->relative < opt_.masked_pair_gain) continue;
+    if (!joint.ok() || !Qualifies(*joint, opt_) || joint->relative < opt_.masked_pair_gain) continue;
     if (best && joint->gain <= best->gain.gain) continue;
     best = first;
     best->gain = *joint;
@@ -490,9 +494,28 @@ std::optional<ScoredCandidate> Search::Choose(const Design& design, const Linear
 }
 
 StatusOr<EffectSearchResult> Search::Run() {
-  if (Status s = d_.Prepare(); !s.ok()) return s;
   EffectSearchResult r;
+  // A declared sensor whose reading departs from its neighbours is a fault
+  // to check; its readings from the onset on would teach the model the fault.
+  std::vector<std::string> declared_sensors;
+  for (const auto& t : in_.declared) {
+    if (t.kind == EffectKind::kSensor) declared_sensors.push_back(t.source);
+  }
+  int64_t from_ms = INT64_MAX, to_ms = INT64_MIN;
+  for (size_t i = 0; i < in_.points.size(); ++i) {
+    if (in_.holdout[i]) continue;
+    from_ms = std::min(from_ms, in_.points[i].datum_ts_ms);
+    to_ms = std::max(to_ms, in_.points[i].ts_ms);
+  }
+  if (from_ms < to_ms) {
+    r.sensor_faults = FindSensorFaults(in_.inputs, declared_sensors, from_ms, to_ms);
+  }
+  if (Status s = d_.Prepare(r.sensor_faults); !s.ok()) return s;
+  for (size_t f = 0; f < r.sensor_faults.size(); ++f) {
+    r.sensor_faults[f].points_left_out = d_.left_out()[f];
+  }
   r.block_kind = d_.block_kind();
+  r.block_labels = d_.block_labels();
   r.blocks = d_.blocks();
   r.training_n = d_.n();
   r.training_runs = d_.runs();
@@ -510,6 +533,10 @@ StatusOr<EffectSearchResult> Search::Run() {
   LinearFit fit;
   if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
   r.before = fit;
+  for (auto& f : r.sensor_faults) {
+    if (const TermStats* b = fit.Find(EffectTerm::Sensor(f.sensor).Name()))
+      f.effect_mm = b->estimate * f.size_c;
+  }
   r.cv_before = d_.Loro(design);
   const Design declared_design = design;
   auto blocked_before = d_.Blocked(design);
@@ -560,6 +587,8 @@ StatusOr<EffectSearchResult> Search::Run() {
     if (!added.replaces.empty()) {
       const int j = design.Find(added.replaces);
       r.superseded.push_back(design.terms[j]);
+      r.superseded_reasons[added.replaces] =
+          "replaced outright by " + chosen->term.Name() + ", which explains as well";
       design.Erase(j);
       design = d_.Recomputed(design);
     }
@@ -571,14 +600,33 @@ StatusOr<EffectSearchResult> Search::Run() {
       const std::string name = design.terms[j].Name();
       const TermStats* was = previous.Find(name);
       const TermStats* now = fit.Find(name);
-      if (was && was->p < opt_.p_keep && (!now || now->p >= opt_.p_keep)) {
-        r.superseded.push_back(design.terms[j]);
-        design.Erase(j);
-        design = d_.Recomputed(design);
-        if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
-      } else {
+      if (!(was && was->p < opt_.p_keep && (!now || now->p >= opt_.p_keep))) {
         ++j;
+        continue;
       }
+      Design without = design;
+      without.Erase(j);
+      without = d_.Recomputed(without);
+      // A declared term stays unless leaving it out predicts better by a
+      // margin: collinear with the new effect, its p says nothing of
+      // whether the machine responds to it.
+      auto removal = d_.Gain(design, without);
+      if (design.declared[j] &&
+          !(removal.ok() && removal->gain > 0 && removal->t >= opt_.equivalent_t)) {
+        ++j;
+        continue;
+      }
+      char why[200];
+      std::snprintf(why, sizeof why,
+                    "p %.2g after %s was added; the model without it predicts %s "
+                    "(paired gain t %.1f)",
+                    now ? now->p : 1.0, chosen->term.Name().c_str(),
+                    removal.ok() && removal->gain > 0 ? "better" : "as well",
+                    removal.ok() ? removal->t : 0.0);
+      r.superseded_reasons[name] = why;
+      r.superseded.push_back(design.terms[j]);
+      design = without;
+      if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
     }
     auto after = d_.Blocked(design);
     added.cv_rmse_after_mm = after.ok() ? after->Rmse() : INFINITY;

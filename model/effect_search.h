@@ -32,6 +32,7 @@
 // result. Deterministic.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -61,7 +62,11 @@ struct EffectSearchInput {
 };
 
 struct EffectSearchOptions {
-  std::vector<double> tau_grid_min = {7.5, 15, 30, 60, 120, 240, 480};
+  // Lags are tried on this grid (values below twice a channel's logging
+  // interval left out) and refined continuously from twice the logging
+  // interval to max_tau_min.
+  std::vector<double> tau_grid_min = {3.75, 7.5, 15, 30, 60, 120, 240, 480, 960, 1920};
+  double max_tau_min = 2880;
   double alpha = 0.01;    // screening: partial F-test, Bonferroni per round
   double vif_max = 10.0;  // collinearity limit of a new term, as the selection's
   double p_keep = 0.05;   // a term above this after an addition is superseded
@@ -190,6 +195,7 @@ struct ResidualStructure {
 struct EffectSearchResult {
   std::vector<EffectTerm> terms;       // final model terms, declared (filtered) first
   std::vector<EffectTerm> superseded;  // declared or added terms dropped on the way
+  std::map<std::string, std::string> superseded_reasons;  // by term name, why it left
   std::vector<AddedEffect> effects;
   std::vector<FilterRecommendation> filters;
   std::vector<std::pair<std::string, double>> sensor_noise_c;  // per sensor with a raw series
