@@ -111,6 +111,12 @@ class DesignContext {
   // `term` at the time constant between half and twice its own that best
   // adds to `d` (golden-section over log tau).
   EffectTerm RefineTau(const Design& d, const LinearFit& fit, const EffectTerm& term);
+  // A lag of `lag.source` with separate heating and cooling time constants
+  // that best adds to `d` (which lacks the lag), from `lag`'s tau: each
+  // time constant by golden-section over log tau in turn, between tau/8
+  // and 8 tau (within MinTau and max_tau_min). Implemented in
+  // effect_forms.cc.
+  EffectTerm RefineAsymmetric(const Design& d, const LinearFit& fit, const EffectTerm& lag);
   double ResidualCorrelation(const Design& d, const LinearFit& fit, const EffectTerm& t);
   // What the sensors' white noise adds to the design's squared error,
   // summed over its rows: each reading (a sensor's filtered value, a lag of

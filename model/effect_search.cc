@@ -27,6 +27,14 @@ std::string Family(const EffectTerm& t) {
 
 // A smoothing term: what noise filtering can imitate. A lag averages; a
 // rate of a sensor in the model turns it into a partial lag of itself.
+// Whether `t` reads a sensor or signal a term of `d` already reads.
+bool InModel(const Design& d, const EffectTerm& t) {
+  if (t.source.empty()) return false;
+  return std::any_of(d.terms.begin(), d.terms.end(), [&](const EffectTerm& u) {
+    return u.source == t.source && (u.kind == EffectKind::kSignal) == (t.kind == EffectKind::kSignal);
+  });
+}
+
 bool Smoothing(const Design& d, const EffectTerm& t) {
   return t.kind == EffectKind::kLag || t.kind == EffectKind::kAsymmetricLag ||
          (t.kind == EffectKind::kRate && d.Has(EffectTerm::Sensor(t.source)));
@@ -93,6 +101,10 @@ class Search {
                  std::map<std::string, EffectTerm>* moved);
   // What the sensors' noise adds to the design's squared error.
   double NoiseSse(const Design& design, const LinearFit& fit);
+  // A revision of an added lag's form that qualifies: the lag with its own
+  // heating and cooling time constants, replacing it (*replaces names it).
+  std::optional<ScoredCandidate> ReviseForm(const Design& design, const BlockErrors& base,
+                                            std::string* replaces);
 
   const EffectSearchInput& in_;
   const EffectSearchOptions& opt_;
@@ -193,6 +205,31 @@ double Search::NoiseSse(const Design& design, const LinearFit& fit) {
         return FilteredNoiseVariance(sigma->second, d_.SensorAlpha(t.source));
     }
   });
+}
+
+std::optional<ScoredCandidate> Search::ReviseForm(const Design& design, const BlockErrors& base,
+                                                  std::string* replaces) {
+  std::optional<ScoredCandidate> best;
+  for (size_t j = 0; j < design.terms.size(); ++j) {
+    const EffectTerm& lag = design.terms[j];
+    if (design.declared[j] || lag.kind != EffectKind::kLag) continue;
+    Design without = design;
+    without.Erase(j);
+    without = d_.Recomputed(without);
+    LinearFit fit;
+    if (!d_.Refit(without, &fit).ok()) continue;
+    const EffectTerm asym = d_.RefineAsymmetric(without, fit, lag);
+    const double ratio = std::max(asym.tau_min, asym.tau2_min) /
+                         std::max(std::min(asym.tau_min, asym.tau2_min), 1e-9);
+    if (ratio < opt_.asymmetry_min_ratio) continue;
+    auto g = d_.Gain(design, d_.With(without, asym));
+    if (!g.ok() || !Qualifies(*g, opt_)) continue;
+    if (best && g->gain <= best->gain.gain) continue;
+    best = ScoredCandidate{asym, base.Rmse() * std::sqrt(std::max(0.0, 1.0 - g->relative)), 1.0,
+                           *g};
+    *replaces = lag.Name();
+  }
+  return best;
 }
 
 Status Search::FilterDeclaredSensors(Design& design, LinearFit& fit, EffectSearchResult& r) {
@@ -320,7 +357,16 @@ std::vector<ScoredCandidate> Search::Qualify(const Design& design, const LinearF
   std::stable_sort(out.begin(), out.end(), [](const ScoredCandidate& a, const ScoredCandidate& b) {
     return a.cv_rmse < b.cv_rmse;
   });
-  // Parsimony: a simpler term that cross-validates almost as well first.
+  // Parsimony: a term of a source the model already reads (a revision of
+  // its response) that cross-validates almost as well comes before
+  // another source's term; then a simpler term within simpler_within.
+  if (!out.empty()) {
+    const double tolerance = out[0].cv_rmse * (1.0 + opt_.revision_within);
+    auto within = std::find_if(out.begin(), out.end(),
+                               [&](const ScoredCandidate& s) { return s.cv_rmse > tolerance; });
+    std::stable_partition(out.begin(), within,
+                          [&](const ScoredCandidate& s) { return InModel(design, s.term); });
+  }
   if (!out.empty()) {
     const double tolerance = out[0].cv_rmse * (1.0 + opt_.simpler_within);
     auto within = std::find_if(out.begin(), out.end(),
@@ -565,8 +611,16 @@ StatusOr<EffectSearchResult> Search::Run() {
       std::rotate(qualified.begin(), qualified.begin() + first, qualified.begin() + first + 1);
     }
     AddedEffect added;
-    std::optional<ScoredCandidate> chosen =
-        Choose(design, fit, qualified, &added.replaces, &added.alternatives, r);
+    // A revision of a lag's form in the model comes before another term
+    // that explains little more (parsimony).
+    std::string revised_lag;
+    std::optional<ScoredCandidate> chosen = ReviseForm(design, *base, &revised_lag);
+    if (chosen && (qualified.empty() ||
+                   chosen->cv_rmse <= qualified[0].cv_rmse * (1.0 + opt_.revision_within))) {
+      added.replaces = revised_lag;
+    } else {
+      chosen = Choose(design, fit, qualified, &added.replaces, &added.alternatives, r);
+    }
     if (!chosen) break;
     added.term = chosen->term;
     added.p_adjusted = chosen->p_adjusted;
@@ -588,7 +642,7 @@ StatusOr<EffectSearchResult> Search::Run() {
       const int j = design.Find(added.replaces);
       r.superseded.push_back(design.terms[j]);
       r.superseded_reasons[added.replaces] =
-          "replaced outright by " + chosen->term.Name() + ", which explains as well";
+          "replaced by " + chosen->term.Name() + ", which explains at least as well";
       design.Erase(j);
       design = d_.Recomputed(design);
     }

@@ -72,6 +72,12 @@ struct EffectSearchOptions {
   double p_keep = 0.05;   // a term above this after an addition is superseded
   int max_effects = 6;
   double simpler_within = 0.01;  // a simpler term within 1 % of the best error wins
+  // Parsimony: a term of a sensor already in the model (a second time
+  // constant, its curvature, different heating and cooling) whose error is
+  // within this share of the best candidate's comes before another
+  // sensor's term.
+  double revision_within = 0.05;
+  double asymmetry_min_ratio = 1.5;  // heating and cooling taus closer than this are one lag
   int lookahead = 8;             // best candidates whose best follow-up is also tried
   int cv_shortlist = 8;          // best candidates by F that are cross-validated
   double min_known_share = 0.8;  // a candidate unknown on more of the rows is not evaluable

@@ -90,6 +90,10 @@ bool Names(const Outcome& o, HiddenEffect e) {
       case HiddenEffect::kSignal:
         if (t.kind == EffectKind::kSignal && t.source == "spindle_rpm") return true;
         break;
+      case HiddenEffect::kTwoLags:  // forms: scored by sim/search_scoring in their own tests
+      case HiddenEffect::kQuadratic:
+      case HiddenEffect::kAsymmetricLag:
+        break;
     }
   }
   return false;
