@@ -1,7 +1,10 @@
 #include "service/analysis_report.h"
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <string_view>
 
 #include "core/time_format.h"
 
@@ -50,9 +53,54 @@ ReportedEffect Reported(const AddedEffect& e, const EffectSearchResult& r,
   return out;
 }
 
+std::string RunName(int run, const std::vector<std::string>& names) {
+  if (run >= 0 && run < static_cast<int>(names.size())) return names[run];
+  return "run " + std::to_string(run);
+}
+
+// The search labels run blocks "run <index>"; a person knows the run's name.
+std::string BlockLabel(const std::string& label, const std::vector<std::string>& names) {
+  constexpr std::string_view kRun = "run ";
+  if (label.compare(0, kRun.size(), kRun) != 0) return label;
+  int run = -1;
+  const char* first = label.data() + kRun.size();
+  const char* last = label.data() + label.size();
+  const auto [end, error] = std::from_chars(first, last, run);
+  if (error != std::errc() || end != last) return label;
+  return RunName(run, names);
+}
+
+// Errors of no point are not errors of anything: NaN, as everywhere here.
+HeldOutRunError NamedError(const HeldOutError& e, std::string run) {
+  HeldOutRunError out{std::move(run), e.n};
+  if (e.n <= 0) return out;
+  out.mae_before_mm = e.mae_before_mm;
+  out.rmse_before_mm = e.rmse_before_mm;
+  out.max_before_mm = e.max_before_mm;
+  out.mae_after_mm = e.mae_after_mm;
+  out.rmse_after_mm = e.rmse_after_mm;
+  out.max_after_mm = e.max_after_mm;
+  return out;
+}
+
+std::string BlockNoun(const std::string& block, size_t count) {
+  std::string noun = block == "day" || block == "week" || block == "run" ? block : "block";
+  return count == 1 ? noun : noun + "s";
+}
+
+std::string LabelList(const std::vector<int>& blocks, const std::vector<std::string>& labels) {
+  std::string out;
+  for (int b : blocks) {
+    out += out.empty() ? "" : ", ";
+    out += b >= 0 && b < static_cast<int>(labels.size()) ? labels[b] : "block " + std::to_string(b);
+  }
+  return out;
+}
+
 }  // namespace
 
-AnalysisReport BuildAnalysisReport(const EffectSearchResult& r, const AnalysisContext& c) {
+AnalysisReport BuildAnalysisReport(const EffectSearchResult& r, const AnalysisContext& c,
+                                   const std::vector<std::string>& run_names) {
   AnalysisReport out;
   out.context = c;
   out.training_runs = r.training_runs;
@@ -80,8 +128,11 @@ AnalysisReport BuildAnalysisReport(const EffectSearchResult& r, const AnalysisCo
   out.adj_r2_after = r.after.adj_r2;
   out.structure_before = r.structure_before;
   out.structure_after = r.structure_after;
-  out.validation =
-      BlockedValidation{r.block_kind, r.blocks, r.blocked_rmse_before_mm, r.blocked_rmse_after_mm};
+  out.validation = BlockedValidation{
+      r.block_kind, r.blocks, r.blocked_rmse_before_mm, r.blocked_rmse_after_mm, {}};
+  for (const auto& label : r.block_labels) {
+    out.validation->block_labels.push_back(BlockLabel(label, run_names));
+  }
   out.sensor_noise_c = r.sensor_noise_c;
   out.filters = r.filters;
   for (const auto& s : r.set_aside) {
@@ -90,6 +141,13 @@ AnalysisReport BuildAnalysisReport(const EffectSearchResult& r, const AnalysisCo
   for (const auto& a : r.ambiguous) out.ambiguous.push_back({a.term.Name(), a.gain});
   out.coefficient_changes = r.coefficient_changes;
   out.event_comparisons = r.event_comparisons;
+  if (r.holdout_total.n > 0 || !r.holdout_runs.empty()) {
+    HeldOutRunErrors errors;
+    for (const auto& e : r.holdout_runs) errors.runs.push_back(NamedError(e, RunName(e.run, run_names)));
+    errors.total = NamedError(r.holdout_total, "");
+    out.holdout_errors = std::move(errors);
+  }
+  out.sensor_faults = r.sensor_faults;
   return out;
 }
 
@@ -115,6 +173,29 @@ std::string EventStatement(const EventComparison& e, const std::string& axis) {
 std::string ValidationMethod(const std::string& block) {
   return "blocked cross-validation (" + block +
          " blocks), paired block-to-block gains, forward-chained check of the newest blocks";
+}
+
+std::string BlocksWon(const PairedGain& g, const BlockedValidation& v) {
+  const std::vector<std::string>& labels = v.block_labels;
+  if (labels.empty()) return "";
+  const size_t blocks = g.blocks > 0 ? static_cast<size_t>(g.blocks) : labels.size();
+  std::string out = "won " + std::to_string(g.won.size()) + " of " + std::to_string(blocks) +
+                    " " + BlockNoun(v.block, blocks);
+  // Name the shorter side: the blocks won, or the few lost; a long list
+  // says nothing a reader can take in.
+  constexpr size_t kNamed = 8;
+  if (g.won.size() <= kNamed) {
+    return g.won.empty() ? out : out + ": " + LabelList(g.won, labels);
+  }
+  std::vector<int> lost;
+  for (int b = 0; b < static_cast<int>(blocks); ++b) {
+    if (std::find(g.won.begin(), g.won.end(), b) == g.won.end()) lost.push_back(b);
+  }
+  if (lost.empty()) return out;
+  if (lost.size() <= kNamed) return out + "; lost " + LabelList(lost, labels);
+  const std::vector<int> first(g.won.begin(), g.won.begin() + kNamed);
+  return out + ": " + LabelList(first, labels) + " and " + std::to_string(g.won.size() - kNamed) +
+         " more";
 }
 
 }  // namespace thermocomp

@@ -61,6 +61,25 @@ struct BlockedValidation {
   std::string block;  // day | week | run
   int blocks = 0;
   double rmse_before_mm = kNotComputed, rmse_after_mm = kNotComputed;
+  // What each block is, in block order ("2026-03-04", "week of 2026-03-02",
+  // a run's name): PairedGain::won indexes it. Empty in older reports.
+  std::vector<std::string> block_labels;
+};
+
+// The error of the declared ("before") and the extended model ("after") on
+// the held-out points of one run (by name), or of all of them (run "").
+struct HeldOutRunError {
+  std::string run;
+  int n = 0;
+  double mae_before_mm = kNotComputed, rmse_before_mm = kNotComputed,
+         max_before_mm = kNotComputed;
+  double mae_after_mm = kNotComputed, rmse_after_mm = kNotComputed, max_after_mm = kNotComputed;
+};
+
+// Per held-out run in time order, and over all held-out points.
+struct HeldOutRunErrors {
+  std::vector<HeldOutRunError> runs;
+  HeldOutRunError total;
 };
 
 // The model version an analysis stored, when it stored one.
@@ -95,15 +114,27 @@ struct AnalysisReport {
   std::vector<NamedGain> ambiguous;
   std::vector<CoefficientChange> coefficient_changes;
   std::vector<EventComparison> event_comparisons;
+  // Absent without held-out points and in reports stored before it existed.
+  std::optional<HeldOutRunErrors> holdout_errors;
+  // Declared sensors whose readings depart from their neighbours': to be
+  // checked, not modelled; their readings from the onset were left out.
+  std::vector<SensorFault> sensor_faults;
   std::optional<AnalysisModelOutcome> model;
 };
 
+// `run_names` names the search input's run indices (EffectSearchInput::run),
+// so the report speaks of runs as the archive does.
 AnalysisReport BuildAnalysisReport(const EffectSearchResult& result,
-                                   const AnalysisContext& context);
+                                   const AnalysisContext& context,
+                                   const std::vector<std::string>& run_names);
 // "Since the maintenance on 2026-03-05 (Y axis, ...): Ty2's sensitivity is
 // ... instead of ...": what an event changed, in one sentence.
 std::string EventStatement(const EventComparison& e, const std::string& axis);
 // "blocked cross-validation (day blocks), ...": how the validation was done.
 std::string ValidationMethod(const std::string& block);
+// "won 6 of 7 days: 2026-03-04, ..." (or the few it lost): the blocks in
+// which a candidate predicted better; "" when the report has no block
+// labels (older reports) to say it with.
+std::string BlocksWon(const PairedGain& g, const BlockedValidation& v);
 
 }  // namespace thermocomp

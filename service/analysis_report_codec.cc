@@ -14,8 +14,16 @@ using json_read::ValueOr;
 using nlohmann::json;
 
 PairedGain PairedGainFromJson(const json& j) {
+  std::vector<int> won;
+  for (const auto& b : ArrayAt(j, "won")) won.push_back(b.get<int>());
   return {NumberOr(j, "gain_mm2"), NumberOr(j, "se_mm2"), NumberOr(j, "t"), NumberOr(j, "relative"),
-          ValueOr<int>(j, "blocks", 0), {}};
+          ValueOr<int>(j, "blocks", 0), std::move(won)};
+}
+
+std::vector<std::string> Strings(const json& list) {
+  std::vector<std::string> out;
+  for (const auto& s : list) out.push_back(s.get<std::string>());
+  return out;
 }
 
 json NamedCandidateToJson(const NamedCandidate& c) {
@@ -167,6 +175,73 @@ EventComparison EventFromJson(const json& j) {
   return e;
 }
 
+// One held-out run's errors (the total has no "run").
+json HeldOutToJson(const HeldOutRunError& e) {
+  json j = {{"n", e.n},
+            {"mae_before_mm", FiniteOrNull(e.mae_before_mm)},
+            {"rmse_before_mm", FiniteOrNull(e.rmse_before_mm)},
+            {"max_before_mm", FiniteOrNull(e.max_before_mm)},
+            {"mae_after_mm", FiniteOrNull(e.mae_after_mm)},
+            {"rmse_after_mm", FiniteOrNull(e.rmse_after_mm)},
+            {"max_after_mm", FiniteOrNull(e.max_after_mm)}};
+  if (!e.run.empty()) j["run"] = e.run;
+  return j;
+}
+
+HeldOutRunError HeldOutFromJson(const json& j) {
+  return {ValueOr<std::string>(j, "run", ""), ValueOr<int>(j, "n", 0),
+          NumberOr(j, "mae_before_mm"),       NumberOr(j, "rmse_before_mm"),
+          NumberOr(j, "max_before_mm"),       NumberOr(j, "mae_after_mm"),
+          NumberOr(j, "rmse_after_mm"),       NumberOr(j, "max_after_mm")};
+}
+
+json SensorFaultToJson(const SensorFault& f) {
+  return {{"sensor", f.sensor},
+          {"kind", f.kind},
+          {"onset", FormatRfc3339(f.onset_ms)},
+          {"size_c", FiniteOrNull(f.size_c)},
+          {"effect_mm", FiniteOrNull(f.effect_mm)},
+          {"points_left_out", f.points_left_out},
+          {"reason", f.reason}};
+}
+
+SensorFault SensorFaultFromJson(const json& j) {
+  SensorFault f;
+  f.sensor = ValueOr<std::string>(j, "sensor", "");
+  f.kind = ValueOr<std::string>(j, "kind", "");
+  f.onset_ms = ParseRfc3339(ValueOr<std::string>(j, "onset", "")).value_or(0);
+  f.size_c = NumberOr(j, "size_c");
+  f.effect_mm = NumberOr(j, "effect_mm");
+  f.points_left_out = ValueOr<int>(j, "points_left_out", 0);
+  f.reason = ValueOr<std::string>(j, "reason", "");
+  return f;
+}
+
+// "holdout_errors" and "sensor_faults": what the held-out runs and the
+// sensors say about the result.
+void CheckedToJson(const AnalysisReport& r, json& out) {
+  if (r.holdout_errors) {
+    json runs = json::array();
+    for (const auto& e : r.holdout_errors->runs) runs.push_back(HeldOutToJson(e));
+    out["holdout_errors"] = {{"runs", runs}, {"total", HeldOutToJson(r.holdout_errors->total)}};
+  }
+  json faults = json::array();
+  for (const auto& f : r.sensor_faults) faults.push_back(SensorFaultToJson(f));
+  out["sensor_faults"] = faults;
+}
+
+void CheckedFromJson(const json& j, AnalysisReport& r) {
+  if (j.contains("holdout_errors") && j["holdout_errors"].is_object()) {
+    const json& h = j["holdout_errors"];
+    HeldOutRunErrors errors;
+    for (const auto& e : ArrayAt(h, "runs")) errors.runs.push_back(HeldOutFromJson(e));
+    errors.total = HeldOutFromJson(ObjectAt(h, "total"));
+    errors.total.run.clear();
+    r.holdout_errors = std::move(errors);
+  }
+  for (const auto& f : ArrayAt(j, "sensor_faults")) r.sensor_faults.push_back(SensorFaultFromJson(f));
+}
+
 // "validation" ... "event_comparisons": how sure the analysis is.
 void FindingsToJson(const AnalysisReport& r, json& out) {
   if (r.validation) {
@@ -175,7 +250,8 @@ void FindingsToJson(const AnalysisReport& r, json& out) {
                          {"block", v.block},
                          {"blocks", v.blocks},
                          {"rmse_before_mm", FiniteOrNull(v.rmse_before_mm)},
-                         {"rmse_after_mm", FiniteOrNull(v.rmse_after_mm)}};
+                         {"rmse_after_mm", FiniteOrNull(v.rmse_after_mm)},
+                         {"block_labels", v.block_labels}};
   }
   json noise = json::object();
   for (const auto& [sensor, sigma] : r.sensor_noise_c) noise[sensor] = FiniteOrNull(sigma);
@@ -205,9 +281,10 @@ void FindingsToJson(const AnalysisReport& r, json& out) {
 void FindingsFromJson(const json& j, AnalysisReport& r) {
   if (j.contains("validation") && j["validation"].is_object()) {
     const json& v = j["validation"];
-    r.validation =
-        BlockedValidation{ValueOr<std::string>(v, "block", ""), ValueOr<int>(v, "blocks", 0),
-                          NumberOr(v, "rmse_before_mm"), NumberOr(v, "rmse_after_mm")};
+    r.validation = BlockedValidation{
+        ValueOr<std::string>(v, "block", ""), ValueOr<int>(v, "blocks", 0),
+        NumberOr(v, "rmse_before_mm"), NumberOr(v, "rmse_after_mm"),
+        Strings(ArrayAt(v, "block_labels"))};
   }
   for (const auto& [sensor, sigma] : ObjectAt(j, "sensor_noise_c").items()) {
     r.sensor_noise_c.emplace_back(sensor, sigma.is_number() ? sigma.get<double>() : kNotComputed);
@@ -228,12 +305,6 @@ void FindingsFromJson(const json& j, AnalysisReport& r) {
   }
 }
 
-std::vector<std::string> Strings(const json& list) {
-  std::vector<std::string> out;
-  for (const auto& s : list) out.push_back(s.get<std::string>());
-  return out;
-}
-
 }  // namespace
 
 json PairedGainToJson(const PairedGain& g) {
@@ -241,7 +312,8 @@ json PairedGainToJson(const PairedGain& g) {
           {"se_mm2", FiniteOrNull(g.se)},
           {"t", FiniteOrNull(g.t)},
           {"relative", FiniteOrNull(g.relative)},
-          {"blocks", g.blocks}};
+          {"blocks", g.blocks},
+          {"won", g.won}};
 }
 
 json AnalysisReportToJson(const AnalysisReport& r) {
@@ -293,6 +365,7 @@ json AnalysisReportToJson(const AnalysisReport& r) {
         {"version", r.model->version}, {"status", r.model->status}, {"reason", r.model->reason}};
   }
   FindingsToJson(r, out);
+  CheckedToJson(r, out);
   return out;
 }
 
@@ -351,6 +424,7 @@ StatusOr<AnalysisReport> AnalysisReportFromJson(const json& j) {
                                ValueOr<std::string>(m, "reason", "")};
     }
     FindingsFromJson(j, r);
+    CheckedFromJson(j, r);
     return r;
   } catch (const std::exception& e) {
     return Status::InvalidArgument(std::string("unreadable analysis report: ") + e.what());

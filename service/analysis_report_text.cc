@@ -17,6 +17,14 @@ using report_text::P;
 using report_text::Text;
 using report_text::Um;
 
+// A term's unit as a person reads it ("degC" is the API's spelling of °C).
+std::string PersonUnit(std::string unit) {
+  for (size_t at = unit.find("degC"); at != std::string::npos; at = unit.find("degC", at)) {
+    unit.replace(at, 4, "°C");
+  }
+  return unit;
+}
+
 std::string Confidence(const PairedGain& g) {
   return Fixed(g.relative * 100.0, "%.1f") + " % (t " + Fixed(g.t, "%.1f") + ", " +
          std::to_string(g.blocks) + " blocks)";
@@ -29,12 +37,13 @@ std::string EffectsMarkdown(const AnalysisReport& r) {
            "cross-validation over whole days.\n\n";
   }
   std::string md =
-      "## Effects added\n\n| # | effect | coefficient | p (adj.) | CV RMSE um |\n"
+      "## Effects added\n\n| # | effect | coefficient | p (adj.) | CV RMSE µm |\n"
       "|---|---|---|---|---|\n";
   int i = 0;
   for (const auto& e : r.effects) {
     md += "| " + std::to_string(++i) + " | " + Code(e.term.Name()) + " | " +
-          Fixed(e.coefficient_mm, "%.4g") + " mm/" + Text(e.term.Unit()) + " | " + P(e.p_adjusted) +
+          Fixed(e.coefficient_mm * 1000.0, "%.4g") + " µm/" + Text(PersonUnit(e.term.Unit())) +
+          " | " + P(e.p_adjusted) +
           " | " + Um(e.cv_rmse_before_mm) + " -> " + Um(e.cv_rmse_after_mm) + " |\n";
   }
   md += "\n";
@@ -56,7 +65,7 @@ std::string ClosestMarkdown(const AnalysisReport& r) {
     list += (list.empty() ? "" : ", ") + (Code(c.name) + " " + Um(c.cv_rmse_mm) + ", " +
                                           P(c.p_adjusted) + ", t " + Fixed(t, "%.1f"));
   }
-  return "Closest candidates that did not pass (CV RMSE with it, um; adjusted p; t of its "
+  return "Closest candidates that did not pass (CV RMSE with it, µm; adjusted p; t of its "
          "validated gain, which must reach the configured min_t): " +
          list + ".\n\n";
 }
@@ -65,8 +74,8 @@ std::string ConfidenceMarkdown(const AnalysisReport& r) {
   if (!r.validation || r.effects.empty()) return "";
   std::string md =
       "## Confidence\n\nThe validated gain (share of the blocked cross-validation error "
-      "removed, and its t over blocks):\n\n| effect | gain | equally good | notes |\n"
-      "|---|---|---|---|\n";
+      "removed, and its t over blocks; the blocks in which it predicted better):\n\n"
+      "| effect | gain | blocks won | equally good | notes |\n|---|---|---|---|---|\n";
   for (const auto& e : r.effects) {
     std::string alternatives;
     for (const auto& a : e.alternatives) {
@@ -77,9 +86,10 @@ std::string ConfidenceMarkdown(const AnalysisReport& r) {
     if (!e.revises_declared.empty()) notes += Text(e.revises_declared) + "; ";
     if (!e.together_with.empty())
       notes += "qualified together with " + Code(e.together_with) + "; ";
+    const std::string won = BlocksWon(e.confidence, *r.validation);
     md += "| " + Code(e.term.Name()) + " | " + Confidence(e.confidence) + " | " +
-          (alternatives.empty() ? "none" : alternatives) + " | " + (notes.empty() ? "-" : notes) +
-          " |\n";
+          (won.empty() ? "-" : Text(won)) + " | " + (alternatives.empty() ? "none" : alternatives) +
+          " | " + (notes.empty() ? "-" : notes) + " |\n";
   }
   return md + "\n";
 }
@@ -89,12 +99,12 @@ std::string FindingsMarkdown(const AnalysisReport& r) {
   if (r.validation) {
     const BlockedValidation& v = *r.validation;
     md += "## Validation\n\n" + Text(ValidationMethod(v.block)) + ": " + std::to_string(v.blocks) +
-          " blocks; RMSE " + Um(v.rmse_before_mm) + " -> " + Um(v.rmse_after_mm) + " um.\n\n";
+          " blocks; RMSE " + Um(v.rmse_before_mm) + " -> " + Um(v.rmse_after_mm) + " µm.\n\n";
   }
   md += ConfidenceMarkdown(r);
   if (!r.coefficient_changes.empty()) {
     md +=
-        "## Declared coefficients (um per unit)\n\n| term | declared model | extended model |\n"
+        "## Declared coefficients (µm per unit)\n\n| term | declared model | extended model |\n"
         "|---|---|---|\n";
     for (const auto& c : r.coefficient_changes) {
       md += "| " + Code(c.term) + " | " + Um(c.before_mm) + " | " + Um(c.after_mm) + " |\n";
@@ -104,7 +114,7 @@ std::string FindingsMarkdown(const AnalysisReport& r) {
   if (!r.filters.empty()) {
     md += "## Filters\n\n";
     for (const auto& f : r.filters) {
-      md += "- " + Code(f.sensor) + ": white noise " + Fixed(f.noise_c, "%.3f") + " degC every " +
+      md += "- " + Code(f.sensor) + ": white noise " + Fixed(f.noise_c, "%.3f") + " °C every " +
             Fixed(f.interval_min, "%.2f") + " min; read through tau " +
             Fixed(f.recommended_tau_min, "%.1f") + " min (ewma_alpha " +
             Fixed(f.recommended_alpha, "%.3f") + ") instead of " +
@@ -133,16 +143,54 @@ std::string FindingsMarkdown(const AnalysisReport& r) {
     for (const auto& e : r.event_comparisons) {
       md += "- " + Text(EventStatement(e, r.context.axis)) + " Runs " +
             std::to_string(e.runs_before) + " before, " + std::to_string(e.runs_after) +
-            " after; RMSE " + Um(e.rmse_before_mm) + " / " + Um(e.rmse_after_mm) + " um.\n";
+            " after; RMSE " + Um(e.rmse_before_mm) + " / " + Um(e.rmse_after_mm) + " µm.\n";
     }
     md += "\n";
   }
   return md;
 }
 
+std::string HeldOutRow(const std::string& run, const HeldOutRunError& e) {
+  return "| " + run + " | " + std::to_string(e.n) + " | " + Um(e.mae_before_mm) + " | " +
+         Um(e.mae_after_mm) + " | " + Um(e.rmse_before_mm) + " | " + Um(e.rmse_after_mm) + " | " +
+         Um(e.max_before_mm) + " | " + Um(e.max_after_mm) + " |\n";
+}
+
+// Per held-out run, so one run the model fails on is not averaged away.
+std::string HeldOutMarkdown(const AnalysisReport& r) {
+  if (!r.holdout_errors) return "";
+  std::string md =
+      "## Held-out runs (µm)\n\nRuns the search never saw: the error of the declared model "
+      "(before) and of the extended one (after) at their probe points.\n\n"
+      "| run | points | MAE before | MAE after | RMSE before | RMSE after | " +
+      Text("max |error|") + " before | " + Text("max |error|") +
+      " after |\n|---|---|---|---|---|---|---|---|\n";
+  for (const auto& e : r.holdout_errors->runs) md += HeldOutRow(Text(e.run), e);
+  return md + HeldOutRow("all held-out runs", r.holdout_errors->total) + "\n";
+}
+
+// A faulty sensor is reported for a person to check, apart from the effects.
+std::string SensorsMarkdown(const AnalysisReport& r) {
+  if (r.sensor_faults.empty()) return "";
+  std::string md =
+      "## Sensors to check\n\nThese declared sensors read differently from their neighbours "
+      "from the onset on: a sensor to check, not a thermal effect. Their readings from the "
+      "onset on were left out of the search.\n\n"
+      "| sensor | kind | since | departure °C | drift it caused µm | points left out | why |\n"
+      "|---|---|---|---|---|---|---|\n";
+  for (const auto& f : r.sensor_faults) {
+    std::string kind = f.kind;
+    std::replace(kind.begin(), kind.end(), '_', ' ');  // lost_contact -> lost contact
+    md += "| " + Code(f.sensor) + " | " + Text(kind) + " | " + FormatRfc3339(f.onset_ms) + " | " +
+          Fixed(f.size_c, "%+.2f") + " | " + Um(f.effect_mm) + " | " +
+          std::to_string(f.points_left_out) + " | " + Text(f.reason) + " |\n";
+  }
+  return md + "\n";
+}
+
 std::string ErrorsMarkdown(const AnalysisReport& r) {
   std::string md =
-      "## Error before and after (um)\n\n| | declared model | extended model |\n|---|---|---|\n";
+      "## Error before and after (µm)\n\n| | declared model | extended model |\n|---|---|---|\n";
   md += "| training RMSE | " + Um(r.train_rmse_before_mm) + " | " + Um(r.train_rmse_after_mm) +
         " |\n";
   if (r.validation) {
@@ -152,7 +200,15 @@ std::string ErrorsMarkdown(const AnalysisReport& r) {
   md += "| leave-one-run-out RMSE | " + Um(r.cv_rmse_before_mm) + " | " + Um(r.cv_rmse_after_mm) +
         " |\n";
   md += "| held-out RMSE | " + Um(r.holdout_rmse_before_mm) + " | " + Um(r.holdout_rmse_after_mm) +
-        " |\n\n";
+        " |\n";
+  if (r.holdout_errors) {
+    const HeldOutRunError& t = r.holdout_errors->total;
+    md += "| held-out MAE | " + Um(t.mae_before_mm) + " | " + Um(t.mae_after_mm) + " |\n";
+    md += "| held-out " + Text("max |error|") + " | " + Um(t.max_before_mm) + " | " +
+          Um(t.max_after_mm) + " |\n";
+  }
+  md += "\n";
+  md += HeldOutMarkdown(r);
   md += "## Residual structure\n\n| | before | after |\n|---|---|---|\n";
   const ResidualStructure& b = r.structure_before;
   const ResidualStructure& a = r.structure_after;
@@ -176,6 +232,7 @@ std::string AnalysisMarkdown(const AnalysisReport& r) {
         ". Held-out runs, never seen by the search: " + Join(c.holdout_runs) + ". " +
         std::to_string(r.candidates) + " candidate effects, " + std::to_string(r.training_runs) +
         " training runs, " + std::to_string(r.n) + " probe points.\n\n";
+  md += SensorsMarkdown(r);
   md += EffectsMarkdown(r);
   md += ClosestMarkdown(r);
   md += FindingsMarkdown(r);
@@ -207,7 +264,7 @@ std::string AnalysisErrorChartSvg(const AnalysisReport& r) {
   }
   std::string svg =
       "<svg xmlns='http://www.w3.org/2000/svg' width='440' height='170' role='img' "
-      "aria-label='RMSE before and after, um'>";
+      "aria-label='RMSE before and after, µm'>";
   for (int i = 0; i < 4; ++i) {
     const int y = 6 + i * 40;
     svg += "<text x='0' y='" + std::to_string(y + 14) + "' font-size='12'>" + measures[i].label +
@@ -218,7 +275,7 @@ std::string AnalysisErrorChartSvg(const AnalysisReport& r) {
       svg += "<rect x='110' y='" + std::to_string(y + s * 14) + "' width='" + std::to_string(w) +
              "' height='12' fill='" + (s == 0 ? "#999" : "#2a6ebb") + "'/><text x='" +
              std::to_string(115 + w) + "' y='" + std::to_string(y + s * 14 + 10) +
-             "' font-size='10'>" + Um(v) + " um</text>";
+             "' font-size='10'>" + Um(v) + " µm</text>";
     }
   }
   return svg + "</svg>";

@@ -1,7 +1,8 @@
 // The effect-analysis report for people: Markdown, and the chart of the
 // error before and after that its HTML page (api/report_page.h) adds.
 // Both are made from the typed report, so they never disagree with the
-// JSON. Lengths in um; coefficients in um per unit of their term.
+// JSON. Lengths in µm, temperatures in °C; coefficients in µm per unit of
+// their term.
 #pragma once
 
 #include <string>

@@ -121,7 +121,7 @@ StatusOr<AnalysisReport> AnalysisService::Analyze(const std::string& machine_nam
   auto result = SearchEffects(input, config_.analysis);
   if (!result.ok()) return result.status();
   AnalysisContext context{machine_name, axis_name, req.trigger, clock_.NowMs(), inputs, *holdout};
-  AnalysisReport report = BuildAnalysisReport(*result, context);
+  AnalysisReport report = BuildAnalysisReport(*result, context, data.runs);
 
   // The extended model, when there is one and the policy wants it stored.
   std::optional<ModelRecord> model_record;

@@ -1,15 +1,18 @@
 // The effect-analysis report is one typed value with one codec: every
 // section, filled by hand, survives JSON both ways; a report stored before
 // the confidence sections existed still reads and renders; a damaged one is
-// an error, not a crash.
+// an error, not a crash. Built from a search result, it names runs and
+// blocks as a person knows them.
 #include "service/analysis_report_codec.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include <gtest/gtest.h>
 
 #include "core/time_format.h"
 #include "service/analysis_report_text.h"
+#include "service/report_text.h"
 
 namespace thermocomp {
 namespace {
@@ -62,7 +65,12 @@ AnalysisReport FullReport() {
   r.adj_r2_after = 0.949;
   r.structure_before = {0.9, 0.5, 0.2};
   r.structure_after = {0.3, 0.1, 1.4};
-  r.validation = BlockedValidation{"day", 20, 0.0031, 0.0012};
+  r.validation = BlockedValidation{"day", 12, 0.0031, 0.0012, {}};
+  for (int d = 1; d <= 12; ++d) {
+    char day[16];
+    std::snprintf(day, sizeof day, "2026-03-%02d", d);
+    r.validation->block_labels.push_back(day);
+  }
   r.sensor_noise_c = {{"Tbed", 0.01}, {"Tco", 0.02}};
   FilterRecommendation f;
   f.sensor = "Tbed";
@@ -86,6 +94,13 @@ AnalysisReport FullReport() {
   ev.rmse_before_mm = 0.001;
   ev.rmse_after_mm = 0.0012;
   r.event_comparisons = {ev};
+  HeldOutRunErrors held;
+  held.runs = {{"run-30", 20, 0.0021, 0.0025, 0.0049, 0.0008, 0.001, 0.0021},
+               {"run-31", 20, 0.0028, 0.0034, 0.0061, 0.0010, 0.0012, 0.0024}};
+  held.total = {"", 40, 0.00245, 0.003, 0.0061, 0.0009, 0.0011, 0.0024};
+  r.holdout_errors = held;
+  r.sensor_faults = {{"Tbed", "lost_contact", *ParseRfc3339("2026-03-08T09:30:00.000Z"), -1.8,
+                      0.0126, 57, "Tbed reads 1.8 degC below Tco and Tcb since 2026-03-08"}};
   r.model = AnalysisModelOutcome{3, "candidate", "effect analysis added 1 effect(s)"};
   return r;
 }
@@ -110,29 +125,61 @@ TEST(AnalysisReportCodec, EverySectionSurvivesJsonBothWays) {
   EXPECT_NE(encoded["event_comparisons"][0]["statement"].get<std::string>().find(
                 "Tco's sensitivity is -4.00 um/degC instead of -5.00 um/degC"),
             std::string::npos);
+  // The new sections as the API documents them.
+  EXPECT_EQ(encoded["effects"][0]["confidence"]["won"], json({0, 1, 2}));
+  EXPECT_EQ(encoded["validation"]["block_labels"][2], "2026-03-03");
+  const json& held = encoded["holdout_errors"];
+  ASSERT_EQ(held["runs"].size(), 2u);
+  EXPECT_EQ(held["runs"][1]["run"], "run-31");
+  EXPECT_DOUBLE_EQ(held["runs"][1]["max_before_mm"].get<double>(), 0.0061);
+  EXPECT_FALSE(held["total"].contains("run"));
+  EXPECT_EQ(held["total"]["n"], 40);
+  const json& fault = encoded["sensor_faults"][0];
+  EXPECT_EQ(fault["kind"], "lost_contact");
+  EXPECT_EQ(fault["onset"], "2026-03-08T09:30:00.000Z");
+  EXPECT_DOUBLE_EQ(fault["size_c"].get<double>(), -1.8);
+  EXPECT_DOUBLE_EQ(fault["effect_mm"].get<double>(), 0.0126);
+  EXPECT_EQ(fault["points_left_out"], 57);
+  EXPECT_EQ(decoded->effects[0].confidence.won, (std::vector<int>{0, 1, 2}));
+  ASSERT_TRUE(decoded->holdout_errors);
+  EXPECT_EQ(decoded->holdout_errors->runs[0].run, "run-30");
+  EXPECT_TRUE(decoded->holdout_errors->total.run.empty());
+  EXPECT_EQ(decoded->sensor_faults[0].onset_ms, FullReport().sensor_faults[0].onset_ms);
+  EXPECT_EQ(decoded->validation->block_labels, FullReport().validation->block_labels);
 }
 
 TEST(AnalysisReportCodec, TheRenderingsShowEverySectionInMicrometres) {
   const std::string md = AnalysisMarkdown(FullReport());
   for (const char* part :
-       {"# Effect analysis 7: m1 axis Y", "| 1 | `lag(Tco,60min)` | -0.0042 mm/degC | < 1e-300 |",
+       {"# Effect analysis 7: m1 axis Y", "| 1 | `lag(Tco,60min)` | -4.2 µm/°C | < 1e-300 |",
         "3.10 -> 1.20", "Superseded (no longer significant once an effect was in): Tbed",
         "`sq(Tco)` 1.10, 0.2, t 1.0", "day blocks", "60.0 % (t 10.0, 12 blocks)",
         "| `Tco` | -5.10 | -2.00 |", "## Filters", ", applied", "## Ambiguous", "## Set aside",
-        "## Events", "| held-out RMSE | 3.00 | 1.10 |", "Version 3: candidate"}) {
+        "## Events", "| held-out RMSE | 3.00 | 1.10 |", "Version 3: candidate",
+        // Blocks won, by label; held-out errors per run and in total; faults.
+        "## Held-out runs (µm)", "| run\\-31 | 20 | 2.80 | 1.00 | 3.40 | 1.20 | 6.10 | 2.40 |",
+        "| all held-out runs | 40 | 2.45 | 0.90 | 3.00 | 1.10 | 6.10 | 2.40 |",
+        "| held-out MAE | 2.45 | 0.90 |", "max \\|error\\| | 6.10 | 2.40 |", "## Sensors to check",
+        "| `Tbed` | lost contact | 2026-03-08T09:30:00.000Z | -1.80 | 12.60 | 57 |",
+        "readings from the onset on were left out"}) {
     EXPECT_NE(md.find(part), std::string::npos) << part << "\n" << md;
   }
+  const std::string won =
+      report_text::Text("won 3 of 12 days: 2026-03-01, 2026-03-02, 2026-03-03");
+  EXPECT_NE(md.find("| " + won + " |"), std::string::npos) << md;
   const std::string svg = AnalysisErrorChartSvg(FullReport());
   EXPECT_NE(svg.find("<svg"), std::string::npos);
-  EXPECT_NE(svg.find("1.10 um"), std::string::npos);  // held-out after, in um
+  EXPECT_NE(svg.find("1.10 µm"), std::string::npos);  // held-out after, in µm
 }
 
 TEST(AnalysisReportCodec, AnOlderReportWithoutConfidenceSectionsStillReadsAndRenders) {
   json old = AnalysisReportToJson(FullReport());
   for (const char* key : {"validation", "sensor_noise_c", "filters", "set_aside", "ambiguous",
-                          "coefficient_changes", "event_comparisons"}) {
+                          "coefficient_changes", "event_comparisons", "holdout_errors",
+                          "sensor_faults"}) {
     old.erase(key);
   }
+  old["closest_candidates"][0]["confidence"].erase("won");
   old["effects"][0].erase("confidence");
   old["effects"][0].erase("alternatives");
   old["model"] = nullptr;
@@ -140,8 +187,13 @@ TEST(AnalysisReportCodec, AnOlderReportWithoutConfidenceSectionsStillReadsAndRen
   ASSERT_TRUE(decoded.ok()) << decoded.status().ToString();
   EXPECT_FALSE(decoded->validation);
   EXPECT_FALSE(decoded->model);
+  EXPECT_FALSE(decoded->holdout_errors);
+  EXPECT_TRUE(decoded->sensor_faults.empty());
+  EXPECT_TRUE(decoded->closest[0].confidence->won.empty());
   const std::string md = AnalysisMarkdown(*decoded);
   EXPECT_EQ(md.find("## Confidence"), std::string::npos);
+  EXPECT_EQ(md.find("## Held-out runs"), std::string::npos);
+  EXPECT_EQ(md.find("## Sensors to check"), std::string::npos);
   EXPECT_NE(md.find("| held-out RMSE |"), std::string::npos);
 }
 
@@ -156,6 +208,65 @@ TEST(AnalysisReportCodec, ADamagedReportIsAnErrorNotACrash) {
   bad = AnalysisReportToJson(FullReport());
   bad["n"] = "many";
   EXPECT_FALSE(AnalysisReportFromJson(bad).ok());
+  bad = AnalysisReportToJson(FullReport());
+  bad["effects"][0]["confidence"]["won"] = {"Monday"};
+  EXPECT_FALSE(AnalysisReportFromJson(bad).ok());
+  bad = AnalysisReportToJson(FullReport());
+  bad["holdout_errors"]["runs"][0]["n"] = "twenty";
+  EXPECT_FALSE(AnalysisReportFromJson(bad).ok());
+}
+
+TEST(AnalysisReportBuild, NamesHeldOutRunsAndRunBlocksAsTheArchiveDoes) {
+  EffectSearchResult r;
+  r.block_kind = "run";
+  r.blocks = 3;
+  r.block_labels = {"run 0", "run 2", "run 9"};  // 9: no such run, kept as it is
+  r.holdout_n = 30;
+  r.holdout_runs = {{3, 10, 0.001, 0.002, 0.004, 0.0005, 0.0007, 0.001},
+                    {4, 20, 0.002, 0.003, 0.005, 0.0006, 0.0008, 0.002}};
+  r.holdout_total = {-1, 30, 0.00167, 0.00271, 0.005, 0.00057, 0.00077, 0.002};
+  r.sensor_faults = {{"Tco", "drift", 1000, 0.9, -0.0045, 12, "Tco drifts from Tcb"}};
+  const std::vector<std::string> names = {"r-a", "r-b", "r-c", "r-d", "r-e"};
+  const AnalysisReport report = BuildAnalysisReport(r, {"m1", "Y", "manual", 0, {}, {}}, names);
+  ASSERT_TRUE(report.validation);
+  EXPECT_EQ(report.validation->block_labels, (std::vector<std::string>{"r-a", "r-c", "run 9"}));
+  ASSERT_TRUE(report.holdout_errors);
+  ASSERT_EQ(report.holdout_errors->runs.size(), 2u);
+  EXPECT_EQ(report.holdout_errors->runs[0].run, "r-d");
+  EXPECT_EQ(report.holdout_errors->runs[1].run, "r-e");
+  EXPECT_EQ(report.holdout_errors->total.n, 30);
+  EXPECT_DOUBLE_EQ(report.holdout_errors->total.max_before_mm, 0.005);
+  EXPECT_EQ(report.sensor_faults.size(), 1u);
+
+  // Without held-out points there are no held-out errors to report.
+  EffectSearchResult none;
+  EXPECT_FALSE(BuildAnalysisReport(none, {}, names).holdout_errors);
+  // A run without points has errors of nothing: not computed, not zero.
+  none.holdout_runs = {{1, 0, 0, 0, 0, 0, 0, 0}};
+  const AnalysisReport empty_run = BuildAnalysisReport(none, {}, names);
+  ASSERT_TRUE(empty_run.holdout_errors);
+  EXPECT_TRUE(std::isnan(empty_run.holdout_errors->runs[0].rmse_after_mm));
+}
+
+TEST(AnalysisReportBuild, BlocksWonNameTheShorterSide) {
+  BlockedValidation v{"day", 10, 0, 0, {}};
+  for (int d = 1; d <= 10; ++d) v.block_labels.push_back("2026-03-" + std::to_string(10 + d));
+  PairedGain g;
+  g.blocks = 10;
+  g.won = {0, 2};
+  EXPECT_EQ(BlocksWon(g, v), "won 2 of 10 days: 2026-03-11, 2026-03-13");
+  g.won = {0, 1, 2, 3, 4, 5, 6, 8, 9};
+  EXPECT_EQ(BlocksWon(g, v), "won 9 of 10 days; lost 2026-03-18");
+  g.won = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
+  EXPECT_EQ(BlocksWon(g, v), "won 10 of 10 days");
+  g.won = {};
+  EXPECT_EQ(BlocksWon(g, v), "won 0 of 10 days");
+  v.block = "week";
+  g.blocks = 1;
+  g.won = {0};
+  EXPECT_EQ(BlocksWon(g, v), "won 1 of 1 week: 2026-03-11");
+  v.block_labels.clear();  // an older report: nothing to say it with
+  EXPECT_EQ(BlocksWon(g, v), "");
 }
 
 }  // namespace
