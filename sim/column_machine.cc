@@ -37,6 +37,14 @@ const char* ColumnEffectName(ColumnEffect e) {
       return "spindle_signal";
     case ColumnEffect::kSensitivityStep:
       return "sensitivity_step";
+    case ColumnEffect::kShortLag:
+      return "short_lag";
+    case ColumnEffect::kTwoLags:
+      return "two_lags";
+    case ColumnEffect::kQuadratic:
+      return "quadratic";
+    case ColumnEffect::kAsymmetricLag:
+      return "asymmetric_lag";
   }
   return "";
 }
@@ -83,12 +91,29 @@ SimRecording RecordColumnMachine(const ColumnOptions& o) {
   const double air_phase = between(0.0, 2 * kPi);
   const double air_amplitude = between(1.0, 2.0);
   auto has = [&](ColumnEffect e) { return o.hidden.count(e) > 0; };
+
+  // The further forms, from a stream of their own so that the draws above
+  // (and every machine of the kinds above) stay as they were.
+  std::mt19937_64 forms(o.seed * 0x9E3779B97F4A7C15ULL + 7);
+  auto form_between = [&](double lo, double hi) { return lo + (hi - lo) * u01(forms); };
+  auto form_sign = [&] { return u01(forms) < 0.5 ? -1.0 : 1.0; };
+  const double tau_short = form_between(3.0, 5.0);
+  const double b_short = form_sign() * form_between(2.0, 4.0) * 1e-3;
+  const double tau_fast = form_between(10.0, 20.0);
+  const double tau_slow = form_between(120.0, 240.0);
+  const double b_fast = form_sign() * form_between(2.5, 4.0) * 1e-3;
+  const double b_slow = (b_fast > 0 ? -1.0 : 1.0) * form_between(2.0, 3.5) * 1e-3;
+  const double b_quad = form_sign() * form_between(0.4, 0.8) * 1e-3;  // mm per degC^2
+  const double tau_heat = form_between(10.0, 20.0);
+  const double tau_cool = form_between(60.0, 120.0);
+  const double b_asym = form_sign() * form_between(1.5, 3.0) * 1e-3;
   rec.declared_coefficients = {{"Tcol_top", b_top}, {"Tbed1", b_bed}, {"Tgl", b_gl}};
 
   // Thermal state (degC): shared sources, each sensor's node through its own lag.
   double ambient = 20.0 + between(-0.5, 0.5);
   double sp = ambient, gl = ambient, cool = ambient, top = ambient, base = ambient;
   double bed1 = ambient, bed2 = ambient, gl_lag = ambient, rpm_lag = 0;
+  double sp_short = ambient, sp_fast = ambient, sp_slow = ambient, sp_asym = ambient;
   double rpm = 0, power = 0, x_load = 0, y_load = 0;
   // Production: runs of 1.5 to 4 h, about three a day; a datum at the start,
   // then a point every 10 to 20 min somewhere on the table.
@@ -113,6 +138,10 @@ SimRecording RecordColumnMachine(const ColumnOptions& o) {
     if (has(ColumnEffect::kCrossPosition)) d += b_cross * (x_mm / 1000.0) * (bed1 - 20.0);
     if (has(ColumnEffect::kAxisPosition)) d += b_axis * ((y_mm - 200.0) / 1000.0) * (top - 20.0);
     if (has(ColumnEffect::kSpindleSignal)) d += b_rpm * rpm_lag;
+    if (has(ColumnEffect::kShortLag)) d += b_short * (sp_short - 20.0);
+    if (has(ColumnEffect::kTwoLags)) d += b_fast * (sp_fast - 20.0) + b_slow * (sp_slow - 20.0);
+    if (has(ColumnEffect::kQuadratic)) d += b_quad * (bed1 - 20.0) * (bed1 - 20.0);
+    if (has(ColumnEffect::kAsymmetricLag)) d += b_asym * (sp_asym - 20.0);
     (void)after_datum;
     return d;
   };
@@ -153,6 +182,10 @@ SimRecording RecordColumnMachine(const ColumnOptions& o) {
     bed2 = Approach(bed2, ambient + (running ? 2.2 * x_load : 0.2), 160, dt_min);
     gl_lag = Approach(gl_lag, gl, tau_lag, dt_min);
     rpm_lag = Approach(rpm_lag, rpm, tau_rpm, dt_min);
+    sp_short = Approach(sp_short, sp, tau_short, dt_min);
+    sp_fast = Approach(sp_fast, sp, tau_fast, dt_min);
+    sp_slow = Approach(sp_slow, sp, tau_slow, dt_min);
+    sp_asym = Approach(sp_asym, sp, sp > sp_asym ? tau_heat : tau_cool, dt_min);
 
     // Sensors, with noise, resolution and gaps.
     const double truth[] = {sp, gl, cool, top, base, bed1, bed2, ambient};
@@ -172,8 +205,20 @@ SimRecording RecordColumnMachine(const ColumnOptions& o) {
       rec.extras.events.push_back({now, "maintenance", "column guideways re-adjusted"});
     }
 
+    // Continuous displacement: every sample of a run, at the mandrel.
+    if (o.continuous && running) {
+      const double d = drift_at(400.0, 200.0, now, k > 0);
+      if (k == 0) datum_drift = d;
+      ProbePointInput p;
+      p.run = run_name;
+      p.k = k++;
+      p.ts_ms = now;
+      p.axes["Y"] = {std::nullopt, d + o.displacement_noise_mm * unit(rng)};
+      rec.points.push_back(std::move(p));
+      rec.extras.true_drift_y.push_back(d - datum_drift);
+    }
     // Probing.
-    if (running && now >= next_probe) {
+    if (!o.continuous && running && now >= next_probe) {
       const double x = k == 0 ? 400.0 : std::round(between(50, 750));
       const double y = k == 0 ? 200.0 : std::round(between(80, 620));
       const double d = drift_at(x, y, now, k > 0);
@@ -197,7 +242,7 @@ SimRecording RecordColumnMachine(const ColumnOptions& o) {
 
   // What a search should name, family-neutrally.
   auto add = [&](EffectKind kind, std::string source, std::string axis, double tau, int64_t ev) {
-    rec.hidden.push_back({kind, std::move(source), std::move(axis), tau, ev});
+    rec.hidden.push_back({kind, std::move(source), std::move(axis), tau, ev, 0, {}});
   };
   for (ColumnEffect e : o.hidden) {
     switch (e) {
@@ -218,6 +263,19 @@ SimRecording RecordColumnMachine(const ColumnOptions& o) {
         break;
       case ColumnEffect::kSensitivityStep:
         add(EffectKind::kEventSensor, "Tcol_top", "", 0, maintenance_logged_ms);
+        break;
+      case ColumnEffect::kShortLag:
+        add(EffectKind::kLag, "Tsp", "", tau_short, 0);
+        break;
+      case ColumnEffect::kTwoLags:
+        add(EffectKind::kLag, "Tsp", "", tau_fast, 0);
+        add(EffectKind::kLag, "Tsp", "", tau_slow, 0);
+        break;
+      case ColumnEffect::kQuadratic:
+        add(EffectKind::kQuadratic, "Tbed1", "", 0, 0);
+        break;
+      case ColumnEffect::kAsymmetricLag:
+        rec.hidden.push_back({EffectKind::kAsymmetricLag, "Tsp", "", tau_heat, 0, tau_cool, {}});
         break;
     }
   }

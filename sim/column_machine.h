@@ -14,6 +14,10 @@
 // The declared Y model is the column top, the bed and the glycol; the true
 // Y drift is linear in their (noise-free) temperatures plus the hidden
 // effects chosen. The sampling interval is configurable (15 s or 60 s).
+// Instead of probe points, displacement may be logged continuously (a test
+// mandrel and displacement sensors): every sample during a run is a point
+// without positions, the run's first its datum, as `thermocomp import
+// --displacements` makes them.
 #pragma once
 
 #include <cstdint>
@@ -33,7 +37,15 @@ enum class ColumnEffect {
   kAxisPosition,     // Y error grows with Y position as the column warms
   kSpindleSignal,    // spindle heat seen only in the logged speed
   kSensitivityStep,  // the column's sensitivity changes at a logged maintenance
+  // Further forms (parameters from a generator of their own, so the
+  // machines of the kinds above stay as they were):
+  kShortLag,       // the spindle nose: Tsp through a 3-5 min lag
+  kTwoLags,        // Tsp through a fast (10-20 min) and a slow (120-240 min) lag, opposite signs
+  kQuadratic,      // Tbed1's response has a term quadratic in its absolute temperature
+  kAsymmetricLag,  // Tsp through a lag heating with 10-20 min, cooling with 60-120 min
 };
+
+inline constexpr ColumnEffect kLastColumnEffect = ColumnEffect::kAsymmetricLag;
 
 const char* ColumnEffectName(ColumnEffect e);
 
@@ -45,10 +57,15 @@ struct ColumnOptions {
   int sample_s = 60;               // sensor logging interval
   double sensor_noise_c = 0.02;    // white, per sample
   double probe_noise_mm = 0.0007;  // one probing
+  // Continuous displacement: every sample during a run is a point (Y only,
+  // no positions), with this noise.
+  bool continuous = false;
+  double displacement_noise_mm = 0.0005;
   std::set<ColumnEffect> hidden = {};
 };
 
-// `days` of the machine as a recording the search input is built from
+// `days` of the machine (24 in the studies; 2 and 5 for short recordings)
+// as a recording the search input is built from
 // (ToSearchInput), with the hidden effects described family-neutrally.
 SimRecording RecordColumnMachine(const ColumnOptions& options);
 MachineRecord ColumnMachineDefinition(const std::string& name);

@@ -28,22 +28,33 @@ SimRecording Record(const SimOptions& options, int days) {
   for (HiddenEffect e : options.hidden) {
     switch (e) {
       case HiddenEffect::kSensor:
-        rec.hidden.push_back({EffectKind::kSensor, t.sensor, "", 0, 0});
+        rec.hidden.push_back({EffectKind::kSensor, t.sensor, "", 0, 0, 0, {}});
         break;
       case HiddenEffect::kLag:
-        rec.hidden.push_back({EffectKind::kLag, "Tco", "", t.lag_tau_min, 0});
+        rec.hidden.push_back({EffectKind::kLag, "Tco", "", t.lag_tau_min, 0, 0, {}});
         break;
       case HiddenEffect::kPosition:
-        rec.hidden.push_back({EffectKind::kPositionXTemperature, "Tcb", "Y", 0, 0});
+        rec.hidden.push_back({EffectKind::kPositionXTemperature, "Tcb", "Y", 0, 0, 0, {}});
         break;
       case HiddenEffect::kTrend:
-        rec.hidden.push_back({EffectKind::kTrend, "", "", 0, 0});
+        rec.hidden.push_back({EffectKind::kTrend, "", "", 0, 0, 0, {}});
         break;
       case HiddenEffect::kStep:
-        rec.hidden.push_back({EffectKind::kStep, "", "", 0, t.step_ts_ms});
+        rec.hidden.push_back({EffectKind::kStep, "", "", 0, t.step_ts_ms, 0, {}});
         break;
       case HiddenEffect::kSignal:
-        rec.hidden.push_back({EffectKind::kSignal, "spindle_rpm", "", t.signal_tau_min, 0});
+        rec.hidden.push_back({EffectKind::kSignal, "spindle_rpm", "", t.signal_tau_min, 0, 0, {}});
+        break;
+      case HiddenEffect::kTwoLags:
+        rec.hidden.push_back({EffectKind::kLag, t.form_sensor, "", t.fast_tau_min, 0, 0, {}});
+        rec.hidden.push_back({EffectKind::kLag, t.form_sensor, "", t.slow_tau_min, 0, 0, {}});
+        break;
+      case HiddenEffect::kQuadratic:
+        rec.hidden.push_back({EffectKind::kQuadratic, t.quadratic_sensor, "", 0, 0, 0, {}});
+        break;
+      case HiddenEffect::kAsymmetricLag:
+        rec.hidden.push_back(
+            {EffectKind::kAsymmetricLag, t.form_sensor, "", t.heat_tau_min, 0, t.cool_tau_min, {}});
         break;
     }
   }

@@ -14,14 +14,19 @@
 namespace thermocomp {
 
 // A hidden effect as a search should name it, whatever the simulator:
-// the term kind, its sensor or signal, its axis, its time constant, its
-// event.
+// the term kind, its sensor or signal, its axis, its time constant(s), its
+// event. A sensor acting through two lags is two kLag effects of the same
+// sensor. A declared sensor's fault (fault non-empty: drift | step |
+// lost_contact) is no term: the search should report it in sensor_faults,
+// `source` the sensor, `event_ms` the onset.
 struct TrueEffect {
   EffectKind kind = EffectKind::kSensor;
   std::string source;
   std::string axis;
   double tau_min = 0;
   int64_t event_ms = 0;
+  double tau2_min = 0;  // kAsymmetricLag: cooling
+  std::string fault;
 };
 
 struct SimRecording {
@@ -38,6 +43,7 @@ struct SimRecording {
   double sensor_noise_c = 0.02;
 };
 
+// `days` of VirtualMachine (30 in the studies; 2 and 5 for short recordings).
 SimRecording Record(const SimOptions& options, int days);
 
 // The search input for `axis` with its declared inputs; the newest

@@ -8,13 +8,19 @@ namespace {
 constexpr int64_t kMinute = 60000;
 constexpr int64_t kDay = 24 * 60 * kMinute;
 constexpr double kPi = 3.14159265358979323846;
-constexpr HiddenEffect kAllHidden[] = {HiddenEffect::kSensor,   HiddenEffect::kLag,
-                                       HiddenEffect::kPosition, HiddenEffect::kTrend,
-                                       HiddenEffect::kStep,     HiddenEffect::kSignal};
+constexpr HiddenEffect kAllHidden[] = {
+    HiddenEffect::kSensor,  HiddenEffect::kLag,       HiddenEffect::kPosition,
+    HiddenEffect::kTrend,   HiddenEffect::kStep,      HiddenEffect::kSignal,
+    HiddenEffect::kTwoLags, HiddenEffect::kQuadratic, HiddenEffect::kAsymmetricLag};
 
 // First-order approach of x towards target over dt minutes with time constant tau.
 double Lag(double x, double target, double tau_min) {
   return target + (x - target) * std::exp(-1.0 / tau_min);
+}
+
+// The same with one time constant while x rises and another while it falls.
+double AsymmetricLag(double x, double target, double heat_tau_min, double cool_tau_min) {
+  return Lag(x, target, target > x ? heat_tau_min : cool_tau_min);
 }
 
 }  // namespace
@@ -33,6 +39,12 @@ const char* HiddenEffectName(HiddenEffect e) {
       return "step";
     case HiddenEffect::kSignal:
       return "signal";
+    case HiddenEffect::kTwoLags:
+      return "two_lags";
+    case HiddenEffect::kQuadratic:
+      return "quadratic";
+    case HiddenEffect::kAsymmetricLag:
+      return "asymmetric_lag";
   }
   return "";
 }
@@ -48,7 +60,7 @@ VirtualMachine::VirtualMachine(const SimOptions& o)
     : opt_(o), rng_(o.seed), now_ms_(o.start_ms - o.start_ms % kMinute), start_ms_(now_ms_) {
   air_offset_ = 0.5 * unit_(rng_);
   const double air = AirTemperature();
-  n_ = {air, air, air, air, air, air, air, air, air, air, 0.0};
+  n_ = {air, air, air, air, air, air, air, air, air, air, 0.0, air, air, air};
   // Hidden-effect parameters come from their own stream, drawn whether or
   // not an effect is on, so one seed always means the same machine.
   std::mt19937_64 draw(o.seed * 7919 + 17);
@@ -70,6 +82,24 @@ VirtualMachine::VirtualMachine(const SimOptions& o)
   truth_.step_mm = sign() * between(3.0, 6.0) * 1e-3;
   truth_.signal_tau_min = between(15.0, 60.0);
   truth_.signal_mm_per_rpm = sign() * between(0.6, 1.2) * 1e-6;
+
+  // The further forms, from a stream of their own: the draws above, and so
+  // every machine of the kinds above, stay as they were.
+  std::mt19937_64 forms(o.seed * 6364136223846793005ULL + 1442695040888963407ULL);
+  auto form_between = [&](double lo, double hi) { return lo + (hi - lo) * u(forms); };
+  const double form_sign = u(forms) < 0.5 ? -1.0 : 1.0;
+  truth_.form_sensor = "Tsp";
+  // The spindle head grows within minutes; the column it heats bends the
+  // other way over hours.
+  truth_.fast_tau_min = form_between(10.0, 20.0);
+  truth_.fast_mm_per_c = form_sign * form_between(2.5, 4.0) * 1e-3;
+  truth_.slow_tau_min = form_between(120.0, 240.0);
+  truth_.slow_mm_per_c = -form_sign * form_between(2.0, 3.5) * 1e-3;
+  truth_.quadratic_sensor = "Tbed";
+  truth_.quadratic_mm_per_c2 = (u(forms) < 0.5 ? -1.0 : 1.0) * form_between(0.4, 0.8) * 1e-3;
+  truth_.heat_tau_min = form_between(10.0, 20.0);
+  truth_.cool_tau_min = form_between(60.0, 120.0);
+  truth_.asymmetric_mm_per_c = (u(forms) < 0.5 ? -1.0 : 1.0) * form_between(1.5, 3.0) * 1e-3;
 }
 
 MachineRecord VirtualMachine::Definition(const std::string& name) {
@@ -109,6 +139,16 @@ double VirtualMachine::DeviationY(double position_mm, bool seated) const {
     d += truth_.position_mm_per_m_c * (position_mm / 1000.0) * (n_.colbase - 20.0);
   }
   if (Has(HiddenEffect::kSignal)) d += truth_.signal_mm_per_rpm * n_.rpm_lag;
+  if (Has(HiddenEffect::kTwoLags)) {
+    d += truth_.fast_mm_per_c * (n_.spindle_fast - 20.0) +
+         truth_.slow_mm_per_c * (n_.spindle_slow - 20.0);
+  }
+  if (Has(HiddenEffect::kQuadratic)) {
+    d += truth_.quadratic_mm_per_c2 * (n_.bed - 20.0) * (n_.bed - 20.0);
+  }
+  if (Has(HiddenEffect::kAsymmetricLag)) {
+    d += truth_.asymmetric_mm_per_c * (n_.spindle_asymmetric - 20.0);
+  }
   if (seated) {
     if (Has(HiddenEffect::kTrend)) {
       d += truth_.trend_mm_per_day * static_cast<double>(now_ms_ - start_ms_) / kDay;
@@ -159,6 +199,10 @@ void VirtualMachine::Step(std::vector<TemperatureInput>& samples,
   n_.base = Lag(n_.base, n_.air, 400);
   n_.coolant_lag = Lag(n_.coolant_lag, n_.coolant, truth_.lag_tau_min);
   n_.rpm_lag = Lag(n_.rpm_lag, rpm, truth_.signal_tau_min);
+  n_.spindle_fast = Lag(n_.spindle_fast, n_.spindle, truth_.fast_tau_min);
+  n_.spindle_slow = Lag(n_.spindle_slow, n_.spindle, truth_.slow_tau_min);
+  n_.spindle_asymmetric =
+      AsymmetricLag(n_.spindle_asymmetric, n_.spindle, truth_.heat_tau_min, truth_.cool_tau_min);
 
   auto sense = [&](const char* sensor, double t) {
     samples.push_back(

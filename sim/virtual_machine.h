@@ -17,6 +17,9 @@
 //
 // Hidden effects (docs/model.md §9) add to the Y deviation what the declared
 // model (Tco, Tcb, Tbed) lacks; their parameters are drawn from the seed.
+// No 3-5 min lag here: the sensors are filtered (Tsp at alpha 0.4, a 2-min
+// lag at 60 s) and the loads change only at a run's datum, so such a lag is
+// the filtered sensor itself; ColumnMachine has it.
 #pragma once
 
 #include <cstdint>
@@ -38,6 +41,11 @@ enum class HiddenEffect {
   kTrend,     // the pallet seats a little more every day after the datum
   kStep,      // the seating changes at a logged maintenance event
   kSignal,    // heat from spindle speed (logged as spindle_rpm) through a lag
+  // Forms beyond a single lag (docs/model.md §10); their parameters come from
+  // a generator of their own, so the kinds above keep their machines.
+  kTwoLags,        // Tsp through a fast (10-20 min) and a slow (120-240 min) lag, opposite signs
+  kQuadratic,      // Tbed's response has a term quadratic in its absolute temperature
+  kAsymmetricLag,  // Tsp through a lag heating with 10-20 min, cooling with 60-120 min
 };
 
 const char* HiddenEffectName(HiddenEffect e);
@@ -56,6 +64,13 @@ struct HiddenTruth {
   double step_mm = 0;
   double signal_tau_min = 0;  // kSignal
   double signal_mm_per_rpm = 0;
+  std::string form_sensor;                     // kTwoLags and kAsymmetricLag: Tsp
+  double fast_tau_min = 0, fast_mm_per_c = 0;  // kTwoLags
+  double slow_tau_min = 0, slow_mm_per_c = 0;
+  std::string quadratic_sensor;               // kQuadratic: Tbed
+  double quadratic_mm_per_c2 = 0;             // per (T - 20 degC)^2
+  double heat_tau_min = 0, cool_tau_min = 0;  // kAsymmetricLag
+  double asymmetric_mm_per_c = 0;
 };
 
 struct SimOptions {
@@ -103,6 +118,7 @@ class VirtualMachine {
   struct Nodes {
     double spindle, x_drive, y_drive, coolant, air, column, colbase, bed, base;
     double coolant_lag, rpm_lag;  // hidden lag states
+    double spindle_fast, spindle_slow, spindle_asymmetric;
   };
   double AirTemperature() const;
   bool InRun() const;
