@@ -2,37 +2,84 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <set>
 
+#include "core/time_units.h"
 #include "model/sensor_noise.h"
+#include "model/term_features.h"
+#include "sim/column_machine.h"
 
 namespace thermocomp {
+namespace {
+
+bool Within(double value, double truth, double factor) {
+  return value <= truth * factor && value >= truth / factor;
+}
+
+// Kinds that shape a temperature (or signal) response: added next to a
+// named truth without naming anything, one of them corrects its form.
+bool IsForm(EffectKind k) {
+  switch (k) {
+    case EffectKind::kSensor:
+    case EffectKind::kLag:
+    case EffectKind::kAsymmetricLag:
+    case EffectKind::kRate:
+    case EffectKind::kSquare:
+    case EffectKind::kQuadratic:
+    case EffectKind::kSignal:
+      return true;
+    default:
+      return false;
+  }
+}
+
+}  // namespace
 
 bool NamesTrueEffect(const EffectTerm& t, const TrueEffect& h) {
+  if (!h.fault.empty()) return false;
   if (t.kind != h.kind) return false;
   if (!h.source.empty() && t.source != h.source) return false;
   if (!h.axis.empty() && t.axis != h.axis) return false;
   if (h.event_ms != 0 && std::llabs(t.ref_ms - h.event_ms) > 60000) return false;
-  if (h.tau_min > 0 && (t.tau_min > h.tau_min * 1.5 || t.tau_min < h.tau_min / 1.5)) return false;
+  if (h.tau_min > 0 && !Within(t.tau_min, h.tau_min, 1.5)) return false;
+  if (h.tau2_min > 0 && !Within(t.tau2_min, h.tau2_min, 1.5)) return false;
   return true;
 }
 
-namespace {
-
-std::string Describe(const TrueEffect& h) {
-  std::string s = EffectKindName(h.kind);
-  if (!h.source.empty()) s += " of " + h.source;
-  if (!h.axis.empty()) s += " along " + h.axis;
-  if (h.tau_min > 0) s += " tau " + std::to_string(static_cast<int>(h.tau_min)) + " min";
-  return s;
+bool NamesTrueFault(const SensorFault& f, const TrueEffect& h) {
+  return !h.fault.empty() && f.sensor == h.source && std::llabs(f.onset_ms - h.event_ms) <= kDayMs;
 }
 
-}  // namespace
+EffectTerm TrueTerm(const TrueEffect& h) {
+  EffectTerm t;
+  t.kind = h.kind;
+  t.source = h.source;
+  t.axis = h.axis;
+  t.tau_min = h.tau_min;
+  t.tau2_min = h.tau2_min;
+  t.ref_ms = h.event_ms;
+  if (h.kind == EffectKind::kStep || h.kind == EffectKind::kEventSensor) {
+    t.event_kind = "maintenance";
+  }
+  return t;
+}
+
+std::string DescribeTrueEffect(const TrueEffect& h) {
+  std::string s = h.fault.empty() ? EffectKindName(h.kind) : h.fault + " fault";
+  if (!h.source.empty()) s += " of " + h.source;
+  if (!h.axis.empty()) s += " along " + h.axis;
+  if (h.tau_min > 0) s += " tau " + std::to_string(static_cast<int>(std::lround(h.tau_min)));
+  if (h.tau2_min > 0) s += "/" + std::to_string(static_cast<int>(std::lround(h.tau2_min)));
+  if (h.tau_min > 0) s += " min";
+  return s;
+}
 
 SearchScore ScoreSearch(const SimRecording& rec, const EffectSearchInput& in,
                         const std::vector<double>& true_drift, const EffectSearchResult& r) {
   SearchScore s;
   s.hidden = static_cast<int>(rec.hidden.size());
   std::vector<bool> used(rec.hidden.size(), false);
+  std::vector<std::string> unmatched_forms;
   for (const auto& e : r.effects) {
     bool matched = false;
     for (size_t h = 0; h < rec.hidden.size() && !matched; ++h) {
@@ -42,10 +89,24 @@ SearchScore ScoreSearch(const SimRecording& rec, const EffectSearchInput& in,
       ++s.named;
     } else {
       s.extras.push_back(e.term.Name());
+      if (IsForm(e.term.kind)) unmatched_forms.push_back(e.term.Name());
     }
   }
   for (size_t h = 0; h < rec.hidden.size(); ++h) {
-    if (!used[h]) s.missed.push_back(Describe(rec.hidden[h]));
+    if (rec.hidden[h].fault.empty()) continue;
+    for (const auto& f : r.sensor_faults) {
+      if (NamesTrueFault(f, rec.hidden[h])) {
+        used[h] = true;
+        ++s.named;
+        break;
+      }
+    }
+  }
+  // Forms next to a named truth correct its form; with nothing named they
+  // are plain false effects (counted as extras either way).
+  if (s.named > 0) s.companions = unmatched_forms;
+  for (size_t h = 0; h < rec.hidden.size(); ++h) {
+    if (!used[h]) s.missed.push_back(DescribeTrueEffect(rec.hidden[h]));
   }
   // The floor: probe noise about the truth on the held-out rows, plus what
   // each declared sensor's noise adds through its coefficient (at the point
@@ -67,6 +128,102 @@ SearchScore ScoreSearch(const SimRecording& rec, const EffectSearchInput& in,
   s.noise_floor_mm = std::sqrt(sse / std::max(n, 1) + sensor);
   s.holdout_rmse_mm = r.holdout_rmse_after_mm;
   return s;
+}
+
+StatusOr<PairedGain> TrueEffectGain(const SimRecording& rec, const EffectSearchInput& in,
+                                    const EffectSearchOptions& opt) {
+  std::vector<EffectTerm> base = in.declared;
+  std::vector<EffectTerm> with = base;
+  for (const auto& h : rec.hidden) {
+    if (h.fault.empty()) with.push_back(TrueTerm(h));
+  }
+  FeatureBuilder features(in.inputs, in.points);
+  std::vector<Eigen::VectorXd> columns;
+  for (const auto& t : with) columns.push_back(features.Column(t));
+  // Training rows every column is known on.
+  std::vector<int> rows;
+  for (size_t i = 0; i < in.points.size(); ++i) {
+    if (in.holdout[i]) continue;
+    bool known = true;
+    for (const auto& c : columns) known = known && std::isfinite(c(static_cast<int>(i)));
+    if (known) rows.push_back(static_cast<int>(i));
+  }
+  const int n = static_cast<int>(rows.size());
+  if (n < 10) return Status::Unprocessable("too few training rows");
+  Eigen::VectorXd y(n);
+  Eigen::MatrixXd x_with(n, static_cast<int>(with.size()));
+  std::vector<int64_t> datum_ts;
+  std::vector<int64_t> runs;
+  for (int r = 0; r < n; ++r) {
+    y(r) = in.drift_mm[rows[r]];
+    for (size_t c = 0; c < with.size(); ++c) x_with(r, static_cast<int>(c)) = columns[c](rows[r]);
+    datum_ts.push_back(in.points[rows[r]].datum_ts_ms);
+    runs.push_back(in.run[rows[r]]);
+  }
+  // Blocks as the search makes them: days, or runs when too few days.
+  int blocks = 0;
+  std::vector<int> block = TimeBlocks(datum_ts, kDayMs, &blocks);
+  if (blocks < opt.min_blocks) block = TimeBlocks(runs, 1, &blocks);
+  const Eigen::MatrixXd x_base = x_with.leftCols(static_cast<int>(base.size()));
+  auto before = BlockCrossValidate(x_base, y, block, blocks);
+  if (!before.ok()) return before.status();
+  auto after = BlockCrossValidate(x_with, y, block, blocks);
+  if (!after.ok()) return after.status();
+  return CompareBlocks(*before, *after);
+}
+
+bool PassesStrongRule(const PairedGain& g, const EffectSearchOptions& opt) {
+  const int lost = g.blocks - static_cast<int>(g.won.size());
+  return g.blocks >= opt.strong_min_blocks && g.relative >= opt.strong_gain &&
+         lost <= opt.strong_lost_blocks;
+}
+
+bool PassesBar(const PairedGain& g, const EffectSearchOptions& opt) {
+  return g.relative >= opt.min_gain && (g.t >= opt.min_t || PassesStrongRule(g, opt));
+}
+
+StatusOr<SimRecording> StudyMachine(char family, const std::string& scenario, uint64_t seed,
+                                    int days) {
+  constexpr int64_t kStart = 1772323200000;  // 2026-03-01T00:00:00Z
+  std::vector<std::string> names;
+  for (size_t p = 0; p < scenario.size();) {
+    const size_t q = scenario.find('+', p);
+    names.push_back(scenario.substr(p, q == std::string::npos ? q : q - p));
+    if (q == std::string::npos) break;
+    p = q + 1;
+  }
+  if (family == 'A') {
+    SimOptions o;
+    o.seed = seed;
+    o.start_ms = kStart;
+    for (const auto& n : names) {
+      auto e = ParseHiddenEffect(n);
+      if (!e) return Status::Unprocessable("unknown effect of family A: " + n);
+      o.hidden.insert(*e);
+    }
+    return Record(o, days > 0 ? days : 30);
+  }
+  if (family != 'B' && family != 'C' && family != 'D') {
+    return Status::Unprocessable(std::string("unknown family ") + family);
+  }
+  ColumnOptions o;
+  o.seed = seed;
+  o.start_ms = kStart;
+  if (days > 0) o.days = days;
+  if (family != 'B') o.sample_s = 15;
+  o.continuous = family == 'D';
+  for (const auto& n : names) {
+    bool known = false;
+    for (int e = 0; e <= static_cast<int>(kLastColumnEffect); ++e) {
+      if (n == ColumnEffectName(static_cast<ColumnEffect>(e))) {
+        o.hidden.insert(static_cast<ColumnEffect>(e));
+        known = true;
+      }
+    }
+    if (!known)
+      return Status::Unprocessable("unknown effect of family " + std::string(1, family) + ": " + n);
+  }
+  return RecordColumnMachine(o);
 }
 
 }  // namespace thermocomp
