@@ -3,7 +3,10 @@
 // JSON, Markdown and HTML, and the extended model served live.
 #include "tests/app_fixture.h"  // first: Eigen before httplib.h (see api/http_server.h)
 
+#include <algorithm>
 #include <cmath>
+#include <map>
+#include <set>
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
@@ -121,6 +124,93 @@ TEST_F(AnalysisHttpTest, FindsTheHiddenLagReportsItAndServesTheExtendedModel) {
   ASSERT_TRUE(decoded.ok()) << decoded.status().ToString();
   EXPECT_EQ(DriftHistoryToJson(*decoded), drift);
   EXPECT_EQ(decoded->probe_points.size(), drift["probe_points"].size());
+}
+
+// n-weighted: the total's MSE and MAE are the runs' weighted by their points.
+struct HeldOutSums {
+  int n = 0;
+  double sse = 0, sae = 0, max = 0;
+};
+
+void ExpectOrdered(const json& e, const std::string& side, const std::string& what) {
+  const double mae = e["mae_" + side + "_mm"].get<double>();
+  const double rmse = e["rmse_" + side + "_mm"].get<double>();
+  const double max = e["max_" + side + "_mm"].get<double>();
+  const double slack = 1e-12;
+  EXPECT_LE(mae, rmse + slack) << what << " " << side;
+  EXPECT_LE(rmse, max + slack) << what << " " << side;
+  EXPECT_GE(mae, 0.0) << what << " " << side;
+}
+
+TEST_F(AnalysisHttpTest, HeldOutErrorsPerRunAddUpToTheTotal) {
+  Simulate("m1", 30, 12, {HiddenEffect::kLag});
+  json report = Analyze("m1", {{"policy", "off"}});
+  ASSERT_GT(report["holdout_n"].get<int>(), 0) << report.dump(2);
+
+  // The blocks an effect won are blocks of the validation.
+  const json& labels = report["validation"]["block_labels"];
+  if (!labels.empty()) {
+    EXPECT_EQ(labels.size(), report["validation"]["blocks"].get<size_t>());
+  }
+  for (const auto& e : report["effects"]) {
+    const json& won = e["confidence"]["won"];
+    EXPECT_LE(won.size(), e["confidence"]["blocks"].get<size_t>()) << e["name"];
+    for (const auto& b : won) {
+      if (!labels.empty()) {
+        EXPECT_LT(b.get<size_t>(), labels.size()) << e["name"];
+      }
+    }
+  }
+
+  if (!report.contains("holdout_errors")) {
+    GTEST_SKIP() << "the search reports no held-out errors per run (holdout_runs of "
+                    "EffectSearchResult empty)";
+  }
+  const json& held = report["holdout_errors"];
+  const json& runs = held["runs"];
+  const json& total = held["total"];
+  ASSERT_FALSE(runs.empty()) << held.dump(2);
+  const json& names = report["holdout_runs"];
+  std::map<std::string, HeldOutSums> sums;  // per side
+  std::set<std::string> seen;
+  for (const auto& run : runs) {
+    const std::string name = run["run"].get<std::string>();
+    EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+    EXPECT_TRUE(seen.insert(name).second) << name << " twice";
+    const int n = run["n"].get<int>();
+    ASSERT_GT(n, 0) << name;
+    for (const std::string side : {"before", "after"}) {
+      ExpectOrdered(run, side, name);
+      HeldOutSums& s = sums[side];
+      const double rmse = run["rmse_" + side + "_mm"].get<double>();
+      s.n += n;
+      s.sse += n * rmse * rmse;
+      s.sae += n * run["mae_" + side + "_mm"].get<double>();
+      s.max = std::max(s.max, run["max_" + side + "_mm"].get<double>());
+    }
+  }
+  EXPECT_EQ(total["n"].get<int>(), report["holdout_n"].get<int>());
+  for (const std::string side : {"before", "after"}) {
+    ExpectOrdered(total, side, "total");
+    const HeldOutSums& s = sums[side];
+    EXPECT_EQ(s.n, total["n"].get<int>()) << side;
+    const double rmse = total["rmse_" + side + "_mm"].get<double>();
+    EXPECT_NEAR(rmse * rmse, s.sse / s.n, 1e-9 * rmse * rmse) << side;
+    EXPECT_NEAR(total["mae_" + side + "_mm"].get<double>(), s.sae / s.n, 1e-9 * rmse) << side;
+    EXPECT_DOUBLE_EQ(total["max_" + side + "_mm"].get<double>(), s.max) << side;
+    // The same held-out points as the report's held-out RMSE.
+    EXPECT_NEAR(rmse, report["rmse_" + side + "_mm"].get<double>(), 1e-9 * rmse) << side;
+  }
+  // The extended model found the hidden lag: better on the held-out runs.
+  EXPECT_LT(total["rmse_after_mm"].get<double>(), total["rmse_before_mm"].get<double>());
+
+  // The readable report shows every held-out run by name.
+  auto md = client_->Get("/api/v1/machines/m1/axes/Y/analysis/" + report["id"].dump() +
+                         "?format=markdown");
+  ASSERT_TRUE(md);
+  EXPECT_NE(md->body.find("## Held-out runs"), std::string::npos);
+  EXPECT_NE(md->body.find("| all held-out runs | " + total["n"].dump() + " |"),
+            std::string::npos);
 }
 
 TEST_F(AnalysisHttpTest, PositionDependentExpansionIsServedAsSlopeAndAtTheProbe) {
