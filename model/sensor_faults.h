@@ -6,10 +6,34 @@
 // it as "check this sensor" with its onset, and leaves the readings from
 // the onset on out, instead of inventing a thermal effect for it.
 //
-// Each declared sensor's raw series is predicted from the other sensors
-// on the early part of the data; a fault is a departure of that prediction's
-// residual that starts at one time, grows or jumps beyond what the
-// residual did before, and stays. Deterministic, on values only.
+// Method, and why. Heat reaches every sensor from a few shared sources
+// (spindle, drives, coolant, air), so a sensor's reading is largely what
+// the others say, through lags; a fault is what the others do not say.
+//  - Each sensor's raw series is reduced to hourly means: noise, logging
+//    gaps and the fast dynamics go, a year is 8760 rows.
+//  - The sensor is regressed on the other sensors' hourly means and their
+//    lags (3 h, 12 h) over the whole window, together with one fault
+//    column: a step 1[t >= t0], a drift (t - t0)+ or a lost contact
+//    (t - t0)+ (A - T), A the air. With the thin QR of the regressors the
+//    gain of every onset t0 (each hour) comes from suffix sums, so all
+//    onsets cost O(rows x regressors).
+//  - The residual is not white: heat the other sensors do not see (a
+//    drive's load) makes it wander for hours and days. Its long-run
+//    variance is taken from daily block sums, and a fault must reach
+//    t = gain / sqrt(long-run variance x column energy) >= min_t, a bar
+//    set for the maximum over all onsets (measured on both simulator
+//    families, no alarm in 100 clean machines). The departure must also
+//    persist: every third of the time after the onset keeps at least half
+//    of the fitted departure.
+//  - A step is seen sharper in the raw series than in any mean: a jump of
+//    the level at one sample between two straight-line fits of 10 samples,
+//    far outside the sensor's own jumps (robust spread) and at least
+//    step_min_c, without a logging gap, then confirmed by the hourly
+//    regression at that onset (same sign, t >= step_confirm_t).
+//  - The faulty sensor's reading spoils the prediction of the others: the
+//    strongest fault is taken first, its sensor is left out of every other
+//    regression, and the search repeats.
+// Deterministic, on values only.
 #pragma once
 
 #include <string>
@@ -21,12 +45,34 @@
 namespace thermocomp {
 
 struct SensorFaultOptions {
-  // TODO(sensor faults): the detector's thresholds, each with a comment.
+  // The shop-air sensor a lost contact reads toward. Empty: the first
+  // sensor whose name says air (air, env, amb, room, hall, shop); none:
+  // a lost contact is reported as a drift.
+  std::string air_sensor;
+  // Lags of the other sensors the prediction uses besides their hourly
+  // means (hours): the heat paths between sensors are first-order lags.
+  std::vector<double> lags_h = {3.0, 12.0};
+  // A fault needs this much data on either side of its onset (days).
+  double min_days_before = 3.0;
+  double min_days_after = 1.0;
+  // Drift and lost contact: t over the daily-block long-run spread.
+  double min_t = 6.0;
+  // Lost contact is preferred over drift when its t is larger by this.
+  double contact_margin_t = 1.0;
+  // Step: the raw jump, degC and in robust spreads of the sensor's jumps.
+  double step_min_c = 0.12;
+  double step_min_spreads = 10.0;
+  int step_window = 10;          // samples fitted on either side of a jump
+  double step_confirm_t = 2.0;   // hourly regression at the jump's onset
+  // Every third of the time after the onset keeps this share of the
+  // fitted departure.
+  double persist_share = 0.5;
 };
 
 // The faults of the `declared` sensors in `inputs` (their raw series) over
 // [from_ms, to_ms]: sensor, kind, onset, size and reason filled in;
-// effect_mm and points_left_out are the search's to fill.
+// effect_mm and points_left_out are the search's to fill. At most one
+// fault per sensor, strongest first.
 std::vector<SensorFault> FindSensorFaults(const TermInputs& inputs,
                                           const std::vector<std::string>& declared,
                                           int64_t from_ms, int64_t to_ms,
