@@ -143,7 +143,8 @@ AnalysisReport BuildAnalysisReport(const EffectSearchResult& r, const AnalysisCo
   out.event_comparisons = r.event_comparisons;
   if (r.holdout_total.n > 0 || !r.holdout_runs.empty()) {
     HeldOutRunErrors errors;
-    for (const auto& e : r.holdout_runs) errors.runs.push_back(NamedError(e, RunName(e.run, run_names)));
+    for (const auto& e : r.holdout_runs)
+      errors.runs.push_back(NamedError(e, RunName(e.run, run_names)));
     errors.total = NamedError(r.holdout_total, "");
     out.holdout_errors = std::move(errors);
   }
@@ -179,8 +180,8 @@ std::string BlocksWon(const PairedGain& g, const BlockedValidation& v) {
   const std::vector<std::string>& labels = v.block_labels;
   if (labels.empty()) return "";
   const size_t blocks = g.blocks > 0 ? static_cast<size_t>(g.blocks) : labels.size();
-  std::string out = "won " + std::to_string(g.won.size()) + " of " + std::to_string(blocks) +
-                    " " + BlockNoun(v.block, blocks);
+  std::string out = "won " + std::to_string(g.won.size()) + " of " + std::to_string(blocks) + " " +
+                    BlockNoun(v.block, blocks);
   // Name the shorter side: the blocks won, or the few lost; a long list
   // says nothing a reader can take in.
   constexpr size_t kNamed = 8;

@@ -71,8 +71,7 @@ struct BlockedValidation {
 struct HeldOutRunError {
   std::string run;
   int n = 0;
-  double mae_before_mm = kNotComputed, rmse_before_mm = kNotComputed,
-         max_before_mm = kNotComputed;
+  double mae_before_mm = kNotComputed, rmse_before_mm = kNotComputed, max_before_mm = kNotComputed;
   double mae_after_mm = kNotComputed, rmse_after_mm = kNotComputed, max_after_mm = kNotComputed;
 };
 
@@ -124,8 +123,7 @@ struct AnalysisReport {
 
 // `run_names` names the search input's run indices (EffectSearchInput::run),
 // so the report speaks of runs as the archive does.
-AnalysisReport BuildAnalysisReport(const EffectSearchResult& result,
-                                   const AnalysisContext& context,
+AnalysisReport BuildAnalysisReport(const EffectSearchResult& result, const AnalysisContext& context,
                                    const std::vector<std::string>& run_names);
 // "Since the maintenance on 2026-03-05 (Y axis, ...): Ty2's sensitivity is
 // ... instead of ...": what an event changed, in one sentence.

@@ -16,8 +16,8 @@ using nlohmann::json;
 PairedGain PairedGainFromJson(const json& j) {
   std::vector<int> won;
   for (const auto& b : ArrayAt(j, "won")) won.push_back(b.get<int>());
-  return {NumberOr(j, "gain_mm2"), NumberOr(j, "se_mm2"), NumberOr(j, "t"), NumberOr(j, "relative"),
-          ValueOr<int>(j, "blocks", 0), std::move(won)};
+  return {NumberOr(j, "gain_mm2"), NumberOr(j, "se_mm2"),        NumberOr(j, "t"),
+          NumberOr(j, "relative"), ValueOr<int>(j, "blocks", 0), std::move(won)};
 }
 
 std::vector<std::string> Strings(const json& list) {
@@ -239,7 +239,8 @@ void CheckedFromJson(const json& j, AnalysisReport& r) {
     errors.total.run.clear();
     r.holdout_errors = std::move(errors);
   }
-  for (const auto& f : ArrayAt(j, "sensor_faults")) r.sensor_faults.push_back(SensorFaultFromJson(f));
+  for (const auto& f : ArrayAt(j, "sensor_faults"))
+    r.sensor_faults.push_back(SensorFaultFromJson(f));
 }
 
 // "validation" ... "event_comparisons": how sure the analysis is.
@@ -281,10 +282,10 @@ void FindingsToJson(const AnalysisReport& r, json& out) {
 void FindingsFromJson(const json& j, AnalysisReport& r) {
   if (j.contains("validation") && j["validation"].is_object()) {
     const json& v = j["validation"];
-    r.validation = BlockedValidation{
-        ValueOr<std::string>(v, "block", ""), ValueOr<int>(v, "blocks", 0),
-        NumberOr(v, "rmse_before_mm"), NumberOr(v, "rmse_after_mm"),
-        Strings(ArrayAt(v, "block_labels"))};
+    r.validation =
+        BlockedValidation{ValueOr<std::string>(v, "block", ""), ValueOr<int>(v, "blocks", 0),
+                          NumberOr(v, "rmse_before_mm"), NumberOr(v, "rmse_after_mm"),
+                          Strings(ArrayAt(v, "block_labels"))};
   }
   for (const auto& [sensor, sigma] : ObjectAt(j, "sensor_noise_c").items()) {
     r.sensor_noise_c.emplace_back(sensor, sigma.is_number() ? sigma.get<double>() : kNotComputed);

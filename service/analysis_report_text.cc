@@ -1,6 +1,7 @@
 #include "service/analysis_report_text.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 
@@ -17,12 +18,19 @@ using report_text::P;
 using report_text::Text;
 using report_text::Um;
 
-// A term's unit as a person reads it ("degC" is the API's spelling of °C).
-std::string PersonUnit(std::string unit) {
-  for (size_t at = unit.find("degC"); at != std::string::npos; at = unit.find("degC", at)) {
-    unit.replace(at, 4, "°C");
+// Units as a person reads them: the API and the model's sentences spell
+// °C "degC" and µm "um" (a whole word, so "sum" or "maximum" stay).
+std::string Readable(std::string text) {
+  for (size_t at = text.find("degC"); at != std::string::npos; at = text.find("degC", at)) {
+    text.replace(at, 4, "°C");
   }
-  return unit;
+  const auto letter = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0; };
+  for (size_t at = text.find("um"); at != std::string::npos; at = text.find("um", at + 1)) {
+    const bool alone =
+        (at == 0 || !letter(text[at - 1])) && (at + 2 == text.size() || !letter(text[at + 2]));
+    if (alone) text.replace(at, 2, "µm");
+  }
+  return text;
 }
 
 std::string Confidence(const PairedGain& g) {
@@ -42,13 +50,14 @@ std::string EffectsMarkdown(const AnalysisReport& r) {
   int i = 0;
   for (const auto& e : r.effects) {
     md += "| " + std::to_string(++i) + " | " + Code(e.term.Name()) + " | " +
-          Fixed(e.coefficient_mm * 1000.0, "%.4g") + " µm/" + Text(PersonUnit(e.term.Unit())) +
-          " | " + P(e.p_adjusted) +
-          " | " + Um(e.cv_rmse_before_mm) + " -> " + Um(e.cv_rmse_after_mm) + " |\n";
+          Fixed(e.coefficient_mm * 1000.0, "%.4g") + " µm/" + Text(Readable(e.term.Unit())) +
+          " | " + P(e.p_adjusted) + " | " + Um(e.cv_rmse_before_mm) + " -> " +
+          Um(e.cv_rmse_after_mm) + " |\n";
   }
   md += "\n";
   i = 0;
-  for (const auto& e : r.effects) md += std::to_string(++i) + ". " + Text(e.interpretation) + "\n";
+  for (const auto& e : r.effects)
+    md += std::to_string(++i) + ". " + Text(Readable(e.interpretation)) + "\n";
   md += "\n";
   if (!r.superseded.empty()) {
     md +=
@@ -83,7 +92,7 @@ std::string ConfidenceMarkdown(const AnalysisReport& r) {
     }
     std::string notes;
     if (!e.replaces.empty()) notes += "replaces " + Code(e.replaces) + "; ";
-    if (!e.revises_declared.empty()) notes += Text(e.revises_declared) + "; ";
+    if (!e.revises_declared.empty()) notes += Text(Readable(e.revises_declared)) + "; ";
     if (!e.together_with.empty())
       notes += "qualified together with " + Code(e.together_with) + "; ";
     const std::string won = BlocksWon(e.confidence, *r.validation);
@@ -134,14 +143,15 @@ std::string FindingsMarkdown(const AnalysisReport& r) {
   if (!r.set_aside.empty()) {
     md += "## Set aside\n\n";
     for (const auto& s : r.set_aside) {
-      md += "- " + Code(s.name) + " (" + Confidence(s.confidence) + "): " + Text(s.reason) + ".\n";
+      md += "- " + Code(s.name) + " (" + Confidence(s.confidence) +
+            "): " + Text(Readable(s.reason)) + ".\n";
     }
     md += "\n";
   }
   if (!r.event_comparisons.empty()) {
     md += "## Events\n\n";
     for (const auto& e : r.event_comparisons) {
-      md += "- " + Text(EventStatement(e, r.context.axis)) + " Runs " +
+      md += "- " + Text(Readable(EventStatement(e, r.context.axis))) + " Runs " +
             std::to_string(e.runs_before) + " before, " + std::to_string(e.runs_after) +
             " after; RMSE " + Um(e.rmse_before_mm) + " / " + Um(e.rmse_after_mm) + " µm.\n";
     }
@@ -183,7 +193,7 @@ std::string SensorsMarkdown(const AnalysisReport& r) {
     std::replace(kind.begin(), kind.end(), '_', ' ');  // lost_contact -> lost contact
     md += "| " + Code(f.sensor) + " | " + Text(kind) + " | " + FormatRfc3339(f.onset_ms) + " | " +
           Fixed(f.size_c, "%+.2f") + " | " + Um(f.effect_mm) + " | " +
-          std::to_string(f.points_left_out) + " | " + Text(f.reason) + " |\n";
+          std::to_string(f.points_left_out) + " | " + Text(Readable(f.reason)) + " |\n";
   }
   return md + "\n";
 }

@@ -209,8 +209,7 @@ TEST_F(AnalysisHttpTest, HeldOutErrorsPerRunAddUpToTheTotal) {
                          "?format=markdown");
   ASSERT_TRUE(md);
   EXPECT_NE(md->body.find("## Held-out runs"), std::string::npos);
-  EXPECT_NE(md->body.find("| all held-out runs | " + total["n"].dump() + " |"),
-            std::string::npos);
+  EXPECT_NE(md->body.find("| all held-out runs | " + total["n"].dump() + " |"), std::string::npos);
 }
 
 TEST_F(AnalysisHttpTest, PositionDependentExpansionIsServedAsSlopeAndAtTheProbe) {

@@ -164,9 +164,12 @@ TEST(AnalysisReportCodec, TheRenderingsShowEverySectionInMicrometres) {
         "readings from the onset on were left out"}) {
     EXPECT_NE(md.find(part), std::string::npos) << part << "\n" << md;
   }
-  const std::string won =
-      report_text::Text("won 3 of 12 days: 2026-03-01, 2026-03-02, 2026-03-03");
+  const std::string won = report_text::Text("won 3 of 12 days: 2026-03-01, 2026-03-02, 2026-03-03");
   EXPECT_NE(md.find("| " + won + " |"), std::string::npos) << md;
+  // Units as a person reads them, also in the model's own sentences.
+  EXPECT_NE(md.find(report_text::Text("Tco: -5.1 -> -2.0 µm/°C")), std::string::npos) << md;
+  EXPECT_NE(md.find(report_text::Text("Tco's sensitivity is -4.00 µm/°C")), std::string::npos);
+  EXPECT_EQ(md.find("degC"), std::string::npos) << md;
   const std::string svg = AnalysisErrorChartSvg(FullReport());
   EXPECT_NE(svg.find("<svg"), std::string::npos);
   EXPECT_NE(svg.find("1.10 µm"), std::string::npos);  // held-out after, in µm
@@ -174,9 +177,9 @@ TEST(AnalysisReportCodec, TheRenderingsShowEverySectionInMicrometres) {
 
 TEST(AnalysisReportCodec, AnOlderReportWithoutConfidenceSectionsStillReadsAndRenders) {
   json old = AnalysisReportToJson(FullReport());
-  for (const char* key : {"validation", "sensor_noise_c", "filters", "set_aside", "ambiguous",
-                          "coefficient_changes", "event_comparisons", "holdout_errors",
-                          "sensor_faults"}) {
+  for (const char* key :
+       {"validation", "sensor_noise_c", "filters", "set_aside", "ambiguous", "coefficient_changes",
+        "event_comparisons", "holdout_errors", "sensor_faults"}) {
     old.erase(key);
   }
   old["closest_candidates"][0]["confidence"].erase("won");
