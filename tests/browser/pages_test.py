@@ -11,6 +11,7 @@ usage: pages_test.py THERMOCOMP_BINARY SOURCE_DIR OUT_DIR
 """
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -195,6 +196,9 @@ def open_access(d, s):
     if analyses:
         open_page(d, s, f"/ui/machines/sim-1/axes/Y/analysis/{analyses[0]['id']}", "analysis")
         check(bool(d.find_elements(By.CSS_SELECTOR, "svg[aria-label]")), "analysis shows the error chart")
+        report = s.api(f"/machines/sim-1/axes/Y/analysis/{analyses[0]['id']}")
+        if report["holdout_n"] > 0:
+            analysis_details(d, report, "analysis-holdout-demo")
     open_page(d, s, "/ui/checks", "checks")
     open_page(d, s, "/ui/machines/sim-1/checks", "machine-checks")
     check(len(d.find_elements(By.CSS_SELECTOR, "#positioning-list tbody tr")) ==
@@ -319,6 +323,46 @@ def make_hidden_lag(dir):
     return db
 
 
+def readable(text):
+    """Units as the analysis page shows them: degC as °C, um as µm."""
+    return re.sub(r"(?<![A-Za-z])um(?![A-Za-z])", "µm", text.replace("degC", "°C"))
+
+
+def um(mm):
+    return f"{mm * 1000:.2f}"
+
+
+def analysis_details(d, report, name):
+    """The held-out errors per run and in total, the blocks each effect won
+    and the sensors to check, as the report has them."""
+    held = report.get("holdout_errors")
+    check(held is not None, "the report has held-out errors per run")
+    if held:
+        table = d.find_elements(By.ID, "holdout-errors")
+        check(bool(table), "the analysis page shows the held-out errors table")
+        rows = d.find_elements(By.CSS_SELECTOR, "#holdout-errors tbody tr")
+        check(len(rows) == len(held["runs"]) + 1, "one row per held-out run and one for all of them")
+        for row, run in zip(rows, held["runs"]):
+            cells = [c.text for c in row.find_elements(By.TAG_NAME, "td")]
+            check(cells[:2] == [run["run"], str(run["n"])] and cells[5] == um(run["rmse_after_mm"]),
+                  f"held-out run {run['run']}: name, points and RMSE after in µm")
+        if rows:
+            total = [c.text for c in rows[-1].find_elements(By.TAG_NAME, "td")]
+            check(total[0] == "all held-out runs" and total[7] == um(held["total"]["max_after_mm"]),
+                  "the total row shows max |error| after in µm")
+        if table:
+            d.execute_script("arguments[0].scrollIntoView()", table[0])
+            shot(d, name)
+    labels = (report.get("validation") or {}).get("block_labels") or []
+    if labels and report["effects"]:
+        won = d.find_elements(By.CSS_SELECTOR, "#effects tbody tr td:nth-child(7)")
+        check(bool(won) and won[0].text.startswith("won " + str(len(report["effects"][0]["confidence"]["won"])) + " of "),
+              "each effect says in how many blocks it won")
+    faults = report.get("sensor_faults") or []
+    shown = d.find_elements(By.CSS_SELECTOR, "#sensor-faults tbody tr")
+    check(len(shown) == len(faults), f"sensors to check: {len(faults)} listed")
+
+
 def analysis_with_effect(d, s):
     analyses = s.api("/machines/h1/axes/Y/analysis")["analyses"]
     check(len(analyses) == 1 and analyses[0]["effects"] >= 1, "the hidden lag was found")
@@ -327,9 +371,10 @@ def analysis_with_effect(d, s):
     rows = d.find_elements(By.CSS_SELECTOR, "#effects tbody tr")
     check(len(rows) == len(report["effects"]) and report["effects"][0]["name"] in rows[0].text,
           "the analysis page lists the effects the report has")
-    check(report["effects"][0]["interpretation"] in d.find_element(By.ID, "effects").text,
+    check(readable(report["effects"][0]["interpretation"]) in d.find_element(By.ID, "effects").text,
           "each effect's physical reading is shown")
     check(bool(d.find_elements(By.ID, "effects-chart")), "error as each effect was added is charted")
+    analysis_details(d, report, "analysis-holdout")
     version = report["model"]["version"]
     d.find_element(By.ID, "apply").click()
     d.switch_to.alert.accept()

@@ -1,5 +1,6 @@
-// One effect analysis as a page: what it added and how each addition reads
-// physically, the error before and after by every measure, what else
+// One effect analysis as a page: sensors to check, what it added and how
+// each addition reads physically and in which blocks it won, the error
+// before and after by every measure and per held-out run, what else
 // explained it equally well, and, for a proposed model, applying it.
 "use strict";
 
@@ -18,6 +19,50 @@
   const message = el("div", { role: "status" });
   const p = (v) => (v === 0 ? "< 1e-300" : num(v, 2));
   const gain = (g) => (g ? num(g.relative * 100, 3) + " % (t " + num(g.t, 3) + ")" : "–");
+  // Units as a person reads them: the API and the model's sentences spell
+  // °C "degC" and µm "um" (a whole word), as the Markdown report converts them.
+  const readable = (t) => String(t ?? "").replaceAll("degC", "°C").replace(/(?<![A-Za-z])um(?![A-Za-z])/g, "µm");
+  const v = r.validation || {};
+  const labels = v.block_labels || [];
+
+  // "won 6 of 7 days: 2026-03-04, …" (or the few it lost), as the Markdown
+  // report says it (service/analysis_report.cc, BlocksWon).
+  function blocksWon(g) {
+    if (!g || !labels.length) return "–";
+    const won = g.won || [];
+    const blocks = g.blocks > 0 ? g.blocks : labels.length;
+    const noun = ["day", "week", "run"].includes(v.block) ? v.block : "block";
+    const label = (b) => labels[b] ?? "block " + b;
+    const out = "won " + won.length + " of " + blocks + " " + (blocks === 1 ? noun : noun + "s");
+    const named = 8;
+    if (won.length <= named) return won.length ? out + ": " + won.map(label).join(", ") : out;
+    const lost = [...Array(blocks).keys()].filter((b) => !won.includes(b));
+    if (!lost.length) return out;
+    if (lost.length <= named) return out + "; lost " + lost.map(label).join(", ");
+    return out + ": " + won.slice(0, named).map(label).join(", ") + " and " + (won.length - named) + " more";
+  }
+
+  // Per held-out run, then all of them: one run the model fails on is not averaged away.
+  function heldOutTable(h) {
+    const row = (run, e) => [run, String(e.n), um(e.mae_before_mm), um(e.mae_after_mm), um(e.rmse_before_mm),
+      um(e.rmse_after_mm), um(e.max_before_mm), um(e.max_after_mm)];
+    const columns = [{ label: "run" }, { label: "points", num: true }];
+    for (const m of ["MAE", "RMSE", "max |error|"]) {
+      columns.push({ label: m + " before", num: true, title: "declared model, µm" }, { label: m + " after", num: true, title: "extended model, µm" });
+    }
+    return TC.table(columns, [...h.runs.map((e) => row(e.run, e)), row(el("strong", {}, "all held-out runs"), h.total)], { id: "holdout-errors" });
+  }
+
+  function sensorFaults(list) {
+    return [el("h2", {}, "Sensors to check"),
+      el("p", {}, "These declared sensors read differently from their neighbours from the onset on: a sensor to check, not a thermal effect. " +
+        "Their readings from the onset on were left out of the search."),
+      TC.table([{ label: "sensor" }, { label: "kind" }, { label: "since" }, { label: "departure °C", num: true },
+        { label: "drift it caused µm", num: true }, { label: "points left out", num: true }, { label: "why" }],
+      list.map((f) => [el("code", {}, f.sensor), f.kind.replaceAll("_", " "), time(f.onset),
+        f.size_c === null ? "–" : (f.size_c > 0 ? "+" : "") + Number(f.size_c).toFixed(2), um(f.effect_mm), String(f.points_left_out), readable(f.reason)]),
+      { id: "sensor-faults" })];
+  }
 
   // Horizontal bars: each error measure before (grey) and after (blue), µm.
   function bars(measures, id) {
@@ -63,10 +108,9 @@
     }
   }
 
-  const effects = r.effects.map((e, i) => [String(i + 1), el("code", {}, e.name), num(e.coefficient * 1000, 4) + " µm/" + e.unit, p(e.p_adjusted),
-    um(e.cv_rmse_before_mm) + " → " + um(e.cv_rmse_after_mm), gain(e.confidence),
-    (e.alternatives || []).map((a) => a.name).join(", ") || "none", e.interpretation]);
-  const v = r.validation || {};
+  const effects = r.effects.map((e, i) => [String(i + 1), el("code", {}, e.name), el("span", { style: "white-space:nowrap" }, num(e.coefficient * 1000, 4) + " µm/" + readable(e.unit)), p(e.p_adjusted),
+    um(e.cv_rmse_before_mm) + " → " + um(e.cv_rmse_after_mm), gain(e.confidence), blocksWon(e.confidence),
+    (e.alternatives || []).map((a) => a.name).join(", ") || "none", readable(e.interpretation)]);
   const coef = (r.coefficient_changes || []).map((c) => [el("code", {}, c.term), um(c.before), um(c.after)]);
   const children = [
     el("h1", {}, el("a", { href: "/ui/machines/" + encodeURIComponent(machine) }, machine), " · axis " + axis + " · ",
@@ -77,14 +121,20 @@
     el("p", { class: "muted" }, "Other forms: ", el("a", { href: "/api/v1" + path + "/analysis/" + r.id + "?format=html" }, "HTML report"), " · ",
       el("a", { href: "/api/v1" + path + "/analysis/" + r.id + "?format=markdown" }, "Markdown")),
     message,
+    (r.sensor_faults || []).length ? sensorFaults(r.sensor_faults) : [],
     el("h2", {}, "Effects added"),
     effects.length ? TC.table([{ label: "#" }, { label: "effect" }, { label: "coefficient" }, { label: "p (adj.)", num: true }, { label: "CV RMSE µm" },
-      { label: "validated gain" }, { label: "equally good" }, { label: "physical reading" }], effects, { id: "effects" })
+      { label: "validated gain" }, { label: "blocks won" }, { label: "equally good" }, { label: "physical reading" }], effects, { id: "effects" })
       : el("div", { class: "empty", id: "effects" }, "No effect passed: nothing explained the residual better than chance and by more than its uncertainty in cross-validation over whole days."),
     el("h2", {}, "Error before and after"),
     bars([["training", r.train_rmse_before_mm, r.train_rmse_after_mm], ["blocked cross-validation", v.rmse_before_mm ?? null, v.rmse_after_mm ?? null],
       ["leave one run out", r.cv_rmse_before_mm, r.cv_rmse_after_mm], ["held-out runs", r.rmse_before_mm, r.rmse_after_mm]]),
   ];
+  if (r.holdout_errors) {
+    children.push(el("h2", {}, "Held-out runs (µm)"),
+      el("p", { class: "muted" }, "Runs the search never saw: the error of the declared model (before) and of the extended one (after) at their probe points."),
+      heldOutTable(r.holdout_errors));
+  }
   if (r.effects.length) {
     children.push(el("h2", {}, "Error as each effect was added (blocked cross-validation)"),
       bars(r.effects.map((e) => [e.name.length > 22 ? e.name.slice(0, 21) + "…" : e.name, e.cv_rmse_before_mm, e.cv_rmse_after_mm]), "effects-chart"));
@@ -100,11 +150,11 @@
   }
   for (const [title, list] of [["Ambiguous (none added)", r.ambiguous], ["Set aside", r.set_aside]]) {
     if ((list || []).length) {
-      children.push(el("h2", {}, title), el("ul", {}, list.map((a) => el("li", {}, el("code", {}, a.name), " " + gain(a.confidence) + (a.reason ? ": " + a.reason : "")))));
+      children.push(el("h2", {}, title), el("ul", {}, list.map((a) => el("li", {}, el("code", {}, a.name), " " + gain(a.confidence) + (a.reason ? ": " + readable(a.reason) : "")))));
     }
   }
   if ((r.event_comparisons || []).length) {
-    children.push(el("h2", {}, "Events"), el("ul", {}, r.event_comparisons.map((e) => el("li", {}, e.statement))));
+    children.push(el("h2", {}, "Events"), el("ul", {}, r.event_comparisons.map((e) => el("li", {}, readable(e.statement)))));
   }
   if (r.model) {
     const m = r.model;
