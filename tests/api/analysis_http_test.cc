@@ -5,14 +5,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <set>
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "core/time_format.h"
 #include "service/analysis_report_codec.h"
 #include "service/drift_history_codec.h"
+#include "sim/sensor_fault.h"
+#include "sim/sim_recording.h"
 
 namespace thermocomp {
 namespace {
@@ -210,6 +214,43 @@ TEST_F(AnalysisHttpTest, HeldOutErrorsPerRunAddUpToTheTotal) {
   ASSERT_TRUE(md);
   EXPECT_NE(md->body.find("## Held-out runs"), std::string::npos);
   EXPECT_NE(md->body.find("| all held-out runs | " + total["n"].dump() + " |"), std::string::npos);
+}
+
+TEST_F(AnalysisHttpTest, AFaultySensorIsListedToCheckNotModelled) {
+  FieldErrors errors;
+  ASSERT_TRUE(app_->machines().Register(VirtualMachine::Definition("m1"), "test", &errors).ok());
+  constexpr int kDays = 30;
+  SimOptions o;
+  o.machine = "m1";
+  o.seed = 5;
+  o.start_ms = clock_.NowMs() - int64_t{kDays} * 86400000;
+  SimRecording rec = Record(o, kDays);
+  // Tcb, the sensor the declared model leans on most, reads 1.5 degC high
+  // from day 19 on: the machine did not change, only what the sensor says.
+  InjectedFault fault;
+  fault.sensor = "Tcb";
+  fault.kind = InjectedFaultKind::kStep;
+  fault.step_c = 1.5;
+  fault.onset_ms = o.start_ms + int64_t{19} * 86400000 + 5 * 3600000;
+  InjectSensorFault(&rec, fault);
+  Flush("m1", rec.samples, rec.points, rec.extras);
+
+  json report = Analyze("m1", {{"policy", "off"}});
+  ASSERT_EQ(report["sensor_faults"].size(), 1u) << report["sensor_faults"].dump(2);
+  const json& found = report["sensor_faults"][0];
+  EXPECT_EQ(found["sensor"], "Tcb");
+  EXPECT_EQ(found["kind"], "step");
+  const int64_t onset = ParseRfc3339(found["onset"].get<std::string>()).value_or(0);
+  EXPECT_LE(std::llabs(onset - fault.onset_ms), int64_t{86400000}) << found["onset"];
+  EXPECT_NEAR(found["size_c"].get<double>(), 1.5, 0.5);
+  EXPECT_GT(found["points_left_out"].get<int>(), 0);
+  EXPECT_FALSE(found["reason"].get<std::string>().empty());
+
+  auto md = client_->Get("/api/v1/machines/m1/axes/Y/analysis/" + report["id"].dump() +
+                         "?format=markdown");
+  ASSERT_TRUE(md);
+  EXPECT_NE(md->body.find("## Sensors to check"), std::string::npos);
+  EXPECT_NE(md->body.find("| `Tcb` | step |"), std::string::npos) << md->body;
 }
 
 TEST_F(AnalysisHttpTest, PositionDependentExpansionIsServedAsSlopeAndAtTheProbe) {
