@@ -144,16 +144,17 @@ double MeanDifference(const SimRecording& rec, const std::string& a, const std::
   return na && nb ? sa / na - sb / nb : 0.0;
 }
 
-// The fault drawn for this seed on one of the Y axis' declared sensors
-// (in turn), from day 19 plus a seed-drawn hour.
-InjectedFault Draw(const Case& c, InjectedFaultKind kind, uint64_t seed) {
+// The fault drawn for this seed on one of `sensors` (in turn), from day
+// 19 plus a seed-drawn time of day.
+InjectedFault Draw(const Case& c, InjectedFaultKind kind, uint64_t seed,
+                   const std::vector<std::string>& sensors) {
   std::mt19937_64 rng(seed * 31 + 7);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   InjectedFault f;
-  f.sensor = c.declared[seed % 3];
+  f.sensor = sensors[seed % sensors.size()];
   f.kind = kind;
   f.onset_ms = kStart + 19 * kDayMs + static_cast<int64_t>(u(rng) * kDayMs);
-  f.drift_c_per_day = (u(rng) < 0.5 ? -0.5 : 0.5) / 14;
+  f.drift_c_per_day = (u(rng) < 0.5 ? -0.5 : 0.5) / 14;  // 0.5 degC in two weeks
   f.step_c = (u(rng) < 0.5 ? -1 : 1) * (0.3 + 0.7 * u(rng));
   // Lost contact: 0.5 degC toward the air after two weeks.
   f.toward_sensor = c.air;
@@ -167,70 +168,112 @@ struct Rates {
   int machines = 0, alarms = 0, named = 0, kind_right = 0, onset_right = 0;
 };
 
-Rates Study(Family family, int seeds, std::optional<InjectedFaultKind> kind) {
+// Machines of the family, clean (no kind) or with the kind's fault on one
+// of `sensors`: how often the fault is named with its kind and its onset
+// within a day, and how many other faults are reported.
+Rates Study(Family family, int seeds, std::optional<InjectedFaultKind> kind,
+            const std::vector<std::string>& sensors = {}) {
   Rates r;
   for (uint64_t seed = 1; seed <= static_cast<uint64_t>(seeds); ++seed) {
     Case c = Machine(family, seed);
     InjectedFault f;
     if (kind) {
-      f = Draw(c, *kind, seed);
+      f = Draw(c, *kind, seed, sensors);
       InjectSensorFault(&c.rec, f);
     }
     const auto faults = FindIn(c);
     ++r.machines;
-    if (!kind) {
-      r.alarms += !faults.empty();
-      for (const auto& x : faults) std::printf("  seed %d false: %s\n", int(seed), x.reason.c_str());
-      continue;
-    }
     bool named = false, kind_right = false, onset_right = false;
     for (const auto& x : faults) {
-      if (x.sensor != f.sensor) continue;
+      if (!kind || x.sensor != f.sensor) continue;
       named = true;
       kind_right = x.kind == InjectedFaultKindName(*kind);
       onset_right = std::llabs(x.onset_ms - f.onset_ms) <= kDayMs;
     }
     r.named += named;
-    r.kind_right += named && kind_right;
-    r.onset_right += named && kind_right && onset_right;
+    r.kind_right += kind_right;
+    r.onset_right += kind_right && onset_right;
     r.alarms += static_cast<int>(faults.size()) - named;
-    if (!(named && kind_right && onset_right)) {
-      std::printf("  seed %d (%d days) %s on %s: ", int(seed), c.days, InjectedFaultKindName(*kind),
-                  f.sensor.c_str());
-      for (const auto& x : faults) std::printf("[%s]", x.reason.c_str());
+    if (kind && !(kind_right && onset_right)) {
+      std::printf("  seed %d (%d days) %s on %s:", static_cast<int>(seed), c.days,
+                  InjectedFaultKindName(*kind), f.sensor.c_str());
+    }
+    if (faults.size() != static_cast<size_t>(named) || (kind && !(kind_right && onset_right))) {
+      if (!kind) std::printf("  seed %d:", static_cast<int>(seed));
+      for (const auto& x : faults) std::printf(" [%s]", x.reason.c_str());
       std::printf("\n");
     }
   }
-  std::printf("%s %s: %d machines, named %d, kind %d, onset %d, other alarms %d\n",
-              family == Family::kVirtual ? "virtual" : "column",
+  std::printf("%s, %s: %d machines, named %d, kind right %d, onset within a day %d, other alarms %d\n",
+              family == Family::kVirtual ? "VirtualMachine" : "ColumnMachine",
               kind ? InjectedFaultKindName(*kind) : "clean", r.machines, r.named, r.kind_right,
               r.onset_right, r.alarms);
   return r;
 }
 
-TEST(SensorFaultStudy, Debug) {
-  if (!std::getenv("SF_FAM")) GTEST_SKIP();
-  const Family fam = std::string(std::getenv("SF_FAM")) == "v" ? Family::kVirtual : Family::kColumn;
-  const int kind = std::atoi(std::getenv("SF_KIND"));
-  const uint64_t seed = std::atoi(std::getenv("SF_SEED"));
-  Case c = Machine(fam, seed);
-  for (size_t i = 0; i < c.rec.machine.sensors.size(); ++i) std::printf("%zu=%s ", i, c.rec.machine.sensors[i].name.c_str());
-  std::printf("\n");
-  if (kind >= 0) {
-    InjectedFault f = Draw(c, static_cast<InjectedFaultKind>(kind), seed);
-    std::printf("fault %s on %s onset day %.2f share %.2f\n", InjectedFaultKindName(f.kind), f.sensor.c_str(), double(f.onset_ms - kStart) / kDayMs, f.share);
-    InjectSensorFault(&c.rec, f);
-  }
-  for (const auto& x : FindIn(c)) std::printf("%s\n", x.reason.c_str());
+TEST(SensorFaultStudy, VirtualMachineCleanHasNoFault) {
+  EXPECT_LE(Study(Family::kVirtual, 50, std::nullopt).alarms, 1);
 }
 
-TEST(SensorFaultStudy, Explore) {
-  if (std::getenv("SF_FAM")) GTEST_SKIP();
-  for (Family fam : {Family::kVirtual, Family::kColumn}) {
-    Study(fam, 20, std::nullopt);
-    Study(fam, 12, InjectedFaultKind::kStep);
-    Study(fam, 12, InjectedFaultKind::kDrift);
-    Study(fam, 12, InjectedFaultKind::kLostContact);
+TEST(SensorFaultStudy, ColumnMachineCleanHasNoFault) {
+  EXPECT_LE(Study(Family::kColumn, 50, std::nullopt).alarms, 1);
+}
+
+// Steps are sharp in the raw series. Measured: 36 of 40 (the misses: a
+// small step of the drive-warmed Tcb or Tbed not confirmed by the hourly
+// regression), ColumnMachine 39 of 40.
+TEST(SensorFaultStudy, VirtualMachineStepsAreNamed) {
+  const Rates r = Study(Family::kVirtual, 40, InjectedFaultKind::kStep, {"Tco", "Tcb", "Tbed"});
+  EXPECT_GE(r.onset_right, 35);
+  EXPECT_LE(r.alarms, 1);
+}
+
+TEST(SensorFaultStudy, ColumnMachineStepsAreNamed) {
+  const Rates r =
+      Study(Family::kColumn, 40, InjectedFaultKind::kStep, {"Tcol_top", "Tbed1", "Tgl"});
+  EXPECT_GE(r.onset_right, 38);
+  EXPECT_LE(r.alarms, 1);
+}
+
+// Slow faults of a sensor whose heat the other sensors see. Measured: drift
+// 29 of 30, lost contact 30 of 30.
+TEST(SensorFaultStudy, VirtualMachineSlowFaultsOfTheCoolantAreNamed) {
+  for (auto kind : {InjectedFaultKind::kDrift, InjectedFaultKind::kLostContact}) {
+    const Rates r = Study(Family::kVirtual, 30, kind, {"Tco"});
+    EXPECT_GE(r.onset_right, 28);
+    EXPECT_LE(r.alarms, 1);
+  }
+}
+
+// Measured: 34 of 40. In the shortest recordings (5 days after the onset)
+// a drift of Tbed1 is put on Tbed2, the one sensor that predicts it (3 of
+// 40), or not found (3).
+TEST(SensorFaultStudy, ColumnMachineDriftsAreNamed) {
+  const Rates r =
+      Study(Family::kColumn, 40, InjectedFaultKind::kDrift, {"Tcol_top", "Tbed1", "Tgl"});
+  EXPECT_GE(r.onset_right, 33);
+  EXPECT_LE(r.alarms, 4);
+}
+
+// Measured: named 37 of 40, as a lost contact 33, onset within a day 27
+// (the fitted onset of a slow approach comes up to two days late).
+TEST(SensorFaultStudy, ColumnMachineLostContactsAreNamed) {
+  const Rates r = Study(Family::kColumn, 40, InjectedFaultKind::kLostContact,
+                        {"Tcol_top", "Tbed1", "Tgl"});
+  EXPECT_GE(r.named, 36);
+  EXPECT_GE(r.kind_right, 32);
+  EXPECT_GE(r.onset_right, 26);
+  EXPECT_LE(r.alarms, 4);
+}
+
+// VirtualMachine's column base and bed are warmed by the Y and X drives,
+// which no other sensor sees: their hourly residual wanders about 0.2 degC
+// from day to day, and 0.5 degC in two weeks is below it. Such a fault is
+// mostly not named (measured: 1 and 4 of 20), and nothing else is named in
+// its stead.
+TEST(SensorFaultStudy, VirtualMachineSlowFaultsOfDriveWarmedSensorsNameNothingElse) {
+  for (auto kind : {InjectedFaultKind::kDrift, InjectedFaultKind::kLostContact}) {
+    EXPECT_LE(Study(Family::kVirtual, 20, kind, {"Tcb", "Tbed"}).alarms, 1);
   }
 }
 
