@@ -110,6 +110,8 @@ struct Config {
 std::vector<std::string> Scenarios(char family, int days) {
   const std::vector<std::string> forms_a = {"two_lags", "quadratic", "asymmetric_lag"};
   const std::vector<std::string> forms_b = {"short_lag", "two_lags", "quadratic", "asymmetric_lag"};
+  // A declared sensor's fault: to be reported as a fault, not as an effect.
+  const std::vector<std::string> faults = {"fault_drift", "fault_step", "fault_lost_contact"};
   std::vector<std::string> s;
   if (family == 'A') {
     s = {"sensor", "lag", "position", "trend", "step", "signal"};
@@ -120,6 +122,7 @@ std::vector<std::string> Scenarios(char family, int days) {
       }
     }
     s.insert(s.end(), forms_a.begin(), forms_a.end());
+    s.insert(s.end(), faults.begin(), faults.end());
     return s;
   }
   if (family == 'D') {  // no positions with a mandrel
@@ -135,6 +138,7 @@ std::vector<std::string> Scenarios(char family, int days) {
     }
   }
   s.insert(s.end(), forms_b.begin(), forms_b.end());
+  s.insert(s.end(), faults.begin(), faults.end());
   return s;
 }
 

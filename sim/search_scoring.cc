@@ -2,12 +2,14 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <random>
 #include <set>
 
 #include "core/time_units.h"
 #include "model/sensor_noise.h"
 #include "model/term_features.h"
 #include "sim/column_machine.h"
+#include "sim/sensor_fault.h"
 
 namespace thermocomp {
 namespace {
@@ -182,16 +184,37 @@ bool PassesBar(const PairedGain& g, const EffectSearchOptions& opt) {
   return g.relative >= opt.min_gain && (g.t >= opt.min_t || PassesStrongRule(g, opt));
 }
 
+namespace {
+StatusOr<SimRecording> StudyRecording(char family, const std::vector<std::string>& names,
+                                      uint64_t seed, int days);
+Status AddStudyFault(SimRecording* rec, const std::string& name, uint64_t seed);
+}  // namespace
+
 StatusOr<SimRecording> StudyMachine(char family, const std::string& scenario, uint64_t seed,
                                     int days) {
-  constexpr int64_t kStart = 1772323200000;  // 2026-03-01T00:00:00Z
   std::vector<std::string> names;
+  std::vector<std::string> faults;
   for (size_t p = 0; p < scenario.size();) {
     const size_t q = scenario.find('+', p);
-    names.push_back(scenario.substr(p, q == std::string::npos ? q : q - p));
+    const std::string name = scenario.substr(p, q == std::string::npos ? q : q - p);
+    (name.rfind("fault_", 0) == 0 ? faults : names).push_back(name);
     if (q == std::string::npos) break;
     p = q + 1;
   }
+  auto rec = StudyRecording(family, names, seed, days);
+  if (!rec.ok()) return rec;
+  for (const auto& f : faults) {
+    Status s = AddStudyFault(&*rec, f, seed);
+    if (!s.ok()) return s;
+  }
+  return rec;
+}
+
+namespace {
+
+StatusOr<SimRecording> StudyRecording(char family, const std::vector<std::string>& names,
+                                      uint64_t seed, int days) {
+  constexpr int64_t kStart = 1772323200000;  // 2026-03-01T00:00:00Z
   if (family == 'A') {
     SimOptions o;
     o.seed = seed;
@@ -225,5 +248,48 @@ StatusOr<SimRecording> StudyMachine(char family, const std::string& scenario, ui
   }
   return RecordColumnMachine(o);
 }
+
+// A fault of the declared sensor with the largest coefficient from 60 % of
+// the recording on, its size drawn from a generator of its own.
+Status AddStudyFault(SimRecording* rec, const std::string& name, uint64_t seed) {
+  std::string sensor;
+  double largest = 0;
+  for (const auto& [s, b] : rec->declared_coefficients) {
+    if (std::fabs(b) > largest) largest = std::fabs(b), sensor = s;
+  }
+  if (rec->samples.empty() || sensor.empty()) return Status::Unprocessable("nothing to corrupt");
+  const int64_t first = rec->samples.front().ts_ms, last = rec->samples.back().ts_ms;
+  std::mt19937_64 draw(seed * 0xD1B54A32D192ED03ULL + 11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  InjectedFault f;
+  f.sensor = sensor;
+  f.onset_ms = first + static_cast<int64_t>(0.6 * static_cast<double>(last - first));
+  const double sign = u(draw) < 0.5 ? -1.0 : 1.0;
+  if (name == "fault_drift") {
+    f.kind = InjectedFaultKind::kDrift;
+    f.drift_c_per_day = sign * (0.3 + 0.3 * u(draw));
+  } else if (name == "fault_step") {
+    f.kind = InjectedFaultKind::kStep;
+    f.step_c = sign * (0.8 + 0.7 * u(draw));
+  } else if (name == "fault_lost_contact") {
+    f.kind = InjectedFaultKind::kLostContact;
+    for (const auto& s : rec->machine.sensors) {  // the shop air
+      if (s.name == "Tair" || s.name == "Tenv") f.toward_sensor = s.name;
+    }
+    f.share = 0.4 + 0.3 * u(draw);
+    f.tau_days = 0.5 + u(draw);
+  } else {
+    return Status::Unprocessable("unknown fault " + name);
+  }
+  InjectSensorFault(rec, f);
+  TrueEffect truth;
+  truth.source = sensor;
+  truth.event_ms = f.onset_ms;
+  truth.fault = InjectedFaultKindName(f.kind);
+  rec->hidden.push_back(truth);
+  return Status::Ok();
+}
+
+}  // namespace
 
 }  // namespace thermocomp

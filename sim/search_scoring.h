@@ -72,7 +72,10 @@ bool PassesStrongRule(const PairedGain& gain, const EffectSearchOptions& options
 // continuous displacement instead of probing), with the hidden effects
 // named in `scenario` joined by '+' ("lag+signal", HiddenEffectName or
 // ColumnEffectName; "" hides nothing), over `days` (0: the family's
-// default, 30 or 24), starting 2026-03-01. Unknown names fail.
+// default, 30 or 24), starting 2026-03-01. "fault_drift", "fault_step" and
+// "fault_lost_contact" corrupt the readings of the declared sensor with the
+// largest coefficient from 60 % of the recording on (sim/sensor_fault.h),
+// the fault a TrueEffect. Unknown names fail.
 StatusOr<SimRecording> StudyMachine(char family, const std::string& scenario, uint64_t seed,
                                     int days = 0);
 
