@@ -21,7 +21,8 @@ double BlockErrors::Rmse() const {
 }
 
 StatusOr<BlockErrors> BlockCrossValidate(const Eigen::MatrixXd& x, const Eigen::VectorXd& y,
-                                         const std::vector<int>& block, int blocks) {
+                                         const std::vector<int>& block, int blocks, int buffer) {
+  if (buffer > 0) return BufferedCrossValidate(x, y, block, blocks, buffer);
   Observations obs;
   obs.x = x;
   obs.y = y;
@@ -35,6 +36,53 @@ StatusOr<BlockErrors> BlockCrossValidate(const Eigen::MatrixXd& x, const Eigen::
   e.n.assign(blocks, 0);
   for (int i = 0; i < y.size(); ++i) {
     const double r = y(i) - cv->predictions(i);
+    e.sse[block[i]] += r * r;
+    e.n[block[i]] += 1;
+  }
+  return e;
+}
+
+StatusOr<BlockErrors> BufferedCrossValidate(const Eigen::MatrixXd& x, const Eigen::VectorXd& y,
+                                            const std::vector<int>& block, int blocks,
+                                            int buffer) {
+  // Per block the Gram matrix and moment vector of [1 x]; each block is
+  // predicted from the total less its own and its neighbours' (one pass).
+  const int p = static_cast<int>(x.cols()) + 1;
+  std::vector<Eigen::MatrixXd> gram(blocks, Eigen::MatrixXd::Zero(p, p));
+  std::vector<Eigen::VectorXd> moment(blocks, Eigen::VectorXd::Zero(p));
+  Eigen::MatrixXd total_gram = Eigen::MatrixXd::Zero(p, p);
+  Eigen::VectorXd total_moment = Eigen::VectorXd::Zero(p);
+  Eigen::VectorXd row(p);
+  for (int i = 0; i < y.size(); ++i) {
+    row(0) = 1.0;
+    row.tail(p - 1) = x.row(i).transpose();
+    gram[block[i]].selfadjointView<Eigen::Lower>().rankUpdate(row);
+    moment[block[i]] += row * y(i);
+  }
+  for (int b = 0; b < blocks; ++b) {
+    gram[b] = gram[b].selfadjointView<Eigen::Lower>();
+    total_gram += gram[b];
+    total_moment += moment[b];
+  }
+  BlockErrors e;
+  e.sse.assign(blocks, 0.0);
+  e.n.assign(blocks, 0);
+  std::vector<Eigen::VectorXd> beta(blocks);
+  for (int b = 0; b < blocks; ++b) {
+    Eigen::MatrixXd g = total_gram;
+    Eigen::VectorXd m = total_moment;
+    for (int k = std::max(0, b - buffer); k <= std::min(blocks - 1, b + buffer); ++k) {
+      g -= gram[k];
+      m -= moment[k];
+    }
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(g);
+    if (qr.rank() < p) return Status::Unprocessable("too few blocks to fit on outside the buffer");
+    beta[b] = qr.solve(m);
+  }
+  for (int i = 0; i < y.size(); ++i) {
+    row(0) = 1.0;
+    row.tail(p - 1) = x.row(i).transpose();
+    const double r = y(i) - row.dot(beta[block[i]]);
     e.sse[block[i]] += r * r;
     e.n[block[i]] += 1;
   }

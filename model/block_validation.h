@@ -25,8 +25,17 @@ struct BlockErrors {
 
 // y ~ 1 + x, each block predicted by the model fitted on all other blocks
 // (rows grouped by `block`, 0..blocks-1; Gram-matrix downdating, one pass).
+// With `buffer` > 0 the blocks next to the predicted one are left out of
+// its fit too (BufferedCrossValidate).
 StatusOr<BlockErrors> BlockCrossValidate(const Eigen::MatrixXd& x, const Eigen::VectorXd& y,
-                                         const std::vector<int>& block, int blocks);
+                                         const std::vector<int>& block, int blocks,
+                                         int buffer = 0);
+// Each block predicted by the model fitted on the blocks more than
+// `buffer` away: neighbouring runs share slow thermal states, so leaving
+// one run out still lets a model learn its hours from the runs around it.
+StatusOr<BlockErrors> BufferedCrossValidate(const Eigen::MatrixXd& x, const Eigen::VectorXd& y,
+                                            const std::vector<int>& block, int blocks,
+                                            int buffer);
 
 // How much better `candidate` predicts than `base`, paired over blocks.
 struct PairedGain {

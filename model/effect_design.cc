@@ -12,6 +12,8 @@
 #include <set>
 
 #include <boost/math/distributions/fisher_f.hpp>
+#include <boost/math/distributions/normal.hpp>
+#include <boost/math/distributions/students_t.hpp>
 
 #include "model/sensor_noise.h"
 
@@ -59,9 +61,20 @@ int Complexity(const EffectTerm& t) {
   return 3;
 }
 
+double RequiredT(int blocks, const EffectSearchOptions& opt) {
+  // min_t read as a one-sided normal level, converted to Student's t with
+  // blocks - 1 degrees of freedom: the block-to-block spread is itself
+  // estimated from the blocks, so few blocks need a larger t.
+  if (blocks < 3) return INFINITY;
+  const double level = boost::math::cdf(boost::math::normal_distribution<double>(), opt.min_t);
+  return std::max(opt.min_t,
+                  boost::math::quantile(boost::math::students_t_distribution<double>(blocks - 1),
+                                        level));
+}
+
 bool Qualifies(const PairedGain& g, const EffectSearchOptions& opt) {
   if (!(g.relative >= opt.min_gain)) return false;
-  if (g.t >= opt.min_t) return true;
+  if (g.t >= RequiredT(g.blocks, opt)) return true;
   const int lost = g.blocks - static_cast<int>(g.won.size());
   return g.blocks >= opt.strong_min_blocks && g.relative >= opt.strong_gain &&
          lost <= opt.strong_lost_blocks;
@@ -91,15 +104,29 @@ Status DesignContext::Prepare(const std::vector<SensorFault>& faults) {
     if (in_.inputs.signal_raw[k].ts_ms.size() > 2)
       interval_min_["s:" + in_.inputs.signals[k]] = SampleIntervalMin(in_.inputs.signal_raw[k]);
   }
+  // A reading past a fault's onset is the fault, not the machine: those
+  // points are left out, unless that would take more than
+  // max_fault_share of the training points (an early onset is as likely
+  // a detector's error as a fault, and would leave too little to learn
+  // from; the fault is still reported).
   left_out_.assign(faults.size(), 0);
+  std::vector<bool> applies(faults.size(), false);
+  for (size_t f = 0; f < faults.size(); ++f) {
+    int after = 0, training = 0;
+    for (int i = 0; i < total; ++i) {
+      if (!usable[i] || in_.holdout[i]) continue;
+      ++training;
+      after += in_.points[i].ts_ms >= faults[f].onset_ms;
+    }
+    applies[f] = after <= opt_.max_fault_share * training;
+  }
   for (int i = 0; i < total; ++i) {
     if (!usable[i]) continue;
     usable_.push_back(i);
     if (in_.holdout[i]) continue;
-    // A reading past a fault's onset is the fault, not the machine.
     bool faulty = false;
     for (size_t f = 0; f < faults.size(); ++f) {
-      if (in_.points[i].ts_ms >= faults[f].onset_ms) {
+      if (applies[f] && in_.points[i].ts_ms >= faults[f].onset_ms) {
         ++left_out_[f];
         faulty = true;
       }
@@ -248,7 +275,14 @@ StatusOr<BlockErrors> DesignContext::Blocked(const Design& d) {
   for (int i : d.rows) fingerprint = (fingerprint ^ static_cast<uint64_t>(i)) * 1099511628211ull;
   auto key = std::make_pair(d.Names(), fingerprint);
   if (auto it = blocked_.find(key); it != blocked_.end()) return it->second;
-  auto e = BlockCrossValidate(X(d), Y(d), Blocks(d), blocks_);
+  // Runs as blocks neighbour each other in time: their neighbours stay out
+  // of the fit too.
+  const Eigen::MatrixXd x = X(d);
+  const Eigen::VectorXd y = Y(d);
+  const std::vector<int> blocks = Blocks(d);
+  auto e = BlockCrossValidate(x, y, blocks, blocks_, block_kind_ == "run" ? opt_.run_buffer : 0);
+  // Too few runs to fit outside the buffer: each run alone.
+  if (!e.ok() && block_kind_ == "run") e = BlockCrossValidate(x, y, blocks, blocks_);
   if (e.ok()) blocked_.emplace(std::move(key), *e);
   return e;
 }

@@ -7,6 +7,7 @@
 
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,9 @@ int Complexity(const EffectTerm& t);
 // blocks: with few blocks the spread of the gains makes t small even for a
 // gain that holds everywhere.
 bool Qualifies(const PairedGain& g, const EffectSearchOptions& opt);
+// The t a gain over `blocks` blocks must reach: min_t as a normal level,
+// as Student's t with blocks - 1 degrees of freedom.
+double RequiredT(int blocks, const EffectSearchOptions& opt);
 
 class DesignContext {
  public:
@@ -117,6 +121,12 @@ class DesignContext {
   // and 8 tau (within MinTau and max_tau_min). Implemented in
   // effect_forms.cc.
   EffectTerm RefineAsymmetric(const Design& d, const LinearFit& fit, const EffectTerm& lag);
+  // `d` with a second lag of the sensor of its lag term j (a fast and a
+  // slow response of one sensor): the second's tau from the grid at least
+  // a factor 3 from the first's, then both refined in turn with the other
+  // in. *first receives the first lag as re-tuned. nullopt when none fits.
+  // Implemented in effect_forms.cc.
+  std::optional<Design> WithSecondLag(const Design& d, size_t j, EffectTerm* first);
   double ResidualCorrelation(const Design& d, const LinearFit& fit, const EffectTerm& t);
   // What the sensors' white noise adds to the design's squared error,
   // summed over its rows: each reading (a sensor's filtered value, a lag of

@@ -3,6 +3,7 @@
 // Apart from effect_design.cc, which holds what every step shares.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "model/effect_design.h"
 
@@ -58,6 +59,44 @@ EffectTerm DesignContext::RefineAsymmetric(const Design& d, const LinearFit& fit
     }
   }
   return best;
+}
+
+std::optional<Design> DesignContext::WithSecondLag(const Design& d, size_t j, EffectTerm* first) {
+  const EffectTerm lag = d.terms[j];
+  LinearFit fit;
+  if (!Refit(d, &fit).ok()) return std::nullopt;
+  std::vector<EffectTerm> grid;
+  for (double tau : opt_.tau_grid_min) {
+    if (tau >= MinTau(lag) && (tau > 3 * lag.tau_min || tau * 3 < lag.tau_min))
+      grid.push_back(EffectTerm::Lag(lag.source, tau));
+  }
+  int tried = 0;
+  const auto scored = Score(d, fit, grid, &tried);
+  if (scored.empty()) return std::nullopt;
+  const auto strongest = std::max_element(
+      scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.gain < b.gain; });
+  EffectTerm second = RefineTau(d, fit, strongest->term);
+  Design two = With(d, second);
+  EffectTerm one = lag;
+  // Each time constant re-tuned with the other in: the fast one took part
+  // of the slow response while it was alone.
+  for (int pass = 0; pass < 2; ++pass) {
+    for (EffectTerm* t : {&one, &second}) {
+      const int at = two.Find(t->Name());
+      if (at < 0) return std::nullopt;
+      Design without = two;
+      without.Erase(at);
+      without = Recomputed(without);
+      LinearFit f;
+      if (!Refit(without, &f).ok()) return std::nullopt;
+      const EffectTerm tuned = RefineTau(without, f, *t);
+      if (tuned.Name() == (t == &one ? second : one).Name()) continue;  // the two must differ
+      *t = tuned;
+      two = With(without, *t);
+    }
+  }
+  *first = one;
+  return two;
 }
 
 }  // namespace thermocomp

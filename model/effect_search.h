@@ -87,6 +87,7 @@ struct EffectSearchOptions {
   // Validation.
   std::string cv_block = "day";  // day | week | run: what is held out together
   int min_blocks = 5;            // with fewer day (week) blocks, runs are the blocks
+  int run_buffer = 1;            // runs as blocks: this many neighbours each side left out too
   double min_t = 2.5;            // a gain must exceed this many of its standard errors
   double min_gain = 0.01;        // and this share of the cross-validated error
   // Power on few blocks (docs/model.md §9): a candidate that removes at
@@ -98,6 +99,9 @@ struct EffectSearchOptions {
   int strong_min_blocks = 5;
   int forward_blocks = 3;        // newest training blocks predicted from the past only
   double equivalent_t = 1.0;     // two explanations closer than this are equivalent
+  // A declared sensor's fault leaves the training points from its onset
+  // out, unless they are more than this share of them.
+  double max_fault_share = 0.4;
   // Guards.
   double max_coefficient_change = 1.0;  // of a declared coefficient, unless revised
   // A candidate that explains at least this share of the error may revise
