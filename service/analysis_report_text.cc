@@ -75,7 +75,8 @@ std::string ClosestMarkdown(const AnalysisReport& r) {
                                           P(c.p_adjusted) + ", t " + Fixed(t, "%.1f"));
   }
   return "Closest candidates that did not pass (CV RMSE with it, µm; adjusted p; t of its "
-         "validated gain, which must reach the configured min_t): " +
+         "validated gain, which must reach the configured min_t as Student's t over the blocks, "
+         "unless it removes 30 % of the error in all days but one): " +
          list + ".\n\n";
 }
 
