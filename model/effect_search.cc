@@ -629,7 +629,10 @@ StatusOr<EffectSearchResult> Search::Run() {
   // Runs as blocks neighbour each other: even with their neighbours left
   // out of each fit, the sign over runs found effects on machines with
   // nothing hidden (docs/model.md §10). It decides only over days or weeks.
-  if (r.block_kind == "run") opt_.strong_min_blocks = std::numeric_limits<int>::max();
+  if (r.block_kind == "run") {
+    opt_.strong_gain = opt_.run_strong_gain;
+    opt_.strong_lost_blocks = opt_.run_strong_lost_blocks;
+  }
   r.blocks = d_.blocks();
   r.training_n = d_.n();
   r.training_runs = d_.runs();

@@ -97,6 +97,11 @@ struct EffectSearchOptions {
   double strong_gain = 0.3;
   int strong_lost_blocks = 1;
   int strong_min_blocks = 5;
+  // Over runs (fewer than min_blocks days), whose neighbours share slow
+  // states, the sign arm asks more: this share, won in every run but
+  // run_strong_lost_blocks.
+  double run_strong_gain = 0.6;
+  int run_strong_lost_blocks = 0;
   int forward_blocks = 3;        // newest training blocks predicted from the past only
   double equivalent_t = 1.0;     // two explanations closer than this are equivalent
   // A declared sensor's fault leaves the training points from its onset
