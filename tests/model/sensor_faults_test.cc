@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -84,9 +83,9 @@ TEST(SensorFaultHandBuilt, DriftIsNamedWithItsOnset) {
   EXPECT_NEAR(faults[0].size_c, 0.75, 0.15);
 }
 
-// A year of 16 sensors at 60 s: the cost is the hourly regressions (one
-// column-pivoting QR per sensor) and the raw jump scan. Measured 1.5 s.
-TEST(SensorFaultHandBuilt, AYearOfSixteenSensorsIsQuick) {
+// A year of 16 sensors at 60 s with nothing wrong: no fault. (Its time,
+// about 1.5 s, is measured in bench/effect_bench's year, not here.)
+TEST(SensorFaultHandBuilt, AYearOfSixteenHealthySensorsHasNoFault) {
   TermInputs in;
   std::mt19937_64 rng(9);
   std::normal_distribution<double> noise(0.0, 0.02);
@@ -103,12 +102,8 @@ TEST(SensorFaultHandBuilt, AYearOfSixteenSensorsIsQuick) {
       in.sensor_raw[s].Append(kStart + m * kMinuteMs, node[s] + noise(rng));
     }
   }
-  const auto t0 = std::chrono::steady_clock::now();
-  FindSensorFaults(in, {"S1", "S2", "S3"}, kStart, kStart + 365 * kDayMs);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("a year of 16 sensors: %.2f s\n", seconds);
-  EXPECT_LT(seconds, 3.0);
+  const auto faults = FindSensorFaults(in, {"S1", "S2", "S3"}, kStart, kStart + 365 * kDayMs);
+  EXPECT_TRUE(faults.empty()) << faults.front().sensor << ": " << faults.front().reason;
 }
 
 // ---- Simulator families ----------------------------------------------
