@@ -9,7 +9,6 @@
 #include <gtest/gtest.h>
 
 #include "model/effect_search.h"
-#include "sim/column_machine.h"
 #include "sim/sim_recording.h"
 
 namespace thermocomp {
@@ -177,44 +176,6 @@ TEST(EffectSearch, AddsNothingWithoutAHiddenEffectInAtLeast19Of20Seeds) {
   }
   EXPECT_GE(clean, 19) << found;
   std::printf("no hidden effect: nothing added in %d of 20 seeds\n%s", clean, found.c_str());
-}
-
-// A short continuous recording with every sensor declared as a static
-// model (docs/model.md §9-§10): four days of the column machine logged and
-// measured every 15 s, heating cycles as runs (fewer than 5 days: runs are
-// the blocks, each validated with its neighbours left out of the fit), the
-// newest 4 held out. With nothing hidden nothing is added; with the glycol
-// also acting through a 75-min lag, whatever is added does not make the
-// held-out error worse.
-StatusOr<EffectSearchResult> AllDeclaredShortContinuous(bool hidden, uint64_t seed) {
-  ColumnOptions o;
-  o.seed = seed;
-  o.start_ms = 1772323200000;  // 2026-03-01T00:00:00Z
-  o.days = 4;  // about 11 heating cycles: 7 to train on, 4 held out
-  o.sample_s = 15;
-  o.continuous = true;
-  if (hidden) o.hidden = {ColumnEffect::kDeclaredLag};
-  SimRecording rec = RecordColumnMachine(o);
-  for (auto& axis : rec.machine.axes) {
-    if (axis.name != "Y") continue;
-    axis.inputs.clear();
-    for (const auto& sensor : rec.machine.sensors) axis.inputs.push_back(sensor.name);
-  }
-  const EffectSearchInput in = ToSearchInput(rec, "Y", 4);
-  return SearchEffects(in, EffectSearchOptions{});
-}
-
-TEST(ShortRecording, AllDeclaredAddsNothingWithoutAnEffectAndNeverWorsensHeldOut) {
-  for (uint64_t seed : {1, 2, 3, 4}) {
-    auto with = AllDeclaredShortContinuous(true, seed);
-    ASSERT_TRUE(with.ok()) << with.status().message();
-    EXPECT_EQ(with->block_kind, "run");
-    EXPECT_LE(with->holdout_rmse_after_mm, 1.05 * with->holdout_rmse_before_mm) << "seed " << seed;
-    auto without = AllDeclaredShortContinuous(false, seed);
-    ASSERT_TRUE(without.ok()) << without.status().message();
-    EXPECT_TRUE(without->effects.empty()) << "seed " << seed << ": "
-                                          << without->effects.front().term.Name();
-  }
 }
 
 }  // namespace
