@@ -163,7 +163,7 @@ Status DesignContext::Prepare(const std::vector<SensorFault>& faults) {
     } else {
       const int64_t day = datum_ts[i] - ((datum_ts[i] % kDayMs) + kDayMs) % kDayMs;
       label = FormatUtcMinute(day).substr(0, 10);
-      if (block_kind_ == "week") label = "week of " + label;
+      if (block_kind_ == "week") label.insert(0, "week of ");
     }
   }
   return Status::Ok();

@@ -141,6 +141,7 @@ StatusOr<PairedGain> TrueEffectGain(const SimRecording& rec, const EffectSearchI
   }
   FeatureBuilder features(in.inputs, in.points);
   std::vector<Eigen::VectorXd> columns;
+  columns.reserve(with.size());
   for (const auto& t : with) columns.push_back(features.Column(t));
   // Training rows every column is known on.
   std::vector<int> rows;
