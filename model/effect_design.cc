@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <set>
 
@@ -417,43 +418,56 @@ std::vector<Screened> DesignContext::Shortlist(const Design& d, const LinearFit&
   return list;
 }
 
-EffectTerm DesignContext::RefineTau(const Design& d, const LinearFit& fit, const EffectTerm& term) {
-  // Golden-section search of the SSE gain over log(tau) between the grid
-  // neighbours: the grid is a factor 2 apart, the truth anywhere between.
-  auto gain_at = [&](double log_tau) {
-    EffectTerm t = term;
-    t.tau_min = std::round(std::exp(log_tau) * 10.0) / 10.0;
-    int tried = 0;
-    auto s = Score(d, fit, {t}, &tried);
-    return std::make_pair(s.empty() ? -1.0 : s[0].gain, t);
-  };
+std::pair<double, double> GoldenSectionTau(double lo_min, double hi_min, int iterations,
+                                           const std::function<double(double)>& value) {
   const double g = (std::sqrt(5.0) - 1.0) / 2.0;
-  // From twice the logging interval to the longest the options allow:
-  // a lag of a few minutes (a coolant loop) must not stop at the grid.
-  double lo = std::log(std::max(term.tau_min / 2.0, MinTau(term)));
-  double hi = std::log(std::min(term.tau_min * 2.0, opt_.max_tau_min));
-  if (!(hi > lo)) return term;
+  auto at = [&](double log_tau) {
+    const double tau = std::round(std::exp(log_tau) * 10.0) / 10.0;
+    return std::make_pair(value(tau), tau);
+  };
+  double lo = std::log(lo_min), hi = std::log(hi_min);
   double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
-  auto f1 = gain_at(x1), f2 = gain_at(x2);
-  for (int i = 0; i < 16; ++i) {
+  auto f1 = at(x1), f2 = at(x2);
+  for (int i = 0; i < iterations; ++i) {
     if (f1.first >= f2.first) {
       hi = x2;
       x2 = x1;
       f2 = f1;
       x1 = hi - g * (hi - lo);
-      f1 = gain_at(x1);
+      f1 = at(x1);
     } else {
       lo = x1;
       x1 = x2;
       f1 = f2;
       x2 = lo + g * (hi - lo);
-      f2 = gain_at(x2);
+      f2 = at(x2);
     }
   }
-  const auto& best = f1.first >= f2.first ? f1 : f2;
+  return f1.first >= f2.first ? f1 : f2;
+}
+
+EffectTerm DesignContext::RefineTau(const Design& d, const LinearFit& fit, const EffectTerm& term) {
+  // The SSE gain over log(tau) between the grid neighbours: the grid is a
+  // factor 2 apart, the truth anywhere between. From twice the logging
+  // interval to the longest the options allow: a lag of a few minutes (a
+  // coolant loop) must not stop at the grid.
+  const double lo = std::max(term.tau_min / 2.0, MinTau(term));
+  const double hi = std::min(term.tau_min * 2.0, opt_.max_tau_min);
+  if (!(hi > lo)) return term;
+  auto gain_of = [&](const EffectTerm& t) {
+    int tried = 0;
+    auto s = Score(d, fit, {t}, &tried);
+    return s.empty() ? -1.0 : s[0].gain;
+  };
+  EffectTerm tuned = term;
+  const auto [gain, tau] = GoldenSectionTau(lo, hi, 16, [&](double tau_min) {
+    tuned.tau_min = tau_min;
+    return gain_of(tuned);
+  });
+  tuned.tau_min = tau;
   int tried = 0;
-  auto grid = Score(d, fit, {term}, &tried);
-  return !grid.empty() && best.first > grid[0].gain ? best.second : term;
+  const auto grid = Score(d, fit, {term}, &tried);
+  return !grid.empty() && gain > grid[0].gain ? tuned : term;
 }
 
 double DesignContext::ResidualCorrelation(const Design& d, const LinearFit& fit,

@@ -46,6 +46,12 @@ struct Screened {
   double p = 1, p_adjusted = 1;
 };
 
+// The time constant in [lo_min, hi_min] (minutes) where `value` is largest,
+// by golden-section search over log tau for `iterations` steps; taus are
+// rounded to 0.1 min. Returns {value, tau}.
+std::pair<double, double> GoldenSectionTau(double lo_min, double hi_min, int iterations,
+                                           const std::function<double(double)>& value);
+
 // Fitted parameters beyond the coefficient, roughly: a lag also fits tau.
 int Complexity(const EffectTerm& t);
 

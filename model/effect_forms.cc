@@ -21,41 +21,23 @@ EffectTerm DesignContext::RefineAsymmetric(const Design& d, const LinearFit& fit
   };
   double best_gain = gain_of(best);
   const double lowest = MinTau(lag), highest = opt_.max_tau_min;
-  const double golden = (std::sqrt(5.0) - 1.0) / 2.0;
   // Coordinate-wise: heating, then cooling, twice; each a golden-section
   // search of the training gain over log tau.
   for (int pass = 0; pass < 4; ++pass) {
     const bool up = pass % 2 == 0;
     const double centre = up ? best.tau_min : best.tau2_min;
-    double lo = std::log(std::max(centre / 8.0, lowest));
-    double hi = std::log(std::min(centre * 8.0, highest));
+    const double lo = std::max(centre / 8.0, lowest), hi = std::min(centre * 8.0, highest);
     if (!(hi > lo)) continue;
-    auto at = [&](double log_tau) {
-      EffectTerm t = best;
-      (up ? t.tau_min : t.tau2_min) = std::round(std::exp(log_tau) * 10.0) / 10.0;
-      return std::make_pair(gain_of(t), t);
-    };
-    double x1 = hi - golden * (hi - lo), x2 = lo + golden * (hi - lo);
-    auto f1 = at(x1), f2 = at(x2);
-    for (int i = 0; i < 14; ++i) {
-      if (f1.first >= f2.first) {
-        hi = x2;
-        x2 = x1;
-        f2 = f1;
-        x1 = hi - golden * (hi - lo);
-        f1 = at(x1);
-      } else {
-        lo = x1;
-        x1 = x2;
-        f1 = f2;
-        x2 = lo + golden * (hi - lo);
-        f2 = at(x2);
-      }
-    }
-    const auto& found = f1.first >= f2.first ? f1 : f2;
-    if (found.first > best_gain) {
-      best_gain = found.first;
-      best = found.second;
+    EffectTerm trial = best;
+    double& moving = up ? trial.tau_min : trial.tau2_min;
+    const auto [gain, tau] = GoldenSectionTau(lo, hi, 14, [&](double tau_min) {
+      moving = tau_min;
+      return gain_of(trial);
+    });
+    if (gain > best_gain) {
+      best_gain = gain;
+      moving = tau;
+      best = trial;
     }
   }
   return best;
