@@ -66,8 +66,11 @@ StatusOr<EffectTerm> EffectTermFromJson(const nlohmann::json& j) {
     t.axis = j.value("axis", std::string());
     t.tau_min = j.value("tau_min", 0.0);
     t.tau2_min = j.value("tau_down_min", 0.0);
-    if (t.kind == EffectKind::kAsymmetricLag && !(t.tau_min > 0 && t.tau2_min > 0)) {
-      return Status::InvalidArgument("an asymmetric lag needs tau_min and tau_down_min above 0");
+    if (t.kind == EffectKind::kAsymmetricLag &&
+        !(t.tau_min > 0 && t.tau2_min > 0 && std::isfinite(t.tau_min) &&
+          std::isfinite(t.tau2_min))) {
+      return Status::InvalidArgument(
+          "an asymmetric lag needs finite tau_min and tau_down_min above 0");
     }
     t.power = j.value("power", 1);
     if (j.contains("since")) t.ref_ms = ParseRfc3339(j.at("since").get<std::string>()).value_or(0);

@@ -12,6 +12,7 @@
 
 #include "core/time_format.h"
 #include "service/analysis_report_text.h"
+#include "service/model_codec.h"
 #include "service/report_text.h"
 
 namespace thermocomp {
@@ -270,6 +271,29 @@ TEST(AnalysisReportBuild, BlocksWonNameTheShorterSide) {
   EXPECT_EQ(BlocksWon(g, v), "won 1 of 1 week: 2026-03-11");
   v.block_labels.clear();  // an older report: nothing to say it with
   EXPECT_EQ(BlocksWon(g, v), "");
+}
+
+// The further term kinds are stored and read back whole; an asymmetric lag
+// without two finite positive time constants is refused.
+TEST(EffectTermCodec, FurtherKindsRoundTripAndABadAsymmetricLagIsRefused) {
+  EffectTerm asym = EffectTerm::Lag("Tsp", 15);
+  asym.kind = EffectKind::kAsymmetricLag;
+  asym.tau2_min = 90;
+  EffectTerm quad = EffectTerm::Sensor("Tbed");
+  quad.kind = EffectKind::kQuadratic;
+  for (const EffectTerm& t : {asym, quad}) {
+    auto back = EffectTermFromJson(EffectTermToJson(t));
+    ASSERT_TRUE(back.ok()) << back.status().message();
+    EXPECT_EQ(back->Name(), t.Name());
+    EXPECT_EQ(*back, t);
+  }
+  for (const char* bad : {R"({"kind":"asymmetric_lag","sensor":"Tsp","tau_min":15})",
+                          R"({"kind":"asymmetric_lag","sensor":"Tsp","tau_min":15,"tau_down_min":-1})",
+                          R"({"kind":"asymmetric_lag","sensor":"Tsp","tau_min":15,"tau_down_min":1e309})"}) {
+    auto j = nlohmann::json::parse(bad, nullptr, false);
+    if (j.is_discarded()) continue;  // a parser that refuses 1e309 already keeps it out
+    EXPECT_FALSE(EffectTermFromJson(j).ok()) << bad;
+  }
 }
 
 }  // namespace
