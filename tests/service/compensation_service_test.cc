@@ -1,6 +1,8 @@
 #include "service/compensation_service.h"
 
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "tests/app_fixture.h"
 
@@ -102,6 +104,14 @@ TEST_F(CompensationServiceTest, ServedValuesAreLogged) {
   Temperature(t0_, 20.0);
   Temperature(clock_.NowMs() - 60000, 21.0);
   ASSERT_TRUE(Y().valid);
+  // The value read here may come from the background refresh, which logs it
+  // just after publishing it; it also serves every machine once a second.
+  // Waited for, with a generous bound for a busy sanitizer build.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (Count("SELECT COUNT(*) FROM compensation_log WHERE valid = 1") < 1 &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
   EXPECT_GE(Count("SELECT COUNT(*) FROM compensation_log WHERE valid = 1"), 1);
   EXPECT_GE(Count("SELECT COUNT(*) FROM compensation_rollup"), 1);
 }
