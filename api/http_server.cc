@@ -269,6 +269,12 @@ void HttpServer::Routes() {
       return refuse(413, "request body larger than server.max_body_bytes (" +
                              std::to_string(max_body) + " bytes)");
     }
+    // Neither Content-Length nor Transfer-Encoding: a request without a
+    // body (RFC 9112, 6.3), answered at once instead of waiting for one
+    // until the body deadline.
+    if (length.empty() && !req.has_header("Transfer-Encoding")) {
+      const_cast<Req&>(req).headers.emplace("Content-Length", "0");
+    }
     GuardedServer::ExpectBody(length.empty() ? 0 : std::stoull(length),
                               req.has_header("Transfer-Encoding"));
     if (!IsProbe(req)) {
