@@ -1,10 +1,12 @@
 #include "service/config.h"
 
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <regex>
 #include <set>
+#include <string_view>
 
 #include <toml++/toml.h>
 
@@ -100,14 +102,29 @@ Reader Bool(bool Config::*field) {
   };
 }
 
-// An IANA zone name ("Europe/Berlin", "UTC"): checked for its shape here;
-// the browser, which converts the times, knows the zones themselves.
+// Whether the system's zone database (tzdata) has the zone: a compiled
+// zone file begins with "TZif". The browser converts the times with its own
+// copy of the same IANA database; a name neither knows would leave every
+// page without times, so it stops the start instead.
+bool KnownZone(const std::string& name) {
+  if (name == "UTC") return true;
+  std::ifstream file("/usr/share/zoneinfo/" + name, std::ios::binary);
+  char magic[4] = {};
+  return file.read(magic, sizeof magic) && std::string_view(magic, sizeof magic) == "TZif";
+}
+
+// An IANA zone name ("Europe/Berlin", "UTC"), by its shape (no dots, so no
+// path leaves the zone directory) and in the zone database.
 std::string TimeZone(const toml::node& n, Config& c) {
   auto v = n.value_exact<std::string>();
   if (!v) return "must be a time zone name such as \"Europe/Berlin\", not " + Describe(n);
   static const std::regex shape("[A-Za-z][A-Za-z0-9_+-]*(/[A-Za-z0-9_+-]+){0,2}");
   if (v->size() > 64 || !std::regex_match(*v, shape)) {
     return "must be a time zone name such as \"Europe/Berlin\" or \"UTC\"";
+  }
+  if (!KnownZone(*v)) {
+    return "\"" + *v + "\" is not a time zone of the IANA database (/usr/share/zoneinfo); " +
+           "for example \"Europe/Berlin\" or \"UTC\"";
   }
   c.web_time_zone = *v;
   return "";

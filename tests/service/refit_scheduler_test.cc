@@ -230,6 +230,15 @@ TEST(ConfigTest, UnknownKeysWrongTypesAndRangesStopTheStartNamingTheKey) {
       message("[compensation]\nplausible_min_c = 50.0\nplausible_max_c = 40.0\n").find("below"),
       std::string::npos);
   EXPECT_EQ(message("[fit]\nmin_r2 = 1\n[server]\nthreads = 8\n"), "accepted");
+  // A misspelled zone stops the start (the pages would show no times).
+  EXPECT_NE(message("[web]\ntime_zone = \"Europe/Berln\"\n")
+                .find("web.time_zone \"Europe/Berln\" is not a time zone of the IANA database"),
+            std::string::npos)
+      << message("[web]\ntime_zone = \"Europe/Berln\"\n");
+  EXPECT_NE(message("[web]\ntime_zone = \"../../etc/passwd\"\n").find("web.time_zone"),
+            std::string::npos);
+  EXPECT_EQ(message("[web]\ntime_zone = \"Europe/Berlin\"\n"), "accepted");
+  EXPECT_EQ(message("[web]\ntime_zone = \"UTC\"\n"), "accepted");
   // The shipped file lists every key with its default: it loads as is.
   auto shipped = LoadConfig(testing::SourcePath("deploy/thermocomp.toml"));
   ASSERT_TRUE(shipped.ok()) << shipped.status().message();
