@@ -62,6 +62,14 @@ bool SameServed(const MachineCompensation& a, const MachineCompensation& b) {
   return true;
 }
 
+// Why an axis has no model to serve: the newest version's fate, if any
+// (e.g. "no active model: v3 is rejected (R2 0.80 below 0.85)").
+std::string NoActiveModel(const std::optional<ModelRecord>& newest) {
+  if (!newest) return "no active model";
+  return "no active model: v" + std::to_string(newest->version) + " is " + newest->status +
+         (newest->reason.empty() ? "" : " (" + newest->reason + ")");
+}
+
 }  // namespace
 
 StatusOr<MachineCompensation> CompensationService::Compute(const std::string& name) {
@@ -97,7 +105,7 @@ StatusOr<MachineCompensation> CompensationService::Compute(const std::string& na
     }
     auto active = models.Active(axis.id);
     if (!active) {
-      Invalidate(a, "no active model");
+      Invalidate(a, NoActiveModel(models.Newest(axis.id)));
       mc.axes.push_back(a);
       continue;
     }
@@ -271,6 +279,8 @@ std::shared_ptr<const MachineCompensation> CompensationService::Serve(
         a.stale = true;
         a.valid = false;
         a.clamped = false;
+        a.model_offset_mm = 0.0;  // no model correction applies (docs/api.md)
+        a.model_slope_um_per_m = 0.0;
         a.reason = by_ts > stale_ms
                        ? "no temperature since " + FormatRfc3339(*a.oldest_input_ms)
                        : "no sample received for " + std::to_string(by_arrival / 1000) + " s";

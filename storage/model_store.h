@@ -21,6 +21,9 @@ class ModelStore {
   virtual std::optional<ModelRecord> Get(int64_t axis_id, int version) = 0;
   virtual std::optional<ModelRecord> Active(int64_t axis_id) = 0;
   virtual std::optional<int64_t> LatestCreated(int64_t axis_id) = 0;
+  // The newest version's number, status, reason and time, without its model
+  // and report: why an axis has no active model.
+  virtual std::optional<ModelRecord> Newest(int64_t axis_id) = 0;
   // Makes `version` the active one; NotFound when it does not exist.
   virtual Status Activate(int64_t axis_id, int version) = 0;
   // The version's report, once it carries the version number it was given.

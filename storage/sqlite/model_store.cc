@@ -68,6 +68,15 @@ std::optional<int64_t> SqliteModelStore::LatestCreated(int64_t axis_id) {
   return q.Int(0);
 }
 
+std::optional<ModelRecord> SqliteModelStore::Newest(int64_t axis_id) {
+  Statement q(db_,
+              "SELECT version, status, reason, created_ms FROM models WHERE axis_id = ? "
+              "ORDER BY version DESC LIMIT 1");
+  q.Bind(1, axis_id);
+  if (!q.Step()) return std::nullopt;
+  return ModelRecord{static_cast<int>(q.Int(0)), q.Text(1), q.Text(2), q.Int(3), "", ""};
+}
+
 Status SqliteModelStore::SetReport(int64_t axis_id, int version, const std::string& report_json) {
   Statement q(db_, "UPDATE models SET report_json = ? WHERE axis_id = ? AND version = ?");
   q.Bind(1, report_json).Bind(2, axis_id).Bind(3, int64_t{version});

@@ -18,6 +18,7 @@ class SqliteModelStore final : public ModelStore {
   std::optional<ModelRecord> Get(int64_t axis_id, int version) override;
   std::optional<ModelRecord> Active(int64_t axis_id) override;
   std::optional<int64_t> LatestCreated(int64_t axis_id) override;
+  std::optional<ModelRecord> Newest(int64_t axis_id) override;
   Status Activate(int64_t axis_id, int version) override;
   Status SetReport(int64_t axis_id, int version, const std::string& report_json) override;
 

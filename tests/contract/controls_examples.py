@@ -148,6 +148,9 @@ def check_relations(doc, where):
         for key in ("offset_mm", "offset_at_probe_mm"):
             if abs(a[key]) > a["clamp_mm"] + 1e-12:
                 fail(f"{w}: {key} {a[key]} beyond the clamp {a['clamp_mm']}")
+        if not a["valid"] and (a["model_offset_mm"] != 0 or a["model_slope_um_per_m"] != 0):
+            fail(f"{w}: not valid but the model's correction is {a['model_offset_mm']} mm "
+                 f"(docs/api.md: 0 when not valid)")
         if a["probe_position_mm"] is None and a["offset_at_probe_mm"] != a["offset_mm"]:
             fail(f"{w}: offset_at_probe_mm differs from offset_mm without a probe position")
 

@@ -60,6 +60,18 @@ TEST_F(CompensationServiceTest, ReasonsUntilEverythingIsThere) {
   EXPECT_EQ(y.offset_mm, 0.0);
 }
 
+TEST_F(CompensationServiceTest, WithoutAnActiveModelTheReasonSaysWhatBecameOfTheNewest) {
+  {
+    const std::unique_ptr<Session> session = app_->storage().Open();
+    ASSERT_TRUE(session->models()
+                    .Insert(1, {0, "rejected", "R2 0.80 below fit.min_r2 0.85", 0, "{}", "{}"})
+                    .ok());
+  }
+  app_->compensation().MarkChanged("m1");
+  EXPECT_EQ(Y().reason, "no active model: v1 is rejected (R2 0.80 below fit.min_r2 0.85)");
+  EXPECT_FALSE(Y().valid);
+}
+
 TEST_F(CompensationServiceTest, ClampedAndExtrapolatingButFinite) {
   ActivateModel();
   Datum(t0_);
