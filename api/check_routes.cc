@@ -26,6 +26,12 @@ void HttpServer::CheckRoutes() {
               *created ? 201 : 200);
   });
 
+  s.Get("/api/v1/artifacts/([A-Za-z0-9_.-]{1,64})", [this](const Req& req, Res& res) {
+    auto definition = app_.checks().Artifact(req.matches[1]);
+    if (!definition.ok()) return WriteProblem(res, definition.status());
+    WriteJson(res, *definition);
+  });
+
   s.Post(m + "/column-checks/requests", [this](const Req& req, Res& res) {
     auto body = JsonObjectBody(req, res);
     if (!body) return;
@@ -133,12 +139,27 @@ void HttpServer::CheckRoutes() {
                 PositioningHtml);
   });
   s.Get(m + "/positioning-checks/([0-9]{1,18})/pitch-table", [this](const Req& req, Res& res) {
+    const std::string format = req.has_param("format") ? req.get_param_value("format") : "csv";
+    const std::string direction =
+        req.has_param("per_direction") ? req.get_param_value("per_direction") : "false";
+    FieldErrors errors;
+    if (format != "csv" && format != "linuxcnc" && format != "sinumerik" && format != "beckhoff") {
+      errors.push_back({0, "format", "must be csv, linuxcnc, sinumerik or beckhoff"});
+    }
+    if (direction != "true" && direction != "false") {
+      errors.push_back({0, "per_direction", "must be true or false"});
+    } else if (direction == "true" && format == "sinumerik") {
+      // The table written is LEC's one curve per axis (the bidirectional
+      // mean, the direction difference as backlash): refused, not ignored.
+      errors.push_back({0, "per_direction",
+                        "not available for sinumerik: its table is the bidirectional mean "
+                        "with the backlash (MD32450); use csv, linuxcnc or beckhoff"});
+    }
+    if (!errors.empty()) return WriteProblem(res, 400, "invalid pitch table query", errors);
     std::string axis;
     auto table = app_.checks().PitchTableOf(req.matches[1], std::stoll(req.matches[2]), &axis);
     if (!table.ok()) return WriteProblem(res, table.status());
-    const std::string format = req.has_param("format") ? req.get_param_value("format") : "csv";
-    auto text =
-        RenderPitchTable(*table, axis, format, req.get_param_value("per_direction") == "true");
+    auto text = RenderPitchTable(*table, axis, format, direction == "true");
     if (!text.ok()) {
       return WriteProblem(res, text.status(), {{0, "format", text.status().message()}});
     }

@@ -65,6 +65,15 @@ StatusOr<bool> CheckService::PutArtifact(const std::string& name, const nlohmann
   return created;
 }
 
+StatusOr<nlohmann::json> CheckService::Artifact(const std::string& name) {
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto text = session->checks().Artifact(name);
+  if (!text) return Status::NotFound("unknown artifact '" + name + "'");
+  auto definition = nlohmann::json::parse(*text, nullptr, false);
+  if (definition.is_discarded()) return Status::Internal("stored artifact is unreadable");
+  return definition;
+}
+
 StatusOr<int64_t> CheckService::RequestCheck(const std::string& machine_name,
                                              const std::string& reason, int64_t due_ms,
                                              const std::string& actor) {

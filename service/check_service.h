@@ -37,6 +37,8 @@ class CheckService {
   // Validates the definition; returns true when it was new.
   StatusOr<bool> PutArtifact(const std::string& name, const nlohmann::json& definition,
                              const std::string& actor, FieldErrors* errors);
+  // The stored definition as it was put; NotFound for an unknown name.
+  StatusOr<nlohmann::json> Artifact(const std::string& name);
   StatusOr<int64_t> RequestCheck(const std::string& machine, const std::string& reason,
                                  int64_t due_ms, const std::string& actor);
   // state: empty for all, or pending | overdue | done.

@@ -50,6 +50,10 @@ class CheckHttpTest : public testing::AppFixture {
                    {"reference_point", "P1"}}}}};
     auto r = client_->Put("/api/v1/artifacts/col-1", art.dump(), "application/json");
     ASSERT_EQ(r->status, 201) << r->body;
+    // Read back as it was put.
+    auto back = client_->Get("/api/v1/artifacts/col-1");
+    ASSERT_EQ(back->status, 200) << back->body;
+    EXPECT_EQ(json::parse(back->body), art);
   }
   // A column check whose spheres sit on a circle about (dx, dz) with the
   // artifact at 21.3 degC (KD's Y expansion 0.00987 mm) and Y shifted by dy.
@@ -124,7 +128,7 @@ TEST_F(CheckHttpTest, RequestThenResultClosesTheRequest) {
   const std::string one = "/api/v1/machines/m1/column-checks/" + result["id"].dump();
   EXPECT_EQ(Get(one)["machine_zero_mm"], result["machine_zero_mm"]);
   auto md = client_->Get(one + "?format=markdown");
-  EXPECT_NE(md->body.find("| offset um | 3.00 | 4.00 | -2.00 |"), std::string::npos) << md->body;
+  EXPECT_NE(md->body.find("| offset µm | 3.00 | 4.00 | -2.00 |"), std::string::npos) << md->body;
   // The same check again is not stored twice.
   r = Post("/api/v1/machines/m1/column-checks",
            ColumnCheck("2026-03-16T06:00:00Z", 0.003, 0.004, -0.002));
@@ -277,7 +281,16 @@ TEST_F(CheckHttpTest, PositioningCheckIsEvaluatedReportedAndTurnedIntoPitchTable
   EXPECT_NE(sin->body.find("$MA_BACKLASH[0,Y1]=-0.001500"), std::string::npos);
   auto beck = client_->Get(base + "/pitch-table?format=beckhoff&per_direction=true");
   EXPECT_NE(beck->body.find("kw.ssfk.table[1].pos 10"), std::string::npos) << beck->body;
-  EXPECT_EQ(client_->Get(base + "/pitch-table?format=fanuc")->status, 400);
+  // Refused naming the parameter, once, and never silently ignored.
+  auto fanuc = client_->Get(base + "/pitch-table?format=fanuc");
+  ASSERT_EQ(fanuc->status, 400);
+  json fp = json::parse(fanuc->body);
+  EXPECT_EQ(fp["errors"][0]["field"], "format") << fp;
+  EXPECT_EQ(fp["detail"], "invalid pitch table query") << fp;
+  auto sin_dir = client_->Get(base + "/pitch-table?format=sinumerik&per_direction=true");
+  ASSERT_EQ(sin_dir->status, 400);
+  EXPECT_EQ(json::parse(sin_dir->body)["errors"][0]["field"], "per_direction") << sin_dir->body;
+  EXPECT_EQ(client_->Get(base + "/pitch-table?format=csv&per_direction=yes")->status, 400);
 
   // The laser software's CSV gives the same evaluation.
   std::string csv = "target_mm,run,direction,deviation_um\n";
@@ -390,6 +403,7 @@ TEST_F(CheckHttpTest, MalformedChecksAreRefusedAndStoreNothing) {
   auto bad_art = client_->Put("/api/v1/artifacts/col-2", R"({"points": []})", "application/json");
   EXPECT_EQ(bad_art->status, 400);
   EXPECT_EQ(Count("SELECT COUNT(*) FROM artifacts"), 1);
+  EXPECT_EQ(client_->Get("/api/v1/artifacts/col-2")->status, 404);
 }
 
 }  // namespace

@@ -242,6 +242,8 @@ def exercise(base):
     call(base, "PUT", "/api/v1/artifacts/col-9", art, expect=201)
     call(base, "PUT", "/api/v1/artifacts/col-9", art, expect=200)
     call(base, "PUT", "/api/v1/artifacts/col-9", {"points": "x"}, expect=400)
+    call(base, "GET", "/api/v1/artifacts/col-9", expect=200)
+    call(base, "GET", "/api/v1/artifacts/no-such", expect=404)
     call(base, "POST", m + "/column-checks/requests", {"reason": "after collision"}, expect=201)
     call(base, "POST", m + "/column-checks/requests", {"reason": 5}, expect=400)
     call(base, "GET", m + "/column-checks/requests", expect=200)
