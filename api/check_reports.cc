@@ -63,8 +63,8 @@ std::string ErrorPlotSvg(const json& per) {
   svg += "<text x='" + F(left) + "' y='" + F(h - 8) + "'>" + F(xmin, "%.0f") + " mm</text>";
   svg +=
       "<text x='" + F(w - right - 60) + "' y='" + F(h - 8) + "'>" + F(xmax, "%.0f") + " mm</text>";
-  svg += "<text x='2' y='" + F(top + 8) + "'>" + F(ymax, "%.1f") + " um</text>";
-  svg += "<text x='2' y='" + F(h - bottom) + "'>" + F(ymin, "%.1f") + " um</text>";
+  svg += "<text x='2' y='" + F(top + 8) + "'>" + F(ymax, "%.1f") + " µm</text>";
+  svg += "<text x='2' y='" + F(h - bottom) + "'>" + F(ymin, "%.1f") + " µm</text>";
   return svg + "</svg>";
 }
 
@@ -76,13 +76,13 @@ std::string ColumnCheckMarkdown(const json& r) {
                    Text(r.value("machine", "")) + "\n\nMeasured " + Text(r.value("ts", "")) +
                    " on artifact " + Text(r.value("artifact", "")) + " at " +
                    F(r.value("artifact_temperature_c", 0.0), "%.2f") +
-                   " degC (points corrected for its expansion).\n\n## Machine zero\n\n"
-                   "| | X | Y | Z |\n|---|---|---|---|\n| offset um | " +
+                   " °C (points corrected for its expansion).\n\n## Machine zero\n\n"
+                   "| | X | Y | Z |\n|---|---|---|---|\n| offset µm | " +
                    F(z["X"].get<double>() * 1000) + " | " + F(z["Y"].get<double>() * 1000) + " | " +
                    F(z["Z"].get<double>() * 1000) + " |\n";
   if (r.contains("zero_change_um")) {
     const json& c = r["zero_change_um"];
-    md += "| change since " + Text(c.value("since", "")) + " um | " + F(c["X"].get<double>()) +
+    md += "| change since " + Text(c.value("since", "")) + " µm | " + F(c["X"].get<double>()) +
           " | " + F(c["Y"].get<double>()) + " | " + F(c["Z"].get<double>()) + " |\n";
   }
   md += std::string("\n") +
@@ -92,12 +92,12 @@ std::string ColumnCheckMarkdown(const json& r) {
              ? "Spindle-to-Z parallelism: X " +
                    F(r["spindle_z_parallelism_um_per_100mm"]["X"].get<double>()) + ", Y " +
                    F(r["spindle_z_parallelism_um_per_100mm"]["Y"].get<double>()) +
-                   " um per 100 mm.\n\n"
+                   " µm per 100 mm.\n\n"
              : std::string()) +
         "Circle through the sphere positions: radius " +
         F(r["circle"]["radius_mm"].get<double>(), "%.4f") + " mm, residual " +
         F(r["circle"]["residual_um"].get<double>()) +
-        " um.\n\n## Straightness (um)\n\n"
+        " µm.\n\n## Straightness (µm)\n\n"
         "| scheme | straightness | points (deviation from the least-squares line, ISO 230-1) "
         "|\n|---|---|---|\n";
   for (const auto& [scheme, value] : r["straightness_um"].items()) {
@@ -128,12 +128,12 @@ std::string PositioningMarkdown(const json& r) {
         std::to_string(iso["per_position"].size()) + " targets; compensation " +
         (in.value("compensation_active", false) ? "active" : "off") +
         (in.contains("machine_temperature_c")
-             ? "; machine " + F(in["machine_temperature_c"].get<double>(), "%.1f") + " degC"
+             ? "; machine " + F(in["machine_temperature_c"].get<double>(), "%.1f") + " °C"
              : "") +
         (in.contains("air_temperature_c")
-             ? "; air " + F(in["air_temperature_c"].get<double>(), "%.1f") + " degC"
+             ? "; air " + F(in["air_temperature_c"].get<double>(), "%.1f") + " °C"
              : "") +
-        ".\n\n## ISO 230-2 (um, expanded uncertainty k = 2)\n\n| | value | U |\n|---|---|---|\n";
+        ".\n\n## ISO 230-2 (µm, expanded uncertainty k = 2)\n\n| | value | U |\n|---|---|---|\n";
   // Without an uncertainty budget nothing is claimed about the uncertainty.
   const bool stated = u.value("stated", true);
   auto uncertainty = [&](const char* ukey) {
@@ -159,11 +159,11 @@ std::string PositioningMarkdown(const json& r) {
         "budget (device, misalignment, temperatures, E_VE).\n";
   }
   md +=
-      "\n## VDI/DGQ 3441 (um)\n\n| P | Pa | Ps max | U max | U mean |\n|---|---|---|---|---|\n| " +
+      "\n## VDI/DGQ 3441 (µm)\n\n| P | Pa | Ps max | U max | U mean |\n|---|---|---|---|---|\n| " +
       F(vdi["P_um"].get<double>()) + " | " + F(vdi["Pa_um"].get<double>()) + " | " +
       F(vdi["Ps_max_um"].get<double>()) + " | " + F(vdi["U_max_um"].get<double>()) + " | " +
       F(vdi["U_mean_um"].get<double>()) +
-      " |\n\n## Per target (um)\n\n"
+      " |\n\n## Per target (µm)\n\n"
       "| target mm | mean up | mean down | s up | s down | B | R "
       "|\n|---|---|---|---|---|---|---|\n";
   for (const auto& p : iso["per_position"]) {

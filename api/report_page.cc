@@ -83,7 +83,7 @@ std::string AnalysisHtml(const AnalysisReport& r) {
   return ReportPage("Effect analysis " + std::to_string(r.id), AnalysisMarkdown(r),
                     "<figure>" + AnalysisErrorChartSvg(r) +
                         "<figcaption>RMSE of the declared model (grey) and with the effects "
-                        "added (blue), um.</figcaption></figure>");
+                        "added (blue), µm.</figcaption></figure>");
 }
 
 std::string FitReportHtml(const FitReport& r) {

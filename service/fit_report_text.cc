@@ -21,7 +21,7 @@ std::string FitReportMarkdown(const FitReport& r) {
         ". " + std::to_string(r.fit.n) + " probe points of " + std::to_string(r.training_runs) +
         " training runs.\n\n";
   md +=
-      "## Coefficients (um per unit of each term)\n\n| term | estimate | std. error | t | p | VIF "
+      "## Coefficients (µm per unit of each term)\n\n| term | estimate | std. error | t | p | VIF "
       "|\n|---|---|---|---|---|---|\n";
   for (const TermStats& t : r.fit.terms) {
     md += "| " + Code(t.name) + " | " + Fixed(t.estimate * 1000.0, "%.4g") + " | " +
@@ -29,9 +29,9 @@ std::string FitReportMarkdown(const FitReport& r) {
           " | " + Fixed(t.vif, "%.3g") + " |\n";
   }
   md += "\nR² " + Fixed(r.fit.r2, "%.4f") + ", adjusted " + Fixed(r.fit.adj_r2, "%.4f") +
-        "; residual sigma " + Um(r.fit.sigma) + " um; F " + Fixed(r.fit.f, "%.4g") + " (p " +
+        "; residual sigma " + Um(r.fit.sigma) + " µm; F " + Fixed(r.fit.f, "%.4g") + " (p " +
         P(r.fit.f_p) + "); Durbin-Watson " + Fixed(r.fit.durbin_watson, "%.3f") + ".\n\n";
-  md += "## Errors (um)\n\n| | RMSE | R² | points |\n|---|---|---|---|\n";
+  md += "## Errors (µm)\n\n| | RMSE | R² | points |\n|---|---|---|---|\n";
   md += "| training | " + Um(r.fit.rmse) + " | " + Fixed(r.fit.r2, "%.4f") + " | " +
         std::to_string(r.fit.n) + " |\n";
   md += "| leave-one-run-out cross-validation | " + Um(r.cross_validation.rmse_mm) + " | " +
@@ -42,7 +42,7 @@ std::string FitReportMarkdown(const FitReport& r) {
   if (r.compared_with) {
     md += "Against version " + std::to_string(r.compared_with->version) +
           ", active then, on the same held-out points: " + Um(r.compared_with->active_rmse_mm) +
-          " um, this version " + Um(r.compared_with->candidate_rmse_mm) + " um.\n\n";
+          " µm, this version " + Um(r.compared_with->candidate_rmse_mm) + " µm.\n\n";
   }
   md += "## Acceptance\n\n" +
         (r.accepted ? std::string("Passed.") : "Failed: " + Join(r.acceptance_reasons) + ".") +

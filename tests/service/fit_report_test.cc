@@ -63,7 +63,7 @@ TEST_F(FitReportTest, TheReadableReportShowsEveryCoefficientInMicrometres) {
   auto report = app_->fits().Fit("m1", "Y", req);
   ASSERT_TRUE(report.ok()) << report.status().ToString();
   const std::string md = FitReportMarkdown(*report);
-  EXPECT_NE(md.find("## Coefficients (um per unit of each term)"), std::string::npos);
+  EXPECT_NE(md.find("## Coefficients (µm per unit of each term)"), std::string::npos);
   for (const TermStats& t : report->fit.terms) {
     char estimate[32];
     std::snprintf(estimate, sizeof estimate, "| %.4g |", t.estimate * 1000.0);
