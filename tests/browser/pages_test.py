@@ -104,7 +104,8 @@ def open_page(d, server, path, name):
 def make_demo(dir):
     db = os.path.join(dir, "demo.db")
     subprocess.run([BIN, "demo", "--db", db, "--create", "--config",
-                    os.path.join(SRC, "deploy/thermocomp.toml")],
+                    os.path.join(SRC, "deploy/thermocomp.toml"),
+                    "--study", os.path.join(SRC, "deploy/demo/fms_datum_drift.csv")],
                    check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     return db
 
@@ -126,6 +127,11 @@ def open_access(d, s):
     check(names == listed and "sim-1" in names,
           f"overview lists the demo machines of every page {names}")
     check(not d.find_elements(By.ID, "empty"), "overview of the demo shows no empty state")
+    # An axis without an active model says what became of its newest fit.
+    why = [a["reason"] or "" for a in s.api("/machines/fms-study/compensation")["axes"]]
+    text = d.find_element(By.ID, "overview").text
+    check(any(r.startswith("no active model: v") and r in text for r in why),
+          f"the overview says why the study machine has no active model {why}")
     # A freshly served model ramps in (never a step): the page says so and
     # to which value, as the API does.
     axes, page = [], overview
@@ -183,6 +189,32 @@ def open_access(d, s):
     d.find_element(By.CSS_SELECTOR, "button[data-span='Week']").click()
     wait_ready(d)
     check("from=" in d.execute_script("return document.body.dataset.driftRequest"), "range picker sets from")
+    # The CSV export holds everything in the range, not the thinned chart:
+    # every probe point and temperature sample the API counts, one column
+    # per series, plant times a spreadsheet reads.
+    shown = d.execute_script("return document.body.dataset.driftRequest")
+    frm, to = re.search(r"from=(\d+)", shown).group(1), re.search(r"to=(\d+)", shown).group(1)
+    d.set_script_timeout(120)
+    table = d.execute_async_script("""
+      const done = arguments[arguments.length - 1];
+      window.thermocompExport().then((t) => done({ header: t.header, first: t.rows.length ? t.rows[0][0] : "",
+        probe: t.rows.filter((r) => r[2] !== "").length,
+        temps: t.rows.reduce((n, r) => n + r.slice(6).filter((v) => v !== "").length, 0) }));""")
+    want_probe = s.api(f"/machines/sim-1/drift?axis=Y&from={frm}&to={to}&max_points=2")["probe_points_total"]
+    want_temps = sum(x["total"] for x in s.api(f"/machines/sim-1/temperatures?from={frm}&to={to}&max_points=2")["sensors"])
+    check(table["probe"] == want_probe and table["temps"] == want_temps and want_temps > 1000,
+          f"the export holds every probe point ({table['probe']} of {want_probe}) and sample ({table['temps']} of {want_temps})")
+    check(table["header"][0].startswith("time (") and len(table["header"]) > 6,
+          f"the export has one column per series {table['header']}")
+    check(re.fullmatch(r"\d{4}-\d\d-\d\d \d\d:\d\d:\d\d", table["first"]) is not None,
+          f"the export's times are plant times a spreadsheet reads ({table['first']})")
+    # Time labels follow the span shown: a day has hours on its axis.
+    d.find_element(By.CSS_SELECTOR, "button[data-span='Day']").click()
+    wait_ready(d)
+    labels = [e.text for e in d.find_elements(By.CSS_SELECTOR, "#drift .dygraph-axis-label-x")]
+    check(labels and all(re.search(r"\d\d:\d\d", t) for t in labels),
+          f"a day's time labels carry hours {labels}")
+    shot(d, "machine-day")
     console_errors(d, "machine after zoom")
 
     open_page(d, s, "/ui/machines/sim-1/axes/Y/models", "models")
@@ -200,11 +232,25 @@ def open_access(d, s):
         if report["holdout_n"] > 0:
             analysis_details(d, report, "analysis-holdout-demo")
     open_page(d, s, "/ui/checks", "checks")
+    if d.find_elements(By.ID, "check-machine"):
+        default = d.find_element(By.ID, "check-machine").get_attribute("value")
+        check(s.api(f"/machines/{default}")["automatic_column_checks"],
+              f"the request form starts on a machine that runs column checks ({default})")
     open_page(d, s, "/ui/machines/sim-1/checks", "machine-checks")
     check(len(d.find_elements(By.CSS_SELECTOR, "#positioning-list tbody tr")) ==
           len(s.api("/machines/sim-1/positioning-checks")["checks"]), "positioning checks listed")
     check(len(d.find_elements(By.CSS_SELECTOR, "#column-check-list tbody tr")) ==
           len(s.api("/machines/sim-1/column-checks")["checks"]), "column checks listed")
+    trend = s.api("/machines/sim-1/column-checks")["machine_zero_trend"]
+    text = d.find_element(By.ID, "zero-trend").text
+    want = f"Y {trend['range_um']['Y']:.2f}"
+    check(want in text and "–" not in text, f"the machine-zero trend gives its range per axis ({want} in {text!r})")
+    # A machine archived from probe data alone says so instead of an empty chart.
+    open_page(d, s, "/ui/machines/fms-study", "machine-study")
+    temps = s.api("/machines/fms-study/temperatures")
+    if not any(x["points"] for x in temps["sensors"]):
+        check(bool(d.find_elements(By.ID, "no-temperatures")),
+              "the study machine's page says it has no temperature samples")
     # Tablet held by the machine.
     d.set_window_size(820, 1180)
     open_page(d, s, "/ui/machines/sim-1", "machine-tablet")
@@ -385,6 +431,72 @@ def analysis_with_effect(d, s):
     check(y["model_version"] == version, f"applying the proposed model serves v{version}")
 
 
+def forms(d, s, work):
+    """Maintenance without JSON or curl: an event and a laser check by form."""
+    open_page(d, s, "/ui/machines/sim-2", "machine-event-form")
+    d.find_element(By.ID, "event-kind").send_keys("maintenance")
+    d.find_element(By.ID, "event-note").send_keys("ball screw nut replaced")
+    d.find_element(By.CSS_SELECTOR, "#record-event button[type=submit]").click()
+    WebDriverWait(d, 10).until(lambda x: "Recorded event #" in x.find_element(By.ID, "event-message").text)
+    shot(d, "machine-event-recorded")
+    now = int(time.time() * 1000)
+    events = s.api(f"/machines/sim-2/temperatures?max_points=2&from={now - 86400000}&to={now + 86400000}")["events"]
+    check(any(e["kind"] == "maintenance" and e["note"] == "ball screw nut replaced" for e in events),
+          f"the event form stores the event ({events})")
+
+    # A column check typed in point by point, the artifact's points listed
+    # from its definition (sim-1's checks use col-1: KD and P1..P3).
+    before = len(s.api("/machines/sim-1/column-checks")["checks"])
+    open_page(d, s, "/ui/machines/sim-1/checks", "machine-checks-measure-form")
+    WebDriverWait(d, 10).until(lambda x: x.find_elements(By.ID, "measure-spheres"))
+    y = 500.0 + 0.0069 * 21.3 - 0.1371  # KD at 21.3 degC, as the artifact expands
+    values = {"sphere-0": (250.0, y, 0.0), "sphere-90": (0.0, y, 250.0), "sphere-180": (-250.0, y, 0.0),
+              "point-a-P1": (100.0, 400.0, 0.0), "point-a-P2": (100.003, 600.0, 0.0), "point-a-P3": (100.004, 800.0, 0.0)}
+    for prefix, xyz in values.items():
+        for axis, v in zip("xyz", xyz):
+            d.find_element(By.ID, f"{prefix}-{axis}").send_keys(f"{v:.5f}")
+    d.find_element(By.ID, "measure-temperature").send_keys("21.3")
+    shot(d, "machine-checks-measure-filled")
+    d.find_element(By.CSS_SELECTOR, "#measure-check button[type=submit]").click()
+    WebDriverWait(d, 10).until(lambda x: "Recorded column check #" in x.find_element(By.ID, "measure-message").text
+                               or "error" in x.find_element(By.ID, "measure-message").get_attribute("innerHTML"))
+    checks = s.api("/machines/sim-1/column-checks")["checks"]
+    text = d.find_element(By.ID, "measure-message").text
+    check(len(checks) == before + 1 and checks[-1]["artifact"] == "col-1", f"the column-check form stores the check ({text!r})")
+    zero = checks[-1]["machine_zero_mm"]
+    f2 = lambda um: "0.00" if abs(um) < 0.005 else f"{um:.2f}"  # as the page rounds
+    want = f"X {f2(zero['X'] * 1000)}, Y {f2(zero['Y'] * 1000)}, Z {f2(zero['Z'] * 1000)} µm"
+    check(all(abs(zero[a]) < 0.0005 for a in "XYZ") and want in text,
+          f"the form's check gives the machine zero the values imply ({zero}, {text!r})")
+
+    csv = os.path.join(work, "laser.csv")
+    with open(csv, "w") as f:
+        f.write("target_mm,run,direction,deviation_um\n")
+        for run, direction, devs in [(1, "+", [1.0, 2.0, 3.0]), (2, "-", [0.5, 1.5, 2.0]),
+                                     (3, "+", [1.5, 2.5, 3.5]), (4, "-", [0.0, 1.0, 2.5])]:
+            for target, dev in zip([0, 250, 500], devs):
+                f.write(f"{target},{run},{direction},{dev}\n")
+    before = len(s.api("/machines/sim-2/positioning-checks")["checks"])
+    open_page(d, s, "/ui/machines/sim-2/checks", "machine-checks-laser-form")
+    # The file chosen as a person would, handed to the input as a File (this
+    # driver cannot upload from disk).
+    d.execute_script("""
+      const t = new DataTransfer();
+      t.items.add(new File([arguments[0]], "laser.csv", { type: "text/csv" }));
+      document.getElementById("laser-file").files = t.files;""", open(csv).read())
+    d.find_element(By.ID, "laser-axis").send_keys("Y")
+    d.find_element(By.ID, "laser-machine-c").send_keys("21.5")
+    d.find_element(By.CSS_SELECTOR, "#upload-laser button[type=submit]").click()
+    WebDriverWait(d, 10).until(lambda x: "Recorded positioning check #" in x.find_element(By.ID, "laser-message").text)
+    shot(d, "machine-checks-laser-uploaded")
+    checks = s.api("/machines/sim-2/positioning-checks")["checks"]
+    check(len(checks) == before + 1, "the laser form stores one positioning check")
+    new = checks[-1]
+    text = d.find_element(By.ID, "laser-message").text
+    check(new["axis"] == "Y" and f"A {new['A_um']:.2f}" in text and f"R {new['R_um']:.2f}" in text,
+          f"the page reports the check's A and R as the API has them ({text!r}, {new})")
+
+
 def empty_states(d, s):
     open_page(d, s, "/", "overview-empty")
     check(bool(d.find_elements(By.ID, "empty")), "an empty database shows the overview's empty state")
@@ -403,6 +515,7 @@ def main():
     d = browser()
     try:
         open_access(d, servers[0])
+        forms(d, servers[0], work)
         with_tokens(d, servers[1])
         empty_states(d, servers[2])
         analysis_with_effect(d, servers[3])

@@ -21,7 +21,7 @@
   const gain = (g) => (g ? num(g.relative * 100, 3) + " % (t " + num(g.t, 3) + ")" : "–");
   // Units as a person reads them: the API and the model's sentences spell
   // °C "degC" and µm "um" (a whole word), as the Markdown report converts them.
-  const readable = (t) => String(t ?? "").replaceAll("degC", "°C").replace(/(?<![A-Za-z])um(?![A-Za-z])/g, "µm");
+  const readable = TC.text;
   const v = r.validation || {};
   const labels = v.block_labels || [];
 

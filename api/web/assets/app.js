@@ -82,6 +82,37 @@ const TC = (() => {
     const d = typeof iso === "number" ? new Date(iso) : new Date(iso);
     return isNaN(d) ? "–" : dateTime.format(d);
   }
+  // Server text (reasons, interpretations) as a person here reads it: µm
+  // and °C, and every RFC 3339 time in the plant's zone.
+  function text(t) {
+    return String(t ?? "")
+      .replace(/\d{4}-\d{2}-\d{2}T\d{2}:\d{2}(:\d{2}(\.\d+)?)?(Z|[+-]\d{2}:\d{2})/g, (iso) => time(iso))
+      .replaceAll("degC", "°C")
+      .replace(/(?<![A-Za-z])um(?![A-Za-z])/g, "µm");
+  }
+  // A date (and time) field in the plant's notation, ISO 8601 (2026-03-01,
+  // 2026-03-01 06:00), the same in every browser whatever its language;
+  // zonedInput(field) is its UTC instant in ms (NaN when malformed).
+  function dateInput(attrs, withTime) {
+    return el("input", Object.assign({ type: "text", inputmode: "numeric", size: withTime ? 16 : 10,
+      placeholder: withTime ? "yyyy-mm-dd hh:mm" : "yyyy-mm-dd",
+      pattern: withTime ? "\\d{4}-\\d{2}-\\d{2}( \\d{2}:\\d{2})?" : "\\d{4}-\\d{2}-\\d{2}" }, attrs));
+  }
+  function zonedInput(field, dayEnd) {
+    const v = field.value.trim();
+    const m = /^(\d{4}-\d{2}-\d{2})(?:[ T](\d{2}:\d{2}))?$/.exec(v);
+    if (!m) return NaN;
+    return zonedToUtc(m[1] + "T" + (m[2] || (dayEnd ? "23:59" : "00:00")) + (m[2] || !dayEnd ? ":00" : ":59"));
+  }
+  // A time as the plant writes it in those fields.
+  const isoParts = new Intl.DateTimeFormat("en-CA", { timeZone: zone, hourCycle: "h23", year: "numeric", month: "2-digit",
+    day: "2-digit", hour: "2-digit", minute: "2-digit" });
+  const isoSeconds = new Intl.DateTimeFormat("en-CA", { timeZone: zone, hourCycle: "h23", year: "numeric", month: "2-digit",
+    day: "2-digit", hour: "2-digit", minute: "2-digit", second: "2-digit" });
+  function plantIso(ms, seconds) {
+    const p = Object.fromEntries((seconds ? isoSeconds : isoParts).formatToParts(new Date(ms)).map((x) => [x.type, x.value]));
+    return p.year + "-" + p.month + "-" + p.day + " " + p.hour + ":" + p.minute + (seconds ? ":" + p.second : "");
+  }
   // "3 h ago", "2 d ago": how old a time is, for the overview.
   function age(iso, now) {
     if (!iso) return "";
@@ -171,6 +202,6 @@ const TC = (() => {
   function param(name) { return new URLSearchParams(location.search).get(name); }
   function pathPart(i) { return decodeURIComponent(location.pathname.split("/")[i] || ""); }
 
-  return { api, ApiError, problemText, el, table, time, age, zonedToUtc, um, num, can,
+  return { api, ApiError, problemText, el, table, time, text, dateInput, zonedInput, plantIso, age, zonedToUtc, um, num, can,
     downloadCsv, main, fail, start, param, pathPart, zone, get session() { return session; } };
 })();

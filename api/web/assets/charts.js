@@ -17,7 +17,7 @@ const Charts = (() => {
     return { node: el("figure", { style: "margin:0 0 1em" }, el("figcaption", {}, caption), plot, legend), plot, legend };
   }
 
-  // Vertical marks [{ms, color}] under the data.
+  // Vertical marks [{ms, color, width, label}] under the data.
   function underlay(marks) {
     return (ctx, area, g) => {
       for (const m of marks()) {
@@ -29,6 +29,11 @@ const Charts = (() => {
         ctx.moveTo(x, area.y);
         ctx.lineTo(x, area.y + area.h);
         ctx.stroke();
+        if (m.label) {  // what the line marks, beside its top
+          ctx.fillStyle = m.color;
+          ctx.font = "11px sans-serif";
+          ctx.fillText(m.label, Math.min(x + 3, area.x + area.w - ctx.measureText(m.label).width), area.y + 11);
+        }
       }
     };
   }
@@ -52,7 +57,12 @@ const Charts = (() => {
       axes: {
         x: {
           valueFormatter: (ms) => TC.time(ms),
-          axisLabelFormatter: (d) => (span > 4 * 86400000 ? day : short).format(d),
+          // By the span shown now (zoomed, or a new range), not the one
+          // drawn first: hours within a few days, dates beyond.
+          axisLabelFormatter: (d, granularity, opts, g) => {
+            const r = g && g.xAxisRange ? g.xAxisRange() : [0, span];
+            return (r[1] - r[0] > 4 * 86400000 ? day : short).format(d);
+          },
           pixelsPerLabel: 90,
         },
         y: { axisLabelWidth: 60 },

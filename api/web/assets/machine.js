@@ -1,7 +1,7 @@
 // A machine: drift at the datum (measured, predicted by the active model,
 // residual, and the offset served) and every sensor's temperature, on one
 // time range. Zooming asks the server again for the range, thinned to the
-// chart's width; the CSV holds exactly what is shown.
+// chart's width; the CSV holds everything in the range, unthinned.
 "use strict";
 
 (async () => {
@@ -31,11 +31,11 @@
   const axisTabs = el("div", { class: "tabs", role: "tablist" });
   const links = el("p", {});
   const rangeBar = el("div", { class: "toolbar", id: "range" });
-  const fromInput = el("input", { type: "date", id: "from", "aria-label": "from (plant time)" });
-  const toInput = el("input", { type: "date", id: "to", "aria-label": "to (plant time)" });
+  const fromInput = TC.dateInput({ id: "from", "aria-label": "from (plant date)" });
+  const toInput = TC.dateInput({ id: "to", "aria-label": "to (plant date)" });
   const note = el("p", { class: "muted", id: "range-note" });
   const drift = Charts.box("drift", "Drift at the datum and the offset served (µm)");
-  const temps = Charts.box("temperatures", "Temperatures (°C); grey lines: start of a run, red: events");
+  const temps = Charts.box("temperatures", "Temperatures (°C); grey lines: start of a run, red: events (labelled with their kind)");
   let driftChart = null, tempChart = null;
 
   for (const [label, span] of Object.entries(spans)) {
@@ -44,7 +44,7 @@
   rangeBar.append(el("button", { type: "button", "data-span": "All", onclick: () => setRange(null, null) }, "All"),
     el("span", { class: "muted" }, " from "), fromInput, el("span", { class: "muted" }, " to "), toInput,
     el("button", { type: "button", id: "apply-range", onclick: () => {
-      const f = TC.zonedToUtc(fromInput.value + "T00:00:00"), t = TC.zonedToUtc(toInput.value + "T23:59:59");
+      const f = TC.zonedInput(fromInput), t = TC.zonedInput(toInput, true);
       if (isFinite(f) && isFinite(t) && f <= t) setRange(f, t);
     } }, "Apply"),
     el("button", { type: "button", id: "download", onclick: download }, "Download CSV"));
@@ -94,7 +94,8 @@
     return starts;
   }
   function eventMarks() {
-    return (state.temps ? state.temps.events : []).map((e) => ({ ms: new Date(e.ts).getTime(), color: "rgba(179,38,30,0.8)", width: 2 }));
+    return (state.temps ? state.temps.events : []).map((e) => ({ ms: new Date(e.ts).getTime(), color: "rgba(179,38,30,0.8)", width: 2,
+      label: e.kind.replace("_", " ") }));
   }
   const marks = () => runStarts().concat(eventMarks());
 
@@ -128,6 +129,19 @@
   }
 
   function drawTemps(t) {
+    if (!t.sensors.some((s) => s.points.length)) {
+      // Nothing to draw (a machine archived from probe data alone, or a
+      // quiet range): said in words, not an empty 0–1 °C chart.
+      if (tempChart) { tempChart.destroy(); tempChart = null; }
+      temps.plot.replaceChildren(el("div", { class: "empty", id: "no-temperatures" },
+        t.sensors.length ? "No temperature samples of " + t.sensors.map((s) => s.sensor).join(", ") + " in this range."
+          : "This machine has no temperature sensors declared."));
+      temps.plot.style.height = "auto";
+      temps.plot.dataset.points = 0;
+      return;
+    }
+    temps.plot.style.height = "";
+    if (!tempChart) temps.plot.replaceChildren();
     const rows = merge(t.sensors.map((s) => s.points.map((p) => [new Date(p.ts).getTime(), p.value_c])));
     const labels = ["time", ...t.sensors.map((s) => s.sensor)];
     const options = { ylabel: "temperature (°C)", zoomCallback: onZoom, underlayCallback: Charts.underlay(marks) };
@@ -173,22 +187,110 @@
     }
   }
 
-  function download() {
-    const rows = [];
-    for (const p of (state.drift ? state.drift.probe_points : [])) {
-      rows.push(["probe_point", p.ts, p.run, um(p.measured_mm, 3), um(p.predicted_mm, 3), um(p.residual_mm, 3), "", ""]);
+  // The export: every probe point, served offset and temperature sample in
+  // the range (not the thinned chart), asked for window by window so that
+  // the server thins nothing; one column per series, times in the plant's
+  // zone as a spreadsheet reads them (2026-03-01 06:00:00).
+  async function exportTable(progress) {
+    const m = "/machines/" + encodeURIComponent(machine);
+    let from = state.from, to = state.to;
+    if (from === null || to === null) {  // everything: the archive's extent
+      const [d, t] = await Promise.all([api(m + "/drift?axis=" + state.axis + "&max_points=2"), api(m + "/temperatures?max_points=2")]);
+      const times = d.probe_points.map((p) => p.ts).concat(d.served_offset.map((p) => p.ts),
+        ...t.sensors.map((x) => x.points.map((p) => p.ts))).map((ts) => new Date(ts).getTime());
+      if (!times.length) return { header: [], rows: [] };
+      from = Math.min(...times);
+      to = Math.max(...times);
     }
-    for (const p of (state.drift ? state.drift.served_offset : [])) rows.push(["served_offset", p.ts, "", "", "", "", um(p.value_mm, 3), ""]);
-    for (const s of (state.temps ? state.temps.sensors : [])) {
-      for (const p of s.points) rows.push(["temperature:" + s.sensor, p.ts, "", "", "", "", "", p.value_c]);
+    const sensors = [];
+    const rows = new Map();
+    const row = (ms) => {
+      let r = rows.get(ms);
+      if (!r) { r = { ms, values: {} }; rows.set(ms, r); }
+      return r;
+    };
+    const umCsv = (mm) => (mm === null || mm === undefined || !isFinite(mm) ? "" : (mm * 1000).toFixed(3));
+    let step = 8 * 86400000;
+    for (let start = Math.floor(from); start <= to;) {
+      const end = Math.min(Math.ceil(to), start + step - 1);
+      const q = "from=" + start + "&to=" + end;
+      const [d, t] = await Promise.all([api(m + "/drift?axis=" + state.axis + "&max_points=100000&" + q),
+        api(m + "/temperatures?max_points=20000&" + q)]);
+      const thinned = d.probe_points.length < d.probe_points_total || d.served_offset.length < d.served_offset_total ||
+        d.served_offset_source !== "log" || t.sensors.some((x) => x.points.length < x.total || x.source !== "raw");
+      if (thinned && step > 3600000) { step = Math.max(3600000, step / 4); continue; }
+      for (const p of d.probe_points) {
+        Object.assign(row(new Date(p.ts).getTime()).values, { run: p.run, measured_um: umCsv(p.measured_mm),
+          predicted_um: umCsv(p.predicted_mm), residual_um: umCsv(p.residual_mm) });
+      }
+      for (const p of d.served_offset) row(new Date(p.ts).getTime()).values.served_offset_um = umCsv(p.value_mm);
+      for (const x of t.sensors) {
+        const column = x.sensor + "_c";
+        if (!sensors.includes(column)) sensors.push(column);
+        for (const p of x.points) row(new Date(p.ts).getTime()).values[column] = p.value_c;
+      }
+      if (progress) progress(Math.min(1, (end - from + 1) / Math.max(1, to - from + 1)));
+      start = end + 1;
     }
-    TC.downloadCsv(machine + "-" + state.axis + ".csv",
-      ["series", "ts_utc", "run", "measured_um", "predicted_um", "residual_um", "served_offset_um", "temperature_c"], rows);
+    const columns = ["run", "measured_um", "predicted_um", "residual_um", "served_offset_um", ...sensors];
+    return {
+      header: ["time (" + TC.zone + ")", ...columns],
+      rows: [...rows.values()].sort((a, b) => a.ms - b.ms).map((r) => [TC.plantIso(r.ms, true), ...columns.map((c) => r.values[c] ?? "")]),
+    };
+  }
+  window.thermocompExport = exportTable;  // the browser test reads it
+
+  async function download() {
+    const button = document.getElementById("download");
+    button.disabled = true;
+    try {
+      const table = await exportTable((share) => { button.textContent = "Exporting " + Math.round(share * 100) + " %"; });
+      TC.downloadCsv(machine + "-" + state.axis + ".csv", table.header, table.rows);
+    } catch (err) {
+      note.replaceChildren(el("span", { class: "error" }, TC.problemText(err)));
+    } finally {
+      button.disabled = false;
+      button.textContent = "Download CSV";
+    }
+  }
+
+  // Recording what happened to the machine: the effect analysis tries a
+  // step and a changed sensitivity at every event (docs/api.md, Data in).
+  const events = el("div", { id: "event-entry" });
+  if (TC.can("record_event")) {
+    const kind = el("select", { id: "event-kind" }, ["maintenance", "collision", "column_check", "other"].map((k) =>
+      el("option", { value: k }, k.replace("_", " "))));
+    const at = TC.dateInput({ id: "event-time", required: true, value: TC.plantIso(Date.now()) }, true);
+    const text = el("input", { id: "event-note", maxlength: 500, placeholder: "e.g. spindle bearings replaced" });
+    const said = el("div", { class: "wide", role: "status", id: "event-message" });
+    const form = el("form", { class: "panel", id: "record-event" },
+      el("label", { for: "event-kind" }, "Kind"), kind,
+      el("label", { for: "event-time" }, "When (plant time, yyyy-mm-dd hh:mm)"), at,
+      el("label", { for: "event-note" }, "Note"), text,
+      el("div", { class: "wide" }, el("button", { class: "primary", type: "submit" }, "Record event")), said);
+    form.addEventListener("submit", async (e) => {
+      e.preventDefault();
+      const ms = TC.zonedInput(at);
+      if (!isFinite(ms)) {
+        said.replaceChildren(el("p", { class: "error" }, "When: a plant time as yyyy-mm-dd hh:mm."));
+        return;
+      }
+      try {
+        const r = await api("/machines/" + encodeURIComponent(machine) + "/events",
+          { method: "POST", body: { ts: new Date(ms).toISOString(), kind: kind.value, note: text.value } });
+        said.replaceChildren(el("p", { class: "notice" }, (r.duplicates ? "Already recorded: " : "Recorded event #" + r.id + ": ") +
+          kind.value.replace("_", " ") + " at " + time(ms) + "."));
+        await load();
+      } catch (err) {
+        said.replaceChildren(el("p", { class: "error" }, TC.problemText(err)));
+      }
+    });
+    events.append(el("h2", {}, "Record an event"), form);
   }
 
   TC.main(el("h1", {}, info.name && info.name !== machine ? info.name + " (" + machine + ")" : machine,
     el("span", { class: "muted" }, " · " + (info.controller || "control unknown"))),
-  cards, axisTabs, links, rangeBar, note, drift.node, temps.node);
+  cards, axisTabs, links, rangeBar, note, drift.node, temps.node, events);
   renderAxisTabs();
   if (!axes.length) {
     note.textContent = "This machine has no axes defined, so there is no drift to show.";

@@ -15,14 +15,17 @@
   const trend = Charts.box("machine-zero", "Machine zero from each column check (µm, after the artifact's thermal correction); right axis: artifact temperature (°C)");
   const positioning = el("div", { id: "positioning" });
   const entry = el("div", {});
+  const positioningEntry = el("div", {});
+  const measured = el("form", { class: "panel", id: "measure-check" });
   TC.main(el("h1", {}, el("a", { href: "/ui" + path }, machine), " · checks"), message,
     el("h2", {}, "Column-check requests"), requests,
     el("h2", {}, "Column checks"), trend.node, columns, entry,
-    el("h2", {}, "Positioning checks (ISO 230-2, VDI/DGQ 3441)"), positioning);
+    el("h2", {}, "Positioning checks (ISO 230-2, VDI/DGQ 3441)"), positioning, positioningEntry);
 
   // Two decimals; a value that rounds to zero is 0.00, not -0.00.
   const f2 = (v) => (v === null || v === undefined || !isFinite(v) ? "–" : (Math.abs(v) < 0.005 ? 0 : Number(v)).toFixed(2));
   const formats = ["csv", "sinumerik", "beckhoff", "linuxcnc"];
+  let lastArtifact = null;  // the artifact of the newest check: the form's default
 
   async function load() {
     try {
@@ -30,16 +33,18 @@
       requests.replaceChildren(reqs.requests.length
         ? TC.table([{ label: "Request" }, { label: "State" }, { label: "Due" }, { label: "Reason" }, { label: "Done" }],
           reqs.requests.map((q) => ["#" + q.id, el("span", { class: q.state === "overdue" ? "bad" : q.state === "pending" ? "warn" : "ok" }, q.state), time(q.due),
-            q.reason + (q.automatic ? " (automatic)" : ""), q.done_at ? time(q.done_at) + (q.check_id ? " → check #" + q.check_id : "") : "–"]), { id: "request-list" })
+            TC.text(q.reason) + (q.automatic ? " (automatic)" : ""), q.done_at ? time(q.done_at) + (q.check_id ? " → check #" + q.check_id : "") : "–"]), { id: "request-list" })
         : el("div", { class: "empty" }, "No column check was ever requested for this machine."));
       const checks = hist.checks;
+      if (checks.length) lastArtifact = checks[checks.length - 1].artifact;
       if (!checks.length) {
         columns.replaceChildren(el("div", { class: "empty" }, "No column check recorded yet."));
         trend.plot.replaceChildren();
       } else {
         const t = hist.machine_zero_trend || {};
         columns.replaceChildren(
-          el("p", {}, "Trend (least squares): X " + f2(t.X_um_per_week) + ", Y " + f2(t.Y_um_per_week) + ", Z " + f2(t.Z_um_per_week) + " µm/week; range " + f2(t.range_um) + " µm."),
+          el("p", { id: "zero-trend" }, "Trend (least squares): X " + f2(t.X_um_per_week) + ", Y " + f2(t.Y_um_per_week) + ", Z " + f2(t.Z_um_per_week) + " µm/week" +
+            (t.range_um ? "; range (largest minus smallest) X " + f2(t.range_um.X) + ", Y " + f2(t.range_um.Y) + ", Z " + f2(t.range_um.Z) + " µm." : ".")),
           TC.table([{ label: "Check" }, { label: "Time" }, { label: "Artifact °C", num: true }, { label: "X µm", num: true }, { label: "Y µm", num: true }, { label: "Z µm", num: true }, { label: "Beyond tolerance" }, { label: "Report" }],
             checks.slice().reverse().map((c) => ["#" + c.id, time(c.ts), f2(c.artifact_temperature_c), f2(c.machine_zero_mm.X * 1000), f2(c.machine_zero_mm.Y * 1000), f2(c.machine_zero_mm.Z * 1000),
               c.beyond_tolerance ? el("span", { class: "bad" }, "yes") : "no",
@@ -85,7 +90,119 @@
         message.replaceChildren(el("p", { class: "error" }, TC.problemText(err)));
       }
     });
-    entry.replaceChildren(el("h2", {}, "Record a column-check result"), form);
+    entry.replaceChildren(el("h2", {}, "Record a column-check result"), measured, el("h3", {}, "or as the probing cycle's JSON"), form);
+  }
+
+  // The same result typed in, value by value: the artifact's definition
+  // lists its points; the sphere is probed at four B positions (three at
+  // least), every other point once per scheme. Values in mm, as probed.
+  async function renderMeasured() {
+    const artifact = el("input", { id: "measure-artifact", value: lastArtifact || "", size: 16, required: true });
+    const loadButton = el("button", { type: "button", id: "measure-load" }, "List its points");
+    const at = TC.dateInput({ id: "measure-time", required: true, value: TC.plantIso(Date.now()) }, true);
+    const temp = el("input", { id: "measure-temperature", inputmode: "decimal", size: 6, required: true });
+    const rows = el("div", { class: "wide", id: "measure-rows" });
+    const said = el("div", { class: "wide", role: "status", id: "measure-message" });
+    const cell = (id) => el("input", { id, inputmode: "decimal", size: 10, "aria-label": id });
+    let definition = null;
+    async function listPoints() {
+      try {
+        definition = await api("/artifacts/" + encodeURIComponent(artifact.value.trim()));
+      } catch (err) {
+        definition = null;
+        rows.replaceChildren(el("p", { class: "error" }, TC.problemText(err)));
+        return;
+      }
+      const ids = definition.points.map((p) => p.id);
+      const sphere = el("select", { id: "measure-sphere" }, ids.map((i) => el("option", { value: i }, i)));
+      const withExpansion = definition.points.find((p) => p.expansion);
+      if (withExpansion) sphere.value = withExpansion.id;
+      const sphereRows = [0, 90, 180, 270].map((b) => [b + "°", cell("sphere-" + b + "-x"), cell("sphere-" + b + "-y"), cell("sphere-" + b + "-z")]);
+      const pointRows = () => (definition.schemes || []).flatMap((sc) => ids.filter((i) => i !== sphere.value).map((i) =>
+        [i + " (scheme " + sc.id + ")", cell("point-" + sc.id + "-" + i + "-x"), cell("point-" + sc.id + "-" + i + "-y"), cell("point-" + sc.id + "-" + i + "-z")]));
+      const columns = [{ label: "" }, { label: "X mm", num: true }, { label: "Y mm", num: true }, { label: "Z mm", num: true }];
+      const pointsTable = el("div", {}, TC.table(columns, pointRows(), { id: "measure-points" }));
+      sphere.addEventListener("change", () => pointsTable.replaceChildren(TC.table(columns, pointRows(), { id: "measure-points" })));
+      rows.replaceChildren(el("p", { class: "inline" }, el("label", { for: "measure-sphere" }, "Sphere "), sphere, " at each B position (leave a row empty to skip it; three at least)"),
+        TC.table(columns, sphereRows, { id: "measure-spheres" }), el("p", {}, "Points"), pointsTable);
+    }
+    loadButton.addEventListener("click", listPoints);
+    measured.replaceChildren(
+      el("label", { for: "measure-artifact" }, "Artifact"), el("span", { class: "inline" }, artifact, " ", loadButton),
+      el("label", { for: "measure-time" }, "Probed at (plant time, yyyy-mm-dd hh:mm)"), at,
+      el("label", { for: "measure-temperature" }, "Artifact temperature (°C)"), temp,
+      rows,
+      el("div", { class: "wide" }, el("button", { class: "primary", type: "submit" }, "Record column check")), said);
+    measured.onsubmit = async (e) => {
+      e.preventDefault();
+      if (!definition) { said.replaceChildren(el("p", { class: "error" }, "List the artifact's points first.")); return; }
+      const ms = TC.zonedInput(at);
+      const value = (id) => { const v = document.getElementById(id).value.trim(); return v === "" ? null : Number(v); };
+      const xyz = (prefix) => { const v = ["x", "y", "z"].map((c) => value(prefix + "-" + c)); return v.every((x) => x === null) ? null : v; };
+      const sphere = document.getElementById("measure-sphere").value;
+      const spheres = [0, 90, 180, 270].map((b) => [b, xyz("sphere-" + b)]).filter(([, v]) => v)
+        .map(([b, v]) => ({ sphere, b_deg: b, x: v[0], y: v[1], z: v[2] }));
+      const points = (definition.schemes || []).flatMap((sc) => definition.points.filter((p) => p.id !== sphere)
+        .map((p) => [sc.id, p.id, xyz("point-" + sc.id + "-" + p.id)]).filter(([, , v]) => v)
+        .map(([scheme, id, v]) => ({ id, scheme, x: v[0], y: v[1], z: v[2] })));
+      const body = { ts: isFinite(ms) ? new Date(ms).toISOString() : at.value, artifact: artifact.value.trim(),
+        artifact_temperature_c: value("measure-temperature"), spheres, points };
+      try {
+        const r = await api(path + "/column-checks", { method: "POST", body });
+        said.replaceChildren(el("p", { class: "notice" }, "Recorded column check #" + r.id + ": machine zero X " + f2(r.machine_zero_mm.X * 1000) + ", Y " +
+          f2(r.machine_zero_mm.Y * 1000) + ", Z " + f2(r.machine_zero_mm.Z * 1000) + " µm" + (r.beyond_tolerance ? " — moved beyond the tolerance." : ".")));
+        await load();
+      } catch (err) {
+        said.replaceChildren(el("p", { class: "error" }, TC.problemText(err)));
+      }
+    };
+    if (artifact.value) await listPoints();
+  }
+
+  // Uploading a laser positioning check: the laser software's CSV with what
+  // the file cannot carry, as `thermocomp import --positioning` takes it.
+  if (TC.can("record_check")) {
+    const info = await api(path).catch(() => ({ axes: [] }));
+    const file = el("input", { type: "file", id: "laser-file", accept: ".csv,text/csv", required: true });
+    const axis = el("select", { id: "laser-axis" }, info.axes.map((a) => el("option", { value: a.id }, a.id)));
+    const at = TC.dateInput({ id: "laser-time", required: true, value: TC.plantIso(Date.now()) }, true);
+    const on = el("input", { type: "checkbox", id: "laser-compensation" });
+    const machineC = el("input", { id: "laser-machine-c", inputmode: "decimal", size: 6 });
+    const airC = el("input", { id: "laser-air-c", inputmode: "decimal", size: 6 });
+    const noteText = el("input", { id: "laser-note", maxlength: 500 });
+    const said = el("div", { class: "wide", role: "status", id: "laser-message" });
+    const form = el("form", { class: "panel", id: "upload-laser" },
+      el("label", { for: "laser-file" }, "Laser file (CSV: target_mm,run,direction,deviation_um)"), file,
+      el("label", { for: "laser-axis" }, "Axis"), axis,
+      el("label", { for: "laser-time" }, "Measured at (plant time, yyyy-mm-dd hh:mm)"), at,
+      el("label", { for: "laser-compensation" }, "Compensation active"), el("span", { class: "inline" }, on),
+      el("label", { for: "laser-machine-c" }, "Machine temperature (°C, optional)"), machineC,
+      el("label", { for: "laser-air-c" }, "Air temperature (°C, optional)"), airC,
+      el("label", { for: "laser-note" }, "Note (optional)"), noteText,
+      el("div", { class: "wide" }, el("button", { class: "primary", type: "submit" }, "Upload positioning check")), said);
+    form.addEventListener("submit", async (e) => {
+      e.preventDefault();
+      const ms = TC.zonedInput(at);
+      if (!isFinite(ms) || !file.files[0]) {
+        said.replaceChildren(el("p", { class: "error" }, !file.files[0] ? "Choose the laser file." : "Measured at: a plant time as yyyy-mm-dd hh:mm."));
+        return;
+      }
+      const q = new URLSearchParams({ axis: axis.value, ts: new Date(ms).toISOString(), compensation_active: on.checked ? "true" : "false" });
+      if (machineC.value.trim()) q.set("machine_temperature_c", machineC.value.trim());
+      if (airC.value.trim()) q.set("air_temperature_c", airC.value.trim());
+      if (noteText.value.trim()) q.set("note", noteText.value.trim());
+      try {
+        const r = await api(path + "/positioning-checks?" + q, { method: "POST", body: await file.files[0].text(), type: "text/csv" });
+        const iso = r.iso230_2;
+        said.replaceChildren(el("p", { class: "notice" }, "Recorded positioning check #" + r.id + " of " + axis.value + ": A " + f2(iso.A_um) +
+          ", E " + f2(iso.E_um) + ", R " + f2(iso.R_um) + ", B " + f2(iso.B_um) + " µm; P " + f2(r.vdi3441.P_um) + " µm."));
+        await load();
+      } catch (err) {
+        said.replaceChildren(el("p", { class: "error" }, TC.problemText(err)));
+      }
+    });
+    positioningEntry.replaceChildren(el("h2", {}, "Upload a laser positioning check"), form);
   }
   await load();
+  if (TC.can("record_check")) await renderMeasured();
 })();

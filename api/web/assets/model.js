@@ -27,7 +27,7 @@
   const children = [
     el("h1", {}, el("a", { href: "/ui/machines/" + encodeURIComponent(machine) }, machine), " · axis " + axis + " · ",
       el("a", { href: "/ui" + path + "/models" }, "models"), " · v" + r.version),
-    el("p", {}, el("span", { class: r.status === "active" ? "ok" : r.status === "rejected" ? "bad" : "warn" }, r.status), " — " + r.reason + ". Created " + time(r.created_at) + " (" + (r.trigger || "") + ")."),
+    el("p", {}, el("span", { class: r.status === "active" ? "ok" : r.status === "rejected" ? "bad" : "warn" }, r.status), " — " + TC.text(r.reason) + ". Created " + time(r.created_at) + " (" + (r.trigger || "") + ")."),
     el("p", { class: "muted" }, "Other forms: ", el("a", { href: "/api/v1" + path + "/models/" + version + "?format=html" }, "HTML report"), " · ",
       el("a", { href: "/api/v1" + path + "/models/" + version + "?format=markdown" }, "Markdown"), " · ",
       el("a", { href: "/api/v1" + path + "/models/" + version }, "JSON")),

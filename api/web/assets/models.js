@@ -44,7 +44,7 @@
     const rows = data.models.slice().reverse().map((m) => [
       el("a", { href: ui + "/models/" + m.version }, "v" + m.version),
       el("span", { class: m.status === "active" ? "ok" : m.status === "rejected" ? "bad" : m.status === "candidate" ? "warn" : "muted" }, m.status),
-      time(m.created_at), m.reason, (m.inputs || []).join(", "),
+      time(m.created_at), TC.text(m.reason), (m.inputs || []).join(", "),
       num(m.r2, 3), um(m.rmse_mm),
       m.cross_validation ? um(m.cross_validation.rmse_mm) : "–",
       m.validation ? um(m.validation.rmse_mm) : "–",

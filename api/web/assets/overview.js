@@ -23,7 +23,7 @@
         : a.clamped ? "valid (clamped)" : "valid";
       return el("span", { class: "ok" }, text);
     }
-    const why = a.reason || "";
+    const why = TC.text(a.reason);
     if (a.state === "holding") {
       return el("span", { class: "warn", title: why }, "holding the last value: " + why);
     }
