@@ -67,8 +67,16 @@ StatusOr<std::pair<int, int>> ImportStudy(App& app, const std::string& machine,
                                           const std::string& text, int64_t start_ms);
 // --machines a,b (default sim-1,sim-2).
 std::vector<std::string> MachineNames(const Args& a);
+// --hidden: undeclared effects on the Y axis of simulated machines:
+// "lag,signal" for every machine, "lag@sim-2" for one.
+struct HiddenPlan {
+  std::set<HiddenEffect> every_machine;
+  std::map<std::string, std::set<HiddenEffect>> by_machine;
+  std::set<HiddenEffect> For(const std::string& machine) const;
+};
+StatusOr<HiddenPlan> ParseHiddenPlan(const std::string& text);
 // `days` of simulated history ending at end_ms, into the app.
 Status SimulateIntoApp(App& app, const std::vector<std::string>& names, int days, uint64_t seed,
-                       int64_t end_ms, const std::set<HiddenEffect>& hidden = {});
+                       int64_t end_ms, const HiddenPlan& hidden = {});
 
 }  // namespace thermocomp::cli

@@ -186,7 +186,9 @@ int Demo(const Args& a) {
   const auto names = MachineNames(a);
   const int days = std::stoi(a.Get("days", "14"));
   const uint64_t seed = std::stoull(a.Get("seed", "1"));
-  if (Status s = SimulateIntoApp(app_ref, names, days, seed, NowUnixMs()); !s.ok())
+  auto hidden = cli::ParseHiddenPlan(a.Get("hidden"));
+  if (!hidden.ok()) return Fail(hidden.status().message());
+  if (Status s = SimulateIntoApp(app_ref, names, days, seed, NowUnixMs(), *hidden); !s.ok())
     return Fail(s.message());
   std::printf("demo: %d days of simulated history for %zu machine(s)\n", days, names.size());
   bool ok = false;
@@ -212,9 +214,11 @@ int Demo(const Args& a) {
                   axis.name.c_str(), report->version.value_or(0), report->status.c_str(),
                   report->fit.r2, FitReportToJson(*report)["validation"]["rmse_mm"].dump().c_str(),
                   report->reason.c_str());
-      // Close the loop once, so the API has an analysis to show.
+      // Close the loop once, so the API has an analysis to show; what it
+      // finds is proposed (a candidate version), for a person to apply.
       AnalysisRequest ar;
       ar.actor = "demo";
+      ar.policy = "propose";
       if (auto analysis = app_ref.analyses().Analyze(m.name, axis.name, ar); analysis.ok()) {
         std::printf("demo: effect analysis %s/%s: %zu effect(s) added\n", m.name.c_str(),
                     axis.name.c_str(), analysis->effects.size());
@@ -301,7 +305,7 @@ const std::vector<CommandSpec>& Commands() {
         {"format", true}}},
       {"simulate",
        "  simulate  [--machines a,b] [--days 14] [--seed 1]\n"
-       "            [--hidden sensor,lag,position,trend,step,signal]\n"
+       "            [--hidden EFFECT[@MACHINE],...]  (sensor, lag, position, trend, step, signal)\n"
        "            (--out DIR | --db PATH [--create] | --live [--post URL | --dds [--dds-domain "
        "N]]\n"
        "                                        [--speed X] [--minutes N])\n",
@@ -321,12 +325,15 @@ const std::vector<CommandSpec>& Commands() {
         {"minutes", true}}},
       {"demo",
        "  demo      --db PATH [--create] [--days 14] [--seed 1] [--study CSV]\n"
-       "            simulated line + measured study data, fitted\n",
+       "            [--machines a,b] [--hidden EFFECT[@MACHINE],...]\n"
+       "            simulated line + measured study data, fitted and analysed\n",
        {{"config", true},
         {"db", true},
         {"create", false},
         {"days", true},
         {"seed", true},
+        {"machines", true},
+        {"hidden", true},
         {"study", true}}},
       {"backup",
        "  backup    FILE [--config FILE] [--db PATH]   online backup, safe while the server runs\n",

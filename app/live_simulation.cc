@@ -126,6 +126,7 @@ int RunLiveSimulation(const LiveOptions& o, MachineLink& link, const std::atomic
     so.machine = o.machines[i];
     so.seed = o.seed + i;
     so.start_ms = start;
+    if (auto it = o.hidden.find(so.machine); it != o.hidden.end()) so.hidden = it->second;
     vms.emplace_back(so);
     std::vector<TemperatureInput> s;
     std::vector<ProbePointInput> p;

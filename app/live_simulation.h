@@ -6,12 +6,15 @@
 #pragma once
 
 #include <atomic>
+#include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "core/ingest_inputs.h"
+#include "sim/virtual_machine.h"
 
 namespace thermocomp {
 
@@ -40,6 +43,8 @@ struct LiveOptions {
   // Simulated minutes per wall minute. Above 1 the machines run ahead of
   // the clock (the server takes timestamps up to a day ahead), at most 23 h.
   double speed = 1.0;
+  // Undeclared effects per machine, as in the history `demo` made.
+  std::map<std::string, std::set<HiddenEffect>> hidden;
 };
 
 // Runs in real time until `stop` is set or max_minutes passed.

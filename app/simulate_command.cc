@@ -33,23 +33,37 @@ void RunSimulation(VirtualMachine& vm, int64_t end_ms, Sink sink) {
   }
 }
 
-// --hidden sensor,lag,... : undeclared effects on the Y axis.
-StatusOr<std::set<HiddenEffect>> HiddenEffects(const Args& a) {
-  std::set<HiddenEffect> out;
-  std::stringstream ss(a.Get("hidden"));
-  for (std::string n; std::getline(ss, n, ',');) {
-    auto e = ParseHiddenEffect(n);
-    if (!e) {
-      return Status::InvalidArgument("--hidden: unknown effect '" + n +
-                                     "' (sensor, lag, position, trend, step, signal)");
-    }
-    out.insert(*e);
+}  // namespace
+
+std::set<HiddenEffect> HiddenPlan::For(const std::string& machine) const {
+  std::set<HiddenEffect> out = every_machine;
+  if (auto it = by_machine.find(machine); it != by_machine.end()) {
+    out.insert(it->second.begin(), it->second.end());
   }
   return out;
 }
 
-// Fills the database with `days` of simulated history ending now.
-}  // namespace
+StatusOr<HiddenPlan> ParseHiddenPlan(const std::string& text) {
+  HiddenPlan plan;
+  std::stringstream ss(text);
+  for (std::string item; std::getline(ss, item, ',');) {
+    const size_t at = item.find('@');
+    const std::string name = item.substr(0, at);
+    auto e = ParseHiddenEffect(name);
+    if (!e) {
+      return Status::InvalidArgument("--hidden: unknown effect '" + name +
+                                     "' (sensor, lag, position, trend, step, signal)");
+    }
+    if (at == std::string::npos) {
+      plan.every_machine.insert(*e);
+    } else if (at + 1 < item.size()) {
+      plan.by_machine[item.substr(at + 1)].insert(*e);
+    } else {
+      return Status::InvalidArgument("--hidden: '" + item + "' names no machine after '@'");
+    }
+  }
+  return plan;
+}
 
 std::vector<std::string> MachineNames(const Args& a) {
   std::vector<std::string> names;
@@ -58,8 +72,9 @@ std::vector<std::string> MachineNames(const Args& a) {
   return names;
 }
 
+// Fills the database with `days` of simulated history ending at end_ms.
 Status SimulateIntoApp(App& app, const std::vector<std::string>& names, int days, uint64_t seed,
-                       int64_t end_ms, const std::set<HiddenEffect>& hidden) {
+                       int64_t end_ms, const HiddenPlan& hidden) {
   const int64_t start = (end_ms / kDayMs - days) * kDayMs;
   for (size_t i = 0; i < names.size(); ++i) {
     FieldErrors errors;
@@ -70,7 +85,7 @@ Status SimulateIntoApp(App& app, const std::vector<std::string>& names, int days
     o.machine = names[i];
     o.seed = seed + i;
     o.start_ms = start;
-    o.hidden = hidden;
+    o.hidden = hidden.For(names[i]);
     VirtualMachine vm(o);
     Status failed;
     RunSimulation(vm, end_ms, [&](const auto& samples, const auto& points, const auto& extras) {
@@ -94,7 +109,8 @@ namespace {
 // Live: replays history silently up to now, then sends each minute's data
 // to a running server over HTTP (default) or DDS (--dds) and applies the
 // compensation it serves.
-int SimulateLive(const Args& a, const std::vector<std::string>& names, uint64_t seed, int days) {
+int SimulateLive(const Args& a, const std::vector<std::string>& names, uint64_t seed, int days,
+                 const HiddenPlan& hidden) {
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
   std::unique_ptr<MachineLink> link;
@@ -108,9 +124,14 @@ int SimulateLive(const Args& a, const std::vector<std::string>& names, uint64_t 
     std::printf("live simulation of %zu machine(s) posting to %s\n", names.size(), url.c_str());
   }
   std::fflush(stdout);
-  LiveOptions o{names, seed, days, std::stoll(a.Get("minutes", "0")),
-                std::stod(a.Get("speed", "1"))};
+  LiveOptions o;
+  o.machines = names;
+  o.seed = seed;
+  o.history_days = days;
+  o.max_minutes = std::stoll(a.Get("minutes", "0"));
+  o.speed = std::stod(a.Get("speed", "1"));
   if (!(o.speed >= 1.0 && o.speed <= 1440.0)) return Fail("--speed must be from 1 to 1440");
+  for (const auto& name : names) o.hidden[name] = hidden.For(name);
   return RunLiveSimulation(o, *link, g_stop);
 }
 
@@ -118,11 +139,11 @@ int SimulateLive(const Args& a, const std::vector<std::string>& names, uint64_t 
 
 int Simulate(const Args& a) {
   const auto names = MachineNames(a);
-  auto hidden = HiddenEffects(a);
+  auto hidden = ParseHiddenPlan(a.Get("hidden"));
   if (!hidden.ok()) return Fail(hidden.status().message());
   const uint64_t seed = std::stoull(a.Get("seed", "1"));
   const int days = std::stoi(a.Get("days", "14"));
-  if (a.Has("live")) return SimulateLive(a, names, seed, days);
+  if (a.Has("live")) return SimulateLive(a, names, seed, days, *hidden);
   if (a.Has("out")) {
     const std::string dir = a.Get("out");
     std::filesystem::create_directories(dir);
@@ -132,7 +153,7 @@ int Simulate(const Args& a) {
       o.machine = names[i];
       o.seed = seed + i;
       o.start_ms = (end / kDayMs - days) * kDayMs;
-      o.hidden = *hidden;
+      o.hidden = hidden->For(names[i]);
       VirtualMachine vm(o);
       std::ofstream temps(dir + "/" + names[i] + "_temperatures.csv");
       std::ofstream signals(dir + "/" + names[i] + "_signals.csv");

@@ -1,22 +1,38 @@
 #!/usr/bin/env bash
 # The run command: installs what is missing, builds, creates a demo database
 # (two simulated machines with 14 days of history plus the measured study
-# data, fitted), and serves it on loopback over HTTP and DDS while the
-# simulated machines run live as DDS peers.
+# data, fitted and analysed), and serves it on loopback over HTTP and DDS
+# while the simulated machines run live as DDS peers.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash deploy/install-deps.sh
+bash deploy/install-deps.sh run
 export CYCLONEDDS_URI="file://$PWD/deploy/cyclonedds.xml"
-THERMOCOMP_TARGET=thermocomp bash deploy/build.sh
+# The server only: the tests and benchmarks are deploy/test.sh's.
+THERMOCOMP_TARGET=thermocomp bash deploy/build.sh -DTHERMOCOMP_TESTS=OFF -DTHERMOCOMP_BENCH=OFF
 port="${THERMOCOMP_PORT:-8080}"
 db=var/demo.db
 mkdir -p var
-rm -f "$db" "$db-wal" "$db-shm"
-./build/thermocomp demo --db "$db" --create --config deploy/thermocomp.toml 2>/dev/null
+if [[ -f $db && ${THERMOCOMP_KEEP_DEMO:-0} == 1 ]]; then
+  echo "demo: keeping $db (THERMOCOMP_KEEP_DEMO=1)"
+else
+  # A fresh demo line each run; THERMOCOMP_KEEP_DEMO=1 keeps the last one.
+  [[ -f $db ]] && echo "demo: replacing $db with a fresh demo line (THERMOCOMP_KEEP_DEMO=1 keeps it)"
+  rm -f "$db" "$db-wal" "$db-shm"
+  echo "demo: creating $db (14 days of two simulated machines, fitted and analysed; log: var/demo.log)"
+  # sim-2's Y axis drifts through an effect its declared model lacks (a
+  # lagged temperature): the analysis at creation finds it and proposes a
+  # model; apply it on the analysis page and watch sim-2's error fall.
+  if ! ./build/thermocomp demo --db "$db" --create --config deploy/thermocomp.toml \
+      --hidden lag@sim-2 2> var/demo.log; then
+    tail -n 20 var/demo.log >&2
+    echo "demo: creating the demo database failed (var/demo.log)" >&2
+    exit 1
+  fi
+fi
 # The simulated machines are live DDS peers: they publish temperatures and
 # probe points, apply the compensation they receive, and print their error
 # with compensation on and off (var/simulator.log).
-./build/thermocomp simulate --live --dds --machines sim-1,sim-2 > var/simulator.log 2>&1 &
+./build/thermocomp simulate --live --dds --machines sim-1,sim-2 --hidden lag@sim-2 > var/simulator.log 2>&1 &
 sim=$!
 trap 'kill $sim 2>/dev/null || true' EXIT
 cat <<MSG

@@ -1,16 +1,29 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages thermocomp needs to build, test and run,
-# and only those that are missing. Works on a minimal system (no compiler).
+# Installs the Debian 12 packages thermocomp needs, and only those that are
+# missing. Works on a minimal system (no compiler).
+#   deploy/install-deps.sh run    what building and running the server needs
+#   deploy/install-deps.sh test   that, plus what the tests need (the
+#                                 default): GoogleTest and Google Benchmark,
+#                                 clang with its sanitizer runtimes and
+#                                 clang-tidy, Chromium for the pages
 set -euo pipefail
+purpose=${1:-test}
 packages=(
-  build-essential cmake pkg-config curl ca-certificates python3 python3-jsonschema
+  build-essential cmake pkg-config curl ca-certificates python3 tzdata
   libsqlite3-dev sqlite3 libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev zlib1g-dev libssl-dev
-  libboost-math-dev libtomlplusplus-dev
-  libgtest-dev libbenchmark-dev cyclonedds-dev cyclonedds-tools
-  clang libclang-rt-14-dev clang-tidy-14
-  libcmark-gfm-dev libcmark-gfm-extensions-dev
-  libjs-dygraphs chromium chromium-driver python3-selenium
+  libboost-math-dev libtomlplusplus-dev cyclonedds-dev cyclonedds-tools
+  libcmark-gfm-dev libcmark-gfm-extensions-dev libjs-dygraphs
 )
+case $purpose in
+  run) ;;
+  test)
+    packages+=(
+      python3-jsonschema libgtest-dev libbenchmark-dev
+      clang libclang-rt-14-dev clang-tidy-14
+      chromium chromium-driver python3-selenium
+    ) ;;
+  *) echo "usage: deploy/install-deps.sh [run|test]" >&2; exit 2 ;;
+esac
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
