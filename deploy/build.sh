@@ -2,9 +2,12 @@
 # Configures and builds into build/ on all cores: optimised, with -g1 (the
 # function names and line tables a backtrace needs; full -g costs a quarter
 # more compile time for variables nobody inspects on a line server);
-# THERMOCOMP_TARGET=name builds one target only.
+# THERMOCOMP_TARGET=name builds one target only. Tests and benchmarks are
+# configured unless the arguments (passed on to cmake) say otherwise, as
+# deploy/demo.sh's do.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" "$@" > /dev/null
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
+  -DTHERMOCOMP_TESTS=ON -DTHERMOCOMP_BENCH=ON "$@" > /dev/null
 cmake --build build -j "$(nproc)" ${THERMOCOMP_TARGET:+--target "$THERMOCOMP_TARGET"}

@@ -2,8 +2,16 @@
 # Runs clang-tidy (checks in .clang-tidy) over every C++ source of the
 # repository: with the compile commands of the clang build (build-sanitize,
 # configured by deploy/test.sh), plus those of build/ for the files that
-# build leaves out (the benchmarks, the statistical studies). Fails on any finding: there are none,
-# or a NOLINT says why on its line.
+# build leaves out (the benchmarks, the statistical studies). Fails on any
+# finding: there are none, or a NOLINT says why on its line.
+#
+# deploy/tidy-clean.txt records what was found clean: per source, a hash of
+# everything clang-tidy's verdict depends on (its version, .clang-tidy, the
+# compile command, the source and every project header it includes, from
+# the build's dependency files). A source whose hash is recorded is not
+# checked again; any change to it, to a header it includes or to the checks
+# makes it checked. A clean run rewrites the record: commit it with the
+# change. THERMOCOMP_TIDY_ALL=1 checks every source regardless.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -14,14 +22,19 @@ if [[ ! -f $build/compile_commands.json ]]; then
 fi
 db=$build/tidy
 mkdir -p "$db"
-python3 - "$build/compile_commands.json" build/compile_commands.json "$db/compile_commands.json" <<'PY'
-import json, os, shlex, sys
-entries = json.load(open(sys.argv[1]))
+folders='(core|model|storage|service|api|sim|app|bench|tests)'
+record=deploy/tidy-clean.txt
+version=$(clang-tidy-14 --version | tr -s ' \n' ' ')
+python3 - "$build/compile_commands.json" build/compile_commands.json "$db" "$root" "$record" \
+  "${THERMOCOMP_TIDY_ALL:-0}" "$version" <<'PY'
+import hashlib, json, os, re, shlex, sys
+clang_db, gcc_db, out_dir, root, record, check_all, version = sys.argv[1:8]
+entries = json.load(open(clang_db))
 files = {e["file"] for e in entries}
 # What the clang build leaves out (the benchmarks, the statistical studies)
 # is checked with the commands of build/.
-if os.path.exists(sys.argv[2]):
-    entries += [e for e in json.load(open(sys.argv[2])) if e["file"] not in files]
+if os.path.exists(gcc_db):
+    entries += [e for e in json.load(open(gcc_db)) if e["file"] not in files]
 # Each file is checked as written, without the build's precompiled header:
 # a missing include shows here instead of being covered by the PCH.
 def without_pch(command):
@@ -36,20 +49,73 @@ def without_pch(command):
         else:
             out.append(args[i])
             i += 1
-    return shlex.join(out)
+    return out
+ours = re.compile("^" + re.escape(root) + "/(core|model|storage|service|api|sim|app|bench|tests)/")
+def digest(path):
+    try:
+        text = open(path, "rb").read().replace(root.encode(), b"<root>")
+    except OSError:
+        return None
+    return hashlib.sha256(text).hexdigest()
+def dependencies(entry, args):
+    # The object's dependency file (-MD), written by the build next to it.
+    if "-o" not in args:
+        return None
+    depfile = os.path.join(entry["directory"], args[args.index("-o") + 1]) + ".d"
+    try:
+        text = open(depfile).read().replace("\\\n", " ")
+    except OSError:
+        return None
+    paths = text.split(":", 1)[1].split() if ":" in text else []
+    return sorted({os.path.normpath(p) for p in paths if os.path.normpath(p).startswith(root + "/")})
+config = open(os.path.join(root, ".clang-tidy"), "rb").read()
+keys = {}
 for e in entries:
-    if "command" in e:
-        e["command"] = without_pch(e["command"])
-json.dump(entries, open(sys.argv[3], "w"), indent=1)
+    args = without_pch(e["command"]) if "command" in e else e["arguments"]
+    e.pop("arguments", None)
+    e["command"] = shlex.join(args)
+    if not ours.match(e["file"]):
+        continue
+    deps = dependencies(e, args)
+    if deps is None:
+        continue  # never built: checked, and not recorded
+    h = hashlib.sha256(version.encode() + config + shlex.join(args).replace(root, "<root>").encode())
+    for p in deps:
+        d = digest(p)
+        if d is None:
+            break
+        h.update((os.path.relpath(p, root) + " " + d + "\n").encode())
+    else:
+        keys[e["file"]] = h.hexdigest()
+clean = set()
+if check_all != "1" and os.path.exists(os.path.join(root, record)):
+    clean = {line.split()[0] for line in open(os.path.join(root, record)) if line.strip() and not line.startswith("#")}
+todo = [e for e in entries if ours.match(e["file"]) and keys.get(e["file"]) not in clean]
+json.dump(todo, open(os.path.join(out_dir, "compile_commands.json"), "w"), indent=1)
+json.dump(keys, open(os.path.join(out_dir, "keys.json"), "w"), indent=1)
+print(f"tidy: {len(todo)} of {sum(1 for e in entries if ours.match(e['file']))} sources to check"
+      f" ({len(keys) - len([e for e in todo if e['file'] in keys])} recorded clean in {record})")
 PY
-folders='(core|model|storage|service|api|sim|app|bench|tests)'
 log=$build/clang-tidy.log
-# Generated sources (IDL types, embedded migrations) live under build dirs
-# and are not ours to tidy: only files in the project's folders are checked.
-if ! run-clang-tidy-14 -p "$db" -quiet -j "$(nproc)" \
-  -header-filter="^$root/$folders/" "^$root/$folders/" > "$log" 2>&1; then
-  sed 's/\x1b\[[0-9;]*m//g' "$log" | grep -E "(warning|error):" | sort -u || true
-  echo "tidy: findings above (full log: $log)" >&2
-  exit 1
+if [[ $(python3 -c 'import json,sys; print(len(json.load(open(sys.argv[1]))))' "$db/compile_commands.json") -gt 0 ]]; then
+  if ! run-clang-tidy-14 -p "$db" -quiet -j "$(nproc)" \
+    -header-filter="^$root/$folders/" "^$root/$folders/" > "$log" 2>&1; then
+    sed 's/\x1b\[[0-9;]*m//g' "$log" | grep -E "(warning|error):" | sort -u || true
+    echo "tidy: findings above (full log: $log)" >&2
+    exit 1
+  fi
+  echo "tidy: no findings in $(grep -c '^clang-tidy-14 ' "$log" || true) files"
 fi
-echo "tidy: no findings in $(grep -c '^clang-tidy-14 ' "$log" || true) files"
+# Clean: every source's hash goes into the record.
+python3 - "$db/keys.json" "$root" "$record" <<'PY'
+import json, os, sys
+keys, root, record = json.load(open(sys.argv[1])), sys.argv[2], sys.argv[3]
+lines = sorted(f"{k} {os.path.relpath(f, root)}" for f, k in keys.items())
+text = ("# Sources clang-tidy found clean, by a hash of what its verdict depends on\n"
+        "# (deploy/tidy.sh writes this file; commit it with the change).\n" + "\n".join(lines) + "\n")
+path = os.path.join(root, record)
+old = open(path).read() if os.path.exists(path) else ""
+if text != old:
+    open(path, "w").write(text)
+    print(f"tidy: {record} updated ({len(lines)} sources)")
+PY
