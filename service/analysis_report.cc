@@ -110,6 +110,7 @@ AnalysisReport BuildAnalysisReport(const EffectSearchResult& r, const AnalysisCo
   out.not_evaluable = r.not_evaluable;
   for (const auto& e : r.effects) out.effects.push_back(Reported(e, r, c));
   for (const auto& t : r.superseded) out.superseded.push_back(t.Name());
+  out.superseded_reasons = r.superseded_reasons;
   for (const auto& s : r.closest) out.closest.push_back(Named(s, true));
   out.terms = r.terms;
   for (const auto& t : r.after.terms) out.coefficients[t.name] = t.estimate;

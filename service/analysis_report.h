@@ -94,6 +94,7 @@ struct AnalysisReport {
   int candidates = 0, not_evaluable = 0;
   std::vector<ReportedEffect> effects;
   std::vector<std::string> superseded;
+  std::map<std::string, std::string> superseded_reasons;  // by term name: why it left
   std::vector<NamedCandidate> closest;
   std::vector<EffectTerm> terms;               // the final model's
   std::map<std::string, double> coefficients;  // term name -> mm per unit

@@ -342,6 +342,7 @@ json AnalysisReportToJson(const AnalysisReport& r) {
       {"not_evaluable", r.not_evaluable},
       {"effects", effects},
       {"superseded", r.superseded},
+      {"superseded_reasons", r.superseded_reasons},
       {"closest_candidates", closest},
       {"terms", terms},
       {"coefficients", coefficients},
@@ -393,6 +394,10 @@ StatusOr<AnalysisReport> AnalysisReportFromJson(const json& j) {
       r.effects.push_back(std::move(*effect));
     }
     r.superseded = Strings(ArrayAt(j, "superseded"));
+    // Reports stored before the reasons were kept have none.
+    for (const auto& [name, why] : ObjectAt(j, "superseded_reasons").items()) {
+      if (why.is_string()) r.superseded_reasons[name] = why.get<std::string>();
+    }
     for (const auto& s : ArrayAt(j, "closest_candidates")) {
       r.closest.push_back(NamedCandidateFromJson(s));
     }

@@ -60,8 +60,13 @@ std::string EffectsMarkdown(const AnalysisReport& r) {
     md += std::to_string(++i) + ". " + Text(Readable(e.interpretation)) + "\n";
   md += "\n";
   if (!r.superseded.empty()) {
-    md +=
-        "Superseded (no longer significant once an effect was in): " + Join(r.superseded) + ".\n\n";
+    md += "Superseded (no longer significant once an effect was in):\n\n";
+    for (const auto& name : r.superseded) {
+      auto why = r.superseded_reasons.find(name);
+      md += "- `" + Text(name) + "`" +
+            (why == r.superseded_reasons.end() ? "" : ": " + Text(Readable(why->second))) + "\n";
+    }
+    md += "\n";
   }
   return md;
 }

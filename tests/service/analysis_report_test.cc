@@ -50,6 +50,7 @@ AnalysisReport FullReport() {
   e.runners_up = {{"rate(Tco)", 0.0014, 1e-6, std::nullopt}};
   r.effects = {e};
   r.superseded = {"Tbed"};
+  r.superseded_reasons = {{"Tbed", "replaced by lag(Tco,60min), which explains at least as well"}};
   r.closest = {{"sq(Tco)", 0.0011, 0.2, PairedGain{1e-6, 1e-6, 1.0, 0.01, 12, {}}}};
   r.terms = {EffectTerm::Sensor("Tco"), EffectTerm::Lag("Tco", 60)};
   r.coefficients = {{"intercept", 0.001}, {"Tco", -0.002}, {"lag(Tco,60min)", -0.0042}};
@@ -147,13 +148,17 @@ TEST(AnalysisReportCodec, EverySectionSurvivesJsonBothWays) {
   EXPECT_TRUE(decoded->holdout_errors->total.run.empty());
   EXPECT_EQ(decoded->sensor_faults[0].onset_ms, FullReport().sensor_faults[0].onset_ms);
   EXPECT_EQ(decoded->validation->block_labels, FullReport().validation->block_labels);
+  // Why a term left the model, by its name.
+  EXPECT_EQ(encoded["superseded_reasons"]["Tbed"],
+            "replaced by lag(Tco,60min), which explains at least as well");
+  EXPECT_EQ(decoded->superseded_reasons, FullReport().superseded_reasons);
 }
 
 TEST(AnalysisReportCodec, TheRenderingsShowEverySectionInMicrometres) {
   const std::string md = AnalysisMarkdown(FullReport());
   for (const char* part :
        {"# Effect analysis 7: m1 axis Y", "| 1 | `lag(Tco,60min)` | -4.2 µm/°C | < 1e-300 |",
-        "3.10 -> 1.20", "Superseded (no longer significant once an effect was in): Tbed",
+        "3.10 -> 1.20", "Superseded (no longer significant once an effect was in):",
         "`sq(Tco)` 1.10, 0.2, t 1.0", "day blocks", "60.0 % (t 10.0, 12 blocks)",
         "| `Tco` | -5.10 | -2.00 |", "## Filters", ", applied", "## Ambiguous", "## Set aside",
         "## Events", "| held-out RMSE | 3.00 | 1.10 |", "Version 3: candidate",
@@ -165,6 +170,10 @@ TEST(AnalysisReportCodec, TheRenderingsShowEverySectionInMicrometres) {
         "readings from the onset on were left out"}) {
     EXPECT_NE(md.find(part), std::string::npos) << part << "\n" << md;
   }
+  EXPECT_NE(md.find("- `Tbed`: " + report_text::Text("replaced by lag(Tco,60min), which explains at "
+                                                       "least as well")),
+            std::string::npos)
+      << md;
   const std::string won = report_text::Text("won 3 of 12 days: 2026-03-01, 2026-03-02, 2026-03-03");
   EXPECT_NE(md.find("| " + won + " |"), std::string::npos) << md;
   // Units as a person reads them, also in the model's own sentences.
@@ -180,7 +189,7 @@ TEST(AnalysisReportCodec, AnOlderReportWithoutConfidenceSectionsStillReadsAndRen
   json old = AnalysisReportToJson(FullReport());
   for (const char* key :
        {"validation", "sensor_noise_c", "filters", "set_aside", "ambiguous", "coefficient_changes",
-        "event_comparisons", "holdout_errors", "sensor_faults"}) {
+        "event_comparisons", "holdout_errors", "sensor_faults", "superseded_reasons"}) {
     old.erase(key);
   }
   old["closest_candidates"][0]["confidence"].erase("won");
@@ -193,6 +202,7 @@ TEST(AnalysisReportCodec, AnOlderReportWithoutConfidenceSectionsStillReadsAndRen
   EXPECT_FALSE(decoded->model);
   EXPECT_FALSE(decoded->holdout_errors);
   EXPECT_TRUE(decoded->sensor_faults.empty());
+  EXPECT_TRUE(decoded->superseded_reasons.empty());
   EXPECT_TRUE(decoded->closest[0].confidence->won.empty());
   const std::string md = AnalysisMarkdown(*decoded);
   EXPECT_EQ(md.find("## Confidence"), std::string::npos);

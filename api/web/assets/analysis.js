@@ -139,6 +139,11 @@
     children.push(el("h2", {}, "Error as each effect was added (blocked cross-validation)"),
       bars(r.effects.map((e) => [e.name.length > 22 ? e.name.slice(0, 21) + "…" : e.name, e.cv_rmse_before_mm, e.cv_rmse_after_mm]), "effects-chart"));
   }
+  if ((r.superseded || []).length) {
+    const why = r.superseded_reasons || {};
+    children.push(el("h2", {}, "Terms that left the model"),
+      el("ul", { id: "superseded" }, r.superseded.map((name) => el("li", {}, el("code", {}, name), why[name] ? ": " + readable(why[name]) : ""))));
+  }
   if (coef.length) {
     children.push(el("h2", {}, "Declared coefficients (µm per unit)"),
       TC.table([{ label: "term" }, { label: "declared model", num: true }, { label: "with the effects", num: true }], coef, { id: "coefficient-changes" }));
