@@ -180,14 +180,14 @@ Status DemoChecks(App& app, const std::string& machine) {
 }
 
 int Demo(const Args& a) {
+  auto hidden = cli::ParseHiddenPlan(a.Get("hidden"));
+  if (!hidden.ok()) return Fail(hidden.status().message());
   auto app = OpenApp(a);
   if (!app.ok()) return Fail(app.status().message());
   App& app_ref = **app;
   const auto names = MachineNames(a);
   const int days = std::stoi(a.Get("days", "14"));
   const uint64_t seed = std::stoull(a.Get("seed", "1"));
-  auto hidden = cli::ParseHiddenPlan(a.Get("hidden"));
-  if (!hidden.ok()) return Fail(hidden.status().message());
   if (Status s = SimulateIntoApp(app_ref, names, days, seed, NowUnixMs(), *hidden); !s.ok())
     return Fail(s.message());
   std::printf("demo: %d days of simulated history for %zu machine(s)\n", days, names.size());

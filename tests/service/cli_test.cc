@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <tuple>
 
@@ -37,6 +38,16 @@ TEST(CliTest, OutOfRangeNumberIsAClearError) {
   auto [code, out] = RunThermocomp("simulate --live --speed 1e999");
   EXPECT_EQ(code, 1);
   EXPECT_NE(out.find("out of range"), std::string::npos) << out;
+}
+
+TEST(CliTest, AHiddenEffectNamesAKnownEffectAndAMachine) {
+  auto [code, out] = RunThermocomp("simulate --hidden lag@ --out /tmp/thermocomp-cli-never");
+  EXPECT_EQ(code, 1);
+  EXPECT_NE(out.find("--hidden: 'lag@' names no machine after '@'"), std::string::npos) << out;
+  std::tie(code, out) = RunThermocomp("demo --db /tmp/thermocomp-cli-never.db --hidden leg@sim-2");
+  EXPECT_EQ(code, 1);
+  EXPECT_NE(out.find("--hidden: unknown effect 'leg'"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists("/tmp/thermocomp-cli-never.db"));
 }
 
 TEST(CliTest, UnknownCommandIsAUsageError) {
