@@ -51,9 +51,13 @@ def without_pch(command):
             i += 1
     return out
 ours = re.compile("^" + re.escape(root) + "/(core|model|storage|service|api|sim|app|bench|tests)/")
+# The checkout's path, as written and as generated headers mangle it into
+# include guards (/tmp/x -> _TMP_X), is left out: the same tree hashes the
+# same wherever it is checked out.
+mangled = re.sub("[^A-Z0-9]", "_", root.upper()).encode()
 def digest(path):
     try:
-        text = open(path, "rb").read().replace(root.encode(), b"<root>")
+        text = open(path, "rb").read().replace(root.encode(), b"<root>").replace(mangled, b"<ROOT>")
     except OSError:
         return None
     return hashlib.sha256(text).hexdigest()
