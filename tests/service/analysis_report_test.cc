@@ -170,9 +170,10 @@ TEST(AnalysisReportCodec, TheRenderingsShowEverySectionInMicrometres) {
         "readings from the onset on were left out"}) {
     EXPECT_NE(md.find(part), std::string::npos) << part << "\n" << md;
   }
-  EXPECT_NE(md.find("- `Tbed`: " + report_text::Text("replaced by lag(Tco,60min), which explains at "
-                                                       "least as well")),
-            std::string::npos)
+  EXPECT_NE(
+      md.find("- `Tbed`: " + report_text::Text("replaced by lag(Tco,60min), which explains at "
+                                               "least as well")),
+      std::string::npos)
       << md;
   const std::string won = report_text::Text("won 3 of 12 days: 2026-03-01, 2026-03-02, 2026-03-03");
   EXPECT_NE(md.find("| " + won + " |"), std::string::npos) << md;
@@ -297,9 +298,10 @@ TEST(EffectTermCodec, FurtherKindsRoundTripAndABadAsymmetricLagIsRefused) {
     EXPECT_EQ(back->Name(), t.Name());
     EXPECT_EQ(*back, t);
   }
-  for (const char* bad : {R"({"kind":"asymmetric_lag","sensor":"Tsp","tau_min":15})",
-                          R"({"kind":"asymmetric_lag","sensor":"Tsp","tau_min":15,"tau_down_min":-1})",
-                          R"({"kind":"asymmetric_lag","sensor":"Tsp","tau_min":15,"tau_down_min":1e309})"}) {
+  for (const char* bad :
+       {R"({"kind":"asymmetric_lag","sensor":"Tsp","tau_min":15})",
+        R"({"kind":"asymmetric_lag","sensor":"Tsp","tau_min":15,"tau_down_min":-1})",
+        R"({"kind":"asymmetric_lag","sensor":"Tsp","tau_min":15,"tau_down_min":1e309})"}) {
     auto j = nlohmann::json::parse(bad, nullptr, false);
     if (j.is_discarded()) continue;  // a parser that refuses 1e309 already keeps it out
     EXPECT_FALSE(EffectTermFromJson(j).ok()) << bad;
