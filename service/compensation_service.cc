@@ -263,6 +263,7 @@ int64_t CompensationService::ArrivalOf(const std::string& key, int64_t last_ts_m
 std::shared_ptr<const MachineCompensation> CompensationService::Serve(
     const std::shared_ptr<const MachineCompensation>& target_snapshot) {
   const MachineCompensation& target = *target_snapshot;
+  std::lock_guard<std::mutex> lock(served_mutex_);
   const int64_t now = clock_.NowMs();
   const int64_t mono = clock_.MonotonicMs();
   const int64_t stale_ms = int64_t{config_.stale_after_s} * 1000;
@@ -301,7 +302,6 @@ std::shared_ptr<const MachineCompensation> CompensationService::Serve(
         s.line.At(a.reference_position_mm, a.probe_position_mm.value_or(a.reference_position_mm));
     a.offset_at_probe_mm = std::clamp(at_probe, -std::fabs(a.clamp_mm), std::fabs(a.clamp_mm));
   }
-  std::lock_guard<std::mutex> lock(served_mutex_);
   // The same object while neither the model snapshot nor what time does
   // to it (ramp, hold, staleness, the input age in seconds) changed.
   LastServed& last = last_served_[out->machine];

@@ -140,6 +140,9 @@ class CompensationService {
   ServedCorrections served_;
   std::shared_mutex mutex_;
   std::map<std::string, Snapshot> cache_;
+  // Held through Serve() from the clock reading to the ramp update, so two
+  // callers (a request and the worker) cannot apply their readings out of
+  // order: a ramp would otherwise move twice for one interval.
   std::mutex served_mutex_;
   struct LastServed {
     std::shared_ptr<const MachineCompensation> target, served;

@@ -32,7 +32,10 @@ ServedCorrections::Served ServedCorrections::Serve(const std::string& axis_key,
                                                    const Target& target, int64_t now_ms) {
   std::lock_guard<std::mutex> lock(mutex_);
   Axis& axis = axes_.try_emplace(axis_key, Axis{{}, now_ms, std::nullopt}).first->second;
-  const int64_t since = std::min(axis.at_ms, now_ms);
+  // A reading older than the last one applied changes nothing in time: the
+  // ramp never runs backwards, and never twice over one interval.
+  now_ms = std::max(now_ms, axis.at_ms);
+  const int64_t since = axis.at_ms;
   auto move = [&](const CorrectionLine& to, int64_t from_ms) {
     const double step = max_rate_mm_per_ms_ * static_cast<double>(now_ms - from_ms);
     axis.line = MoveToward(axis.line, to, target.reference_mm, target.travel, step);

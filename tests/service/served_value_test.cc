@@ -85,6 +85,17 @@ TEST(ServedCorrectionsTest, FollowsAtTheRateHoldsThenRampsToZero) {
   EXPECT_NEAR(at(29 * m).line.offset_mm, -2 * kUm, 1e-12);
 }
 
+TEST(ServedCorrectionsTest, AReadingOlderThanTheLastAppliedDoesNotMoveTheRampTwice) {
+  // Two callers read the clock at 60 s and 120 s but apply in the other
+  // order: the late one changes nothing, and the next minute moves 2 um.
+  ServedCorrections served(600000, 2 * kUm);
+  ServedCorrections::Target t{{-14.7 * kUm, 0}, true, 0, {-1000, 1000}, 30 * kUm};
+  served.Serve("m/Y", t, 0);
+  EXPECT_NEAR(served.Serve("m/Y", t, 120000).line.offset_mm, -4 * kUm, 1e-12);
+  EXPECT_NEAR(served.Serve("m/Y", t, 60000).line.offset_mm, -4 * kUm, 1e-12);
+  EXPECT_NEAR(served.Serve("m/Y", t, 180000).line.offset_mm, -6 * kUm, 1e-12);
+}
+
 // A machine with one sensor and a hand-made model on a real archive.
 class ServedValueTest : public testing::AppFixture {
  protected:
