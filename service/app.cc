@@ -21,6 +21,7 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
   app->checks_ = std::make_unique<CheckService>(d, clock, c);
   app->compensation_ = std::make_unique<CompensationService>(d, clock, c);
   app->history_ = std::make_unique<HistoryService>(d, c, cache);
+  app->outcomes_ = std::make_unique<OutcomeService>(d, clock, *app->history_, *app->compensation_);
   app->scheduler_ = std::make_unique<RefitScheduler>(d, *app->fits_, clock, c, app->analyses_.get(),
                                                      app->checks_.get());
   CompensationService* compensation = app->compensation_.get();

@@ -15,6 +15,7 @@
 #include "service/ingest_service.h"
 #include "service/machine_service.h"
 #include "service/metrics.h"
+#include "service/outcome/outcome_service.h"
 #include "service/probe_temperature_cache.h"
 #include "service/refit_scheduler.h"
 #include "storage/storage.h"
@@ -38,6 +39,7 @@ class App {
   CheckService& checks() { return *checks_; }
   CompensationService& compensation() { return *compensation_; }
   HistoryService& history() { return *history_; }
+  OutcomeService& outcomes() { return *outcomes_; }
   RefitScheduler& scheduler() { return *scheduler_; }
   Metrics& metrics() { return metrics_; }
   // /metrics lines the services own: fits stored, model age per axis.
@@ -55,6 +57,7 @@ class App {
   std::unique_ptr<CheckService> checks_;
   std::unique_ptr<CompensationService> compensation_;
   std::unique_ptr<HistoryService> history_;
+  std::unique_ptr<OutcomeService> outcomes_;
   std::unique_ptr<RefitScheduler> scheduler_;
   Metrics metrics_;
   ProbeTemperatureCache probe_temperatures_;

@@ -36,42 +36,54 @@ size_t PointsPerSensor(size_t asked, size_t sensors, size_t max_response_points)
   return std::min(asked, std::max<size_t>(1, max_response_points / sensors));
 }
 
+AxisProbeDrift HistoryService::ProbeDrift(Session& session, const MachineRecord& machine,
+                                          const std::string& axis_name, int64_t from_ms,
+                                          int64_t to_ms) {
+  AxisProbeDrift out;
+  std::optional<DriftModel> model;
+  for (const AxisRecord& axis : machine.axes) {
+    if (axis.name != axis_name) continue;
+    if (auto active = session.models().Active(axis.id)) {
+      if (auto m = DriftModelFromJson(active->model_json); m.ok()) {
+        model = *m;
+        out.model_version = active->version;
+      }
+    }
+  }
+  DriftDataset data = BuildDriftDataset(session, machine, axis_name, config_.gross_error_mm,
+                                        int64_t{config_.stale_after_s} * 1000, cache_,
+                                        model && ReadsOtherAxes(*model, axis_name));
+  // Predicted by the active model's terms, extended ones too, as in the fit.
+  std::vector<double> by_model(data.rows.size(), NAN);
+  if (model) {
+    EffectSearchInput in =
+        LoadTermInput(session, machine, axis_name, data, {}, {},
+                      int64_t{config_.stale_after_s} * 1000, RawChannels::ForModel(*model));
+    by_model = PredictAtPoints(*model, in);
+  }
+  for (size_t i = 0; i < data.rows.size(); ++i) {
+    const DriftRow& row = data.rows[i];
+    if (row.ts_ms < from_ms || row.ts_ms > to_ms) continue;
+    out.points.push_back(
+        {row.ts_ms, data.runs[row.run], row.drift_mm, by_model[i], row.drift_mm - by_model[i]});
+  }
+  std::stable_sort(out.points.begin(), out.points.end(),
+                   [](const DriftPoint& a, const DriftPoint& b) { return a.ts_ms < b.ts_ms; });
+  return out;
+}
+
 StatusOr<DriftHistory> HistoryService::Drift(const HistoryQuery& q) {
   const std::unique_ptr<Session> session = storage_.Open();
   auto found = FindMachineAxis(*session, q.machine, q.axis);
   if (!found.ok()) return found.status();
   const MachineRecord* machine = &found->machine;
   const AxisRecord* axis = &found->axis();
-  std::optional<DriftModel> model;
-  std::optional<int> version;
-  if (auto active = session->models().Active(axis->id)) {
-    if (auto m = DriftModelFromJson(active->model_json); m.ok()) {
-      model = *m;
-      version = active->version;
-    }
-  }
-  DriftDataset data = BuildDriftDataset(*session, *machine, q.axis, config_.gross_error_mm,
-                                        int64_t{config_.stale_after_s} * 1000, cache_,
-                                        model && ReadsOtherAxes(*model, q.axis));
-  // Predicted by the active model's terms, extended ones too, as in the fit.
-  std::vector<double> by_model(data.rows.size(), NAN);
-  if (model) {
-    EffectSearchInput in =
-        LoadTermInput(*session, *machine, q.axis, data, {}, {},
-                      int64_t{config_.stale_after_s} * 1000, RawChannels::ForModel(*model));
-    by_model = PredictAtPoints(*model, in);
-  }
+  const AxisProbeDrift probe = ProbeDrift(*session, *machine, q.axis, q.from_ms, q.to_ms);
   std::vector<int64_t> ts;
-  std::vector<double> measured, predicted, residual;
-  std::vector<std::string> runs;
-  for (size_t i = 0; i < data.rows.size(); ++i) {
-    const DriftRow& row = data.rows[i];
-    if (row.ts_ms < q.from_ms || row.ts_ms > q.to_ms) continue;
-    ts.push_back(row.ts_ms);
-    measured.push_back(row.drift_mm);
-    runs.push_back(data.runs[row.run]);
-    predicted.push_back(by_model[i]);
-    residual.push_back(row.drift_mm - by_model[i]);
+  std::vector<double> measured;
+  for (const DriftPoint& p : probe.points) {
+    ts.push_back(p.ts_ms);
+    measured.push_back(p.measured_mm);
   }
   // Probe points are few; thin them together on the measured drift so the
   // three series stay aligned point by point.
@@ -80,12 +92,10 @@ StatusOr<DriftHistory> HistoryService::Drift(const HistoryQuery& q) {
   DriftHistory out;
   out.machine = q.machine;
   out.axis = q.axis;
-  out.model_version = version;
+  out.model_version = probe.model_version;
   out.max_points = q.max_points;
   out.probe_points_total = ts.size();
-  for (size_t i : keep) {
-    out.probe_points.push_back({ts[i], runs[i], measured[i], predicted[i], residual[i]});
-  }
+  for (size_t i : keep) out.probe_points.push_back(probe.points[i]);
   // The served offset: raw rows when they are few enough, else the hourly
   // envelope (two extreme points per hour) thinned like the raw series.
   std::vector<int64_t> served_ts;

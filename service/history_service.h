@@ -7,6 +7,9 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "service/config.h"
 #include "service/drift_history.h"
@@ -34,11 +37,20 @@ inline constexpr size_t kMaxEventMarks = 1000;
 // so that sensors x max_points <= max_response_points (at least 1).
 size_t PointsPerSensor(size_t asked, size_t sensors, size_t max_response_points);
 
+// Every probe point of an axis in a range, unthinned, with the active
+// model's prediction and residual there (NaN without one).
+struct AxisProbeDrift {
+  std::optional<int> model_version;
+  std::vector<DriftPoint> points;  // in time order
+};
+
 class HistoryService {
  public:
   HistoryService(Storage& storage, const Config& config, ProbeTemperatureCache* cache = nullptr)
       : storage_(storage), config_(config), cache_(cache) {}
   StatusOr<DriftHistory> Drift(const HistoryQuery& q);
+  AxisProbeDrift ProbeDrift(Session& session, const MachineRecord& machine, const std::string& axis,
+                            int64_t from_ms, int64_t to_ms);
   // Raw temperatures of every sensor, each thinned to the effective
   // max_points (PointsPerSensor; the result says which); NotFound for an
   // unknown machine.

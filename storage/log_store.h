@@ -23,6 +23,11 @@ class LogStore {
                                                                        int64_t from_ms,
                                                                        int64_t to_ms) = 0;
   virtual std::optional<CompensationLogRow> LatestCompensation(int64_t axis_id) = 0;
+  // The newest row at or before `ts_ms`: what was being served then.
+  virtual std::optional<CompensationLogRow> CompensationAt(int64_t axis_id, int64_t ts_ms) = 0;
+  // When `model_version` was first served, looking from `from_ms` on.
+  virtual std::optional<int64_t> FirstServed(int64_t axis_id, int model_version,
+                                             int64_t from_ms) = 0;
   // Times of the first and last logged value within [from, to]; {0, 0} if none.
   virtual std::pair<int64_t, int64_t> CompensationExtent(int64_t axis_id, int64_t from_ms,
                                                          int64_t to_ms) = 0;

@@ -71,6 +71,29 @@ std::optional<CompensationLogRow> SqliteLogStore::LatestCompensation(int64_t axi
   return rows.back();
 }
 
+std::optional<CompensationLogRow> SqliteLogStore::CompensationAt(int64_t axis_id, int64_t ts_ms) {
+  Statement q(db_,
+              "SELECT ts_ms FROM compensation_log WHERE axis_id = ? AND ts_ms <= ?"
+              " ORDER BY ts_ms DESC LIMIT 1");
+  q.Bind(1, axis_id).Bind(2, ts_ms);
+  if (!q.Step()) return std::nullopt;
+  auto rows = Compensation(axis_id, q.Int(0), q.Int(0));
+  if (rows.empty()) return std::nullopt;
+  return rows.back();
+}
+
+std::optional<int64_t> SqliteLogStore::FirstServed(int64_t axis_id, int model_version,
+                                                   int64_t from_ms) {
+  // Walks the primary key from `from_ms` (a model is served soon after it
+  // is made active), not the whole axis.
+  Statement q(db_,
+              "SELECT ts_ms FROM compensation_log WHERE axis_id = ? AND ts_ms >= ?"
+              " AND model_version = ? ORDER BY ts_ms LIMIT 1");
+  q.Bind(1, axis_id).Bind(2, from_ms).Bind(3, int64_t{model_version});
+  if (!q.Step()) return std::nullopt;
+  return q.Int(0);
+}
+
 std::pair<int64_t, int64_t> SqliteLogStore::CompensationExtent(int64_t axis_id, int64_t from_ms,
                                                                int64_t to_ms) {
   // Two index seeks; MIN and MAX together over a range would scan it.

@@ -18,6 +18,8 @@ class SqliteLogStore final : public LogStore {
   std::vector<std::pair<int64_t, double>> CompensationEnvelope(int64_t axis_id, int64_t from_ms,
                                                                int64_t to_ms) override;
   std::optional<CompensationLogRow> LatestCompensation(int64_t axis_id) override;
+  std::optional<CompensationLogRow> CompensationAt(int64_t axis_id, int64_t ts_ms) override;
+  std::optional<int64_t> FirstServed(int64_t axis_id, int model_version, int64_t from_ms) override;
   std::pair<int64_t, int64_t> CompensationExtent(int64_t axis_id, int64_t from_ms,
                                                  int64_t to_ms) override;
   Status Audit(int64_t ts_ms, const std::string& actor, const std::string& action,

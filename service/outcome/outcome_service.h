@@ -1,0 +1,110 @@
+// OutcomeService: what compensation achieved on each axis of a machine,
+// judged where the touch probe measured (model/compensation_outcome.h):
+// per calendar bucket and over a range, the drift the machine had, the
+// error left with the offset it was served, and the share removed; and
+// whether the active model is still as good as its validation said, or
+// its inputs fail now. Reads the archive, the served-compensation log and
+// the compensation served now; writes nothing.
+#pragma once
+
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/clock.h"
+#include "model/compensation_outcome.h"
+#include "service/compensation_service.h"
+#include "service/history_service.h"
+#include "storage/storage.h"
+
+namespace thermocomp {
+
+enum class OutcomeBucketSize { kDay, kWeek };
+
+struct OutcomeQuery {
+  std::string machine;
+  std::optional<std::string> axis;  // every axis when empty
+  int64_t from_ms = 0, to_ms = 0;
+  OutcomeBucketSize bucket = OutcomeBucketSize::kDay;
+};
+
+// The active model's health now. `state`: ok, degraded (recent error above
+// the validated one, model/compensation_outcome.h), no_model, no_data (too
+// few points since it was first served, or nothing to compare with) or
+// inputs (its correction cannot be computed now: stale or faulty inputs).
+struct AxisHealth {
+  std::string state = "no_model";
+  std::string reason;  // empty when ok
+  ModelHealth judged;
+  std::optional<int64_t> since_ms;  // the active version first served
+};
+
+struct AxisOutcome {
+  std::string axis;
+  std::optional<int> model_version;
+  OutcomeStats total;
+  std::vector<OutcomeBucket> buckets;
+  AxisHealth health;
+};
+
+struct MachineOutcome {
+  std::string machine;
+  int64_t from_ms = 0, to_ms = 0, computed_at_ms = 0;
+  OutcomeBucketSize bucket = OutcomeBucketSize::kDay;
+  std::vector<AxisOutcome> axes;
+};
+
+// One line per axis for the overview: the last 7 days and the 7 before.
+struct AxisOutcomeSummary {
+  std::string axis;
+  OutcomeStats last_week, previous_week;
+  AxisHealth health;
+};
+
+// How far back health looks, and the overview's period.
+inline constexpr int64_t kOutcomeWeekMs = 7 * 86400000LL;
+// A logged value older than this at a probe point's time does not count
+// as served then (the server was not running).
+inline constexpr int64_t kServedMaxAgeMs = 86400000LL;
+
+class OutcomeService {
+ public:
+  OutcomeService(Storage& storage, const Clock& clock, HistoryService& history,
+                 CompensationService& compensation)
+      : storage_(storage), clock_(clock), history_(history), compensation_(compensation) {}
+
+  // NotFound for an unknown machine or axis.
+  StatusOr<MachineOutcome> Outcome(const OutcomeQuery& q);
+  // Per axis; kept for kSummaryTtlMs per machine, since the overview asks
+  // for every machine and probe points arrive minutes apart.
+  std::vector<AxisOutcomeSummary> Summary(const std::string& machine);
+
+  static constexpr int64_t kSummaryTtlMs = 60000;
+
+ private:
+  struct AxisData {
+    std::vector<OutcomePoint> points;  // in time order
+    std::optional<int> model_version;
+  };
+  AxisData Load(Session& s, const MachineRecord& m, const AxisRecord& axis, int64_t from_ms,
+                int64_t to_ms);
+  // `recent`: the axis' points of the last kOutcomeWeekMs, with the
+  // active model's predictions; `now`: what is served now, if known.
+  AxisHealth Health(Session& s, const AxisRecord& axis, const AxisData& recent,
+                    const AxisCompensation* now);
+
+  Storage& storage_;
+  const Clock& clock_;
+  HistoryService& history_;
+  CompensationService& compensation_;
+  std::mutex summary_mutex_;
+  struct CachedSummary {
+    int64_t at_ms = 0;
+    std::vector<AxisOutcomeSummary> axes;
+  };
+  std::map<std::string, CachedSummary> summaries_;
+};
+
+}  // namespace thermocomp
