@@ -141,6 +141,38 @@ const TC = (() => {
   function num(v, digits = 3) {
     return v === null || v === undefined || !isFinite(v) ? "–" : Number(v).toPrecision(digits);
   }
+  // A share (0.873) as a percentage ("87.3 %"); "–" for null.
+  function percent(share, digits = 1) {
+    return share === null || share === undefined || !isFinite(share) ? "–" : (share * 100).toFixed(digits) + " %";
+  }
+  // A plant date, ISO 8601 (2026-03-01), as the date fields take it.
+  function plantDate(iso) {
+    const ms = typeof iso === "number" ? iso : new Date(iso).getTime();
+    return iso === null || iso === undefined || isNaN(ms) ? "–" : plantIso(ms).slice(0, 10);
+  }
+  // A model's health ({state, reason}) as a flag: warning for a degraded
+  // model or failing inputs, the reason as its tooltip.
+  const healthClass = { ok: "ok", degraded: "warn", inputs: "warn", no_model: "muted", no_data: "muted" };
+  const healthLabel = { ok: "ok", degraded: "degraded", inputs: "inputs failing", no_model: "no model", no_data: "no data" };
+  function healthFlag(health, attrs) {
+    if (!health || !health.state) return el("span", { class: "muted" }, "–");
+    return el("span", Object.assign({ class: "flag " + (healthClass[health.state] || "muted"), "data-state": health.state,
+      title: health.reason ? text(health.reason) : null }, attrs), healthLabel[health.state] || health.state);
+  }
+  // Every page of the line overview (GET /overview follows `next`, never
+  // more often than the first page's total allows).
+  async function lineOverview() {
+    const first = await api("/overview");  // the server's page size (limits.overview_page_size)
+    const machines = first.machines.slice();
+    const pages = Math.ceil(first.total / Math.max(1, machines.length));
+    let next = first.next;
+    for (let n = 1; next && n < pages && next.startsWith("/api/v1/overview?"); ++n) {
+      const page = await api(next.slice("/api/v1".length));
+      machines.push(...page.machines);
+      next = page.next;
+    }
+    return { computed_at: first.computed_at, total: first.total, machines };
+  }
 
   // What the signed-in role may do (docs/api.md, Authentication).
   function can(action) {
@@ -182,7 +214,8 @@ const TC = (() => {
   async function start(title) {
     document.title = title + " · thermocomp";
     const nav = document.getElementById("nav");
-    nav.replaceChildren(el("a", { href: "/" }, "Overview"), el("a", { href: "/ui/checks" }, "Checks"));
+    nav.replaceChildren(el("a", { href: "/" }, "Overview"), el("a", { href: "/ui/checks" }, "Checks"),
+      el("a", { href: "/ui/compare" }, "Compare"));
     session = await api("/session");
     if (session.auth === "none") {
       location.href = "/ui/sign-in?next=" + encodeURIComponent(location.pathname + location.search);
@@ -202,6 +235,6 @@ const TC = (() => {
   function param(name) { return new URLSearchParams(location.search).get(name); }
   function pathPart(i) { return decodeURIComponent(location.pathname.split("/")[i] || ""); }
 
-  return { api, ApiError, problemText, el, table, time, text, dateInput, zonedInput, plantIso, age, zonedToUtc, um, num, can,
+  return { api, ApiError, problemText, el, table, time, text, dateInput, zonedInput, plantIso, age, zonedToUtc, um, num, percent, plantDate, healthFlag, lineOverview, can,
     downloadCsv, main, fail, start, param, pathPart, zone, get session() { return session; } };
 })();

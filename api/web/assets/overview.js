@@ -49,6 +49,23 @@
       c.pending + " open" + (c.overdue ? ", " + c.overdue + " overdue" : ""));
   }
 
+  // What compensation removed of the drift at the probe points over the
+  // last 7 days, with the change against the 7 days before (points of
+  // percentage); the errors themselves in the tooltip.
+  function outcome(a) {
+    const o = a.outcome;
+    if (!o || !o.points) return el("span", { class: "muted outcome", title: "no probe points in the last 7 days" }, "no points");
+    const title = "residual " + um(o.residual_rms_mm, 1) + " µm of " + um(o.drift_rms_mm, 1) + " µm drift RMS, " + o.points + " probe points";
+    const share = o.share_removed;
+    const cell = el("span", { class: "outcome" + (share !== null && share < 0 ? " bad" : ""), title }, TC.percent(share, 0));
+    const prev = o.previous_share_removed;
+    if (share === null || prev === null || prev === undefined) return cell;
+    const delta = (share - prev) * 100;
+    const arrow = delta > 0.5 ? "▲" : delta < -0.5 ? "▼" : "▶";
+    return el("span", {}, cell, " ", el("span", { class: "trend " + (delta > 0.5 ? "ok" : delta < -0.5 ? "warn" : "muted"),
+      title: "previous 7 days: " + TC.percent(prev, 0) }, arrow + " " + (delta >= 0 ? "+" : "") + delta.toFixed(0)));
+  }
+
   function render(data) {
     const now = new Date(data.computed_at).getTime();
     status.textContent = "Updated " + time(data.computed_at) + " (" + TC.zone + "); refreshes every " + every + " s.";
@@ -74,6 +91,7 @@
           first ? (m.last_datum ? time(m.last_datum) : "–") : "",
           first ? el("span", { title: m.last_sample || "" }, m.last_sample ? age(m.last_sample, now) : "never") : "",
           first ? checks(m) : "",
+          a ? el("span", { class: "removed" }, outcome(a), " ", TC.healthFlag(a.health)) : "",
           a ? analysis(m, a) : "",
         ]);
       });
@@ -81,29 +99,16 @@
     body.replaceChildren(TC.table([
       { label: "Machine" }, { label: "Axis" }, { label: "Offset µm", num: true }, { label: "Slope µm/m", num: true },
       { label: "Served" }, { label: "Model" }, { label: "Last datum" }, { label: "Last temperature" },
-      { label: "Column checks" }, { label: "Last effect analysis" }], rows, { id: "machines" }));
+      { label: "Column checks" },
+      { label: "Removed, 7 d", title: "share of the drift removed at the probe points over the last 7 days, its change against the 7 days before " +
+        "(points of %), and whether the active model is still as good as its validation said" },
+      { label: "Last effect analysis" }], rows, { id: "machines" }));
     body.dataset.machines = data.machines.length;
-  }
-
-  // Every page, in order (by machine name). `next` is followed only while
-  // it is this API's overview, and never more often than the first
-  // page's total allows.
-  async function whole() {
-    const first = await TC.api("/overview");  // the server's page size (limits.overview_page_size)
-    const machines = first.machines.slice();
-    const pages = Math.ceil(first.total / Math.max(1, machines.length));
-    let next = first.next;
-    for (let n = 1; next && n < pages && next.startsWith("/api/v1/overview?"); ++n) {
-      const page = await TC.api(next.slice("/api/v1".length));
-      machines.push(...page.machines);
-      next = page.next;
-    }
-    return { computed_at: first.computed_at, total: first.total, machines };
   }
 
   async function refresh() {
     try {
-      render(await whole());
+      render(await TC.lineOverview());
     } catch (err) {
       status.replaceChildren(el("span", { class: "error" }, "Refresh failed: " + TC.problemText(err)));
     }
