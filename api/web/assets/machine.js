@@ -37,6 +37,8 @@
   const drift = Charts.box("drift", "Drift at the datum and the offset served (µm)");
   const temps = Charts.box("temperatures", "Temperatures (°C); grey lines: start of a run, red: events (labelled with their kind)");
   let driftChart = null, tempChart = null;
+  const outcome = el("section", { id: "outcome" });
+  let bucket = null;  // day or week as chosen; until then by the range's span
 
   for (const [label, span] of Object.entries(spans)) {
     rangeBar.append(el("button", { type: "button", "data-span": label, onclick: () => setRange(end - span, end) }, label));
@@ -150,6 +152,115 @@
     temps.plot.dataset.points = t.sensors.reduce((n, s) => n + s.points.length, 0);
   }
 
+  // What compensation achieves, per axis and day (or week) of the range:
+  // the drift measured at the probe points, the error the control was left
+  // with by the offset served at the time, the share removed, and whether
+  // the active model is still as good as its validation said.
+  const um1 = (mm) => um(mm, 1);
+  const weekday = new Intl.DateTimeFormat("en-GB", { timeZone: TC.zone, weekday: "short" });
+  function bucketLabel(b, size) {
+    const s = new Date(b.start).getTime(), e = new Date(b.end).getTime();
+    const midnight = (ms) => TC.plantIso(ms).endsWith(" 00:00");
+    if (midnight(s) && midnight(e)) {
+      const first = TC.plantDate(s), last = TC.plantDate(e - 1);
+      return size === "day" || first === last ? weekday.format(s) + " " + first : first + " – " + last;
+    }
+    // cut to the range, or days of UTC that are not the plant's
+    const start = TC.plantIso(s), end = TC.plantIso(e);
+    return start + " – " + (end.slice(0, 10) === start.slice(0, 10) ? end.slice(11) : end);
+  }
+  function statsCells(x) {
+    const share = x.share_removed;
+    return [um1(x.drift_rms_mm), um1(x.residual_rms_mm),
+      el("span", { class: share !== null && share < 0 ? "bad" : null }, TC.percent(share)),
+      um1(x.model_residual_rms_mm), x.points, x.served_points];
+  }
+  function healthLine(a) {
+    const h = a.health || {};
+    const since = h.since ? " since " + TC.plantDate(h.since) : "";
+    const recent = h.recent_rmse_mm !== null && h.recent_rmse_mm !== undefined;
+    const numbers = recent ? " · recent " + um1(h.recent_rmse_mm) + " µm vs validated " + um1(h.validated_rmse_mm) +
+        " µm (" + h.recent_points + " points" + since + ")"
+      : h.validated_rmse_mm ? " · validated " + um1(h.validated_rmse_mm) + " µm; " + (h.recent_points || 0) + " points" + since + " to compare" : "";
+    return el("p", { class: "health", id: "health-" + a.axis }, "Model" + (a.model_version ? " v" + a.model_version : "") + ": ",
+      TC.healthFlag(h), h.reason ? " " + TC.text(h.reason) : "", numbers ? el("span", { class: "muted" }, numbers) : null);
+  }
+  // Days (weeks) in a row without probe points as one line.
+  function emptyRunsJoined(buckets) {
+    const out = [];
+    for (const b of buckets) {
+      const last = out[out.length - 1];
+      if (!b.points && last && !last.points) out[out.length - 1] = { start: last.start, end: b.end, points: 0, joined: true };
+      else out.push(b);
+    }
+    return out;
+  }
+  function outcomeAxis(a, o) {
+    const head = el("h3", {}, "Axis " + a.axis);
+    if (!a.total.points) {
+      return el("div", { class: "outcome-axis", id: "outcome-" + a.axis }, head, healthLine(a),
+        el("div", { class: "empty" }, "No probe points of " + a.axis + " from " + time(o.from) + " to " + time(o.to) +
+          ": nothing shows yet what compensation achieves. Probe points come from measuring the datum during runs (POST …/probe-points)."));
+    }
+    const rows = emptyRunsJoined(a.buckets).map((b) => [bucketLabel(b, b.joined ? "span" : o.bucket), ...(b.points ? statsCells(b)
+      : [el("span", { class: "muted" }, "no probe points"), "", "", "", 0, 0])]);
+    rows.push([el("b", {}, "Total"), ...statsCells(a.total)]);
+    const t = TC.table([{ label: o.bucket === "week" ? "Week" : "Day" },
+      { label: "Drift RMS µm", num: true, title: "the thermal drift the probe measured at the datum" },
+      { label: "Left RMS µm", num: true, title: "measured drift plus the offset served at that time: the error the control was left with" },
+      { label: "Removed", num: true, title: "1 − left RMS / drift RMS" },
+      { label: "Model residual µm", num: true, title: "measured minus the active model's prediction, in hindsight" },
+      { label: "Points", num: true }, { label: "with served value", num: true }], rows, { class: "outcome" });
+    t.querySelector("tbody tr:last-child").className = "total";
+    const unserved = a.total.served_points < a.total.points ? el("p", { class: "muted" }, (a.total.points - a.total.served_points) +
+      " of " + a.total.points + " points have no served value logged at their time (nothing was served yet, or the history " +
+      "predates serving): they count as uncorrected." + (a.model_version ? " The model residual shows what the active model leaves." : "")) : null;
+    return el("div", { class: "outcome-axis", id: "outcome-" + a.axis }, head, healthLine(a), t, unserved);
+  }
+  function renderOutcome(o) {
+    const toggle = el("div", { class: "toolbar", id: "outcome-bucket" }, el("span", { class: "muted" }, "per "),
+      ["day", "week"].map((b) => el("button", { type: "button", "data-bucket": b, "aria-pressed": b === o.bucket ? "true" : "false",
+        onclick: () => rebucket(b) }, b)));
+    outcome.replaceChildren(el("h2", {}, "What compensation achieves"), toggle,
+      el("p", { class: "muted", id: "outcome-range" }, "Probe points from " + time(o.from) + " to " + time(o.to) + " (" + TC.zone +
+        (TC.zone === "UTC" ? "" : "; " + o.bucket + "s begin at 00:00 UTC") +
+        (state.from === null ? "; from the first to the last probe point shown above" : "") +
+        "). RMS in µm; left: the error after the offset served at the time."),
+      ...(o.axes.length ? o.axes.map((a) => outcomeAxis(a, o)) : [el("div", { class: "empty" }, "This machine has no axes.")]));
+    outcome.dataset.bucket = o.bucket;
+  }
+  async function rebucket(b) {
+    bucket = b;
+    document.body.dataset.loading = "1";
+    await loadOutcome(state.seq);
+    delete document.body.dataset.loading;
+  }
+  // The range shown, or with none chosen (everything archived) the span
+  // of the probe points the drift chart has, so that old data is judged too.
+  function outcomeRange() {
+    if (state.from !== null && state.to !== null) return [Math.floor(state.from), Math.ceil(state.to)];
+    const p = state.drift ? state.drift.probe_points : [];
+    return p.length ? [new Date(p[0].ts).getTime(), new Date(p[p.length - 1].ts).getTime() + 1] : [null, null];
+  }
+  async function loadOutcome(seq) {
+    const [from, to] = outcomeRange();
+    const q = new URLSearchParams();
+    if (from !== null) q.set("from", String(from));
+    if (to !== null) q.set("to", String(to));
+    const span = from === null ? 28 * 86400000 : to - from;
+    q.set("bucket", bucket || (span > 31 * 86400000 ? "week" : "day"));
+    const url = "/machines/" + encodeURIComponent(machine) + "/compensation/outcome?" + q;
+    document.body.dataset.outcomeRequest = url;
+    try {
+      const o = await api(url);
+      if (seq === state.seq) renderOutcome(o);
+    } catch (err) {
+      if (seq === state.seq) {
+        outcome.replaceChildren(el("h2", {}, "What compensation achieves"), el("div", { class: "error" }, TC.problemText(err)));
+      }
+    }
+  }
+
   async function load() {
     const seq = ++state.seq;
     const width = Math.max(200, Math.min(4000, Math.round(drift.plot.clientWidth || 1000)));
@@ -177,6 +288,7 @@
       if (!d.probe_points_total && !t.sensors.some((s) => s.total)) {
         note.textContent = "No data in this range. The machine has " + info.samples + " samples and " + info.probe_points + " probe points in all.";
       }
+      await loadOutcome(seq);
     } catch (err) {
       note.replaceChildren(el("span", { class: "error" }, TC.problemText(err)));
     } finally {
@@ -290,7 +402,7 @@
 
   TC.main(el("h1", {}, info.name && info.name !== machine ? info.name + " (" + machine + ")" : machine,
     el("span", { class: "muted" }, " · " + (info.controller || "control unknown"))),
-  cards, axisTabs, links, rangeBar, note, drift.node, temps.node, events);
+  cards, axisTabs, links, rangeBar, note, drift.node, temps.node, outcome, events);
   renderAxisTabs();
   if (!axes.length) {
     note.textContent = "This machine has no axes defined, so there is no drift to show.";
