@@ -139,6 +139,7 @@ void HttpServer::PageRoutes() {
       {"/", "overview", "Line overview"},
       {"/ui/sign-in", "sign_in", "Sign in"},
       {"/ui/checks", "checks", "Checks"},
+      {"/ui/compare", "compare", "Compare machines"},
       {m, "machine", "Machine"},
       {m + "/checks", "machine_checks", "Machine checks"},
       {a + "/models", "models", "Model versions"},
