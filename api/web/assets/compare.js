@@ -1,7 +1,8 @@
 // Machines side by side: what compensation removed of the drift at the
 // probe points, per machine and axis, in two ranges of plant dates (this
 // month so far and last month unless chosen), with the column checks made
-// in each. The choice is kept in the address, so a comparison can be sent.
+// in each. The choice is kept in the address's fragment (#machines=…&
+// from_a=…), so a comparison can be sent; the server never sees it.
 "use strict";
 
 (async () => {
@@ -33,12 +34,20 @@
     from_a: year + "-" + pad(month) + "-01", to_a: today,
     from_b: last.y + "-" + pad(last.m) + "-01", to_b: last.y + "-" + pad(last.m) + "-" + pad(lastEnd),
   };
-  const field = (id, label) => TC.dateInput({ id, "aria-label": label, value: TC.param(id) || defaults[id] });
+  const kept = () => new URLSearchParams(location.hash.slice(1));
+  const field = (id, label) => TC.dateInput({ id, "aria-label": label, value: kept().get(id) || defaults[id] });
   const inputs = { from_a: field("from_a", "first range from"), to_a: field("to_a", "first range to"),
     from_b: field("from_b", "second range from"), to_b: field("to_b", "second range to") };
-  const chosen = (TC.param("machines") || "").split(",").filter((m) => names.includes(m));
+  const chosen = () => (kept().get("machines") || "").split(",").filter((m) => names.includes(m));
   const boxes = names.map((m) => el("input", { type: "checkbox", value: m, id: "pick-" + m,
-    checked: chosen.length ? chosen.includes(m) : true }));
+    checked: chosen().length ? chosen().includes(m) : true }));
+  // A comparison's address typed or pasted in while the page is open.
+  window.addEventListener("hashchange", () => {
+    const picked = chosen();
+    for (const b of boxes) b.checked = picked.length ? picked.includes(b.value) : true;
+    for (const [id, f] of Object.entries(inputs)) f.value = kept().get(id) || defaults[id];
+    compare();
+  });
 
   const form = el("form", { id: "compare-form" },
     el("div", { class: "choices", id: "machine-choice" }, boxes.map((b) => el("label", {}, b, " " + b.value))),
@@ -125,7 +134,7 @@
     message.replaceChildren();
     const q = new URLSearchParams({ machines: picked.join(",") });
     for (const [k, f] of Object.entries(inputs)) q.set(k, f.value);
-    history.replaceState(null, "", location.pathname + "?" + q);
+    history.replaceState(null, "", location.pathname + "#" + q);
     document.body.dataset.loading = "1";
     try {
       const data = await Promise.all(picked.map((m) => machineData(m, ranges)
