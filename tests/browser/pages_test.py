@@ -9,7 +9,6 @@ OUT_DIR, and its browser console must stay free of errors.
 
 usage: pages_test.py THERMOCOMP_BINARY SOURCE_DIR OUT_DIR
 """
-import datetime
 import json
 import os
 import re
@@ -19,9 +18,9 @@ import sys
 import tempfile
 import time
 import urllib.request
-from zoneinfo import ZoneInfo
 
 import headless_chromium
+import outcome_pages
 from headless_chromium import free_port
 from selenium.common.exceptions import TimeoutException
 from selenium.webdriver.common.action_chains import ActionChains
@@ -146,7 +145,7 @@ def open_access(d, s):
         text = d.find_element(By.ID, "overview").text
         check("valid, ramping to" in text, "overview names a ramping value and its target")
 
-    overview_outcome(d, s, axes)
+    outcome_pages.overview_outcome(d, s, axes, check)
     check(bool(d.find_elements(By.CSS_SELECTOR, "nav#nav a[href='/ui/compare']")), "the navigation links the comparison")
 
     # It refreshes itself: new data shows up without a reload.
@@ -173,13 +172,13 @@ def open_access(d, s):
     served = s.api(request)
     check(drawn == len(served["probe_points"]) and drawn > 0,
           f"drift chart draws the {len(served['probe_points'])} points the API returns ({drawn})")
-    machine_outcome(d, s)
+    outcome_pages.machine_outcome(d, s, check)
     outcome = d.find_element(By.ID, "outcome")
     d.execute_script("arguments[0].scrollIntoView()", outcome)
     outcome.screenshot(os.path.join(OUT, "machine-outcome.png"))
     d.find_element(By.CSS_SELECTOR, "#outcome-bucket button[data-bucket='week']").click()
     wait_ready(d)
-    weekly = machine_outcome(d, s)
+    weekly = outcome_pages.machine_outcome(d, s, check)
     check(weekly["bucket"] == "week", "the week toggle asks for weeks")
     d.execute_script("window.scrollTo(0, 0)")
     # Zoom: drag across the middle of the chart; the page asks for that range.
@@ -234,14 +233,14 @@ def open_access(d, s):
     # The study's probe points are old: all of them are judged (the range
     # of the points), and a day without any says so in words.
     open_page(d, s, "/ui/machines/fms-study", "machine-study")
-    study = machine_outcome(d, s)
+    study = outcome_pages.machine_outcome(d, s, check)
     check(sum(a["total"]["points"] for a in study["axes"]) > 0, "the study's archived probe points are judged")
     d.find_element(By.CSS_SELECTOR, "button[data-span='Day']").click()
     wait_ready(d)
-    machine_outcome(d, s)
+    outcome_pages.machine_outcome(d, s, check)
     check("No probe points" in d.find_element(By.ID, "outcome").text, "a range without probe points says so")
     shot(d, "machine-study-outcome-empty")
-    compare(d, s)
+    outcome_pages.compare(d, s, check, open_page)
 
     open_page(d, s, "/ui/machines/sim-1/axes/Y/models", "models")
     check(len(d.find_elements(By.CSS_SELECTOR, "#models tbody tr")) == len(s.api("/machines/sim-1/axes/Y/models")["models"]),
@@ -395,39 +394,6 @@ def with_tokens(d, s):
     d.get_log("browser")  # the refused fetches above log on purpose
 
 
-def compare(d, s):
-    """Machines side by side over two ranges of plant dates: drift, error
-    left, share removed, probe points and column checks, as the API has them."""
-    open_page(d, s, "/ui/compare", "compare-default")
-    boxes = d.find_elements(By.CSS_SELECTOR, "#machine-choice input[type=checkbox]")
-    check(len(boxes) == s.api("/overview")["total"], f"a checkbox per machine ({len(boxes)})")
-    check(bool(d.find_elements(By.CSS_SELECTOR, "#compare-table tbody tr")), "the default comparison has rows")
-    zone = ZoneInfo(d.execute_script("return TC.zone"))
-    today = datetime.datetime.now(zone).date()
-    day = lambda n: (today - datetime.timedelta(days=n)).isoformat()
-    ranges = {"from_a": day(7), "to_a": day(1), "from_b": day(14), "to_b": day(8)}
-    query = "&".join(f"{k}={v}" for k, v in ranges.items())
-    d.get("about:blank")  # a fresh page, not a change of fragment
-    open_page(d, s, f"/ui/compare#machines=sim-1,sim-2&{query}", "compare")
-    ms = lambda date, end: int(datetime.datetime.combine(datetime.date.fromisoformat(date),
-                                                         datetime.time(23, 59, 59) if end else datetime.time(0, 0), zone).timestamp() * 1000)
-    rows = d.execute_script("""
-      return [...document.querySelectorAll('#compare-table tbody tr')].map((r) => [...r.children].map((c) => c.textContent));""")
-    check(len(rows) == 4 and rows[0][0] == "sim-1" and rows[2][0] == "sim-2", f"two machines, two axes each {[r[:2] for r in rows]}")
-    checks = s.api("/machines/sim-1/column-checks")["checks"]
-    for k, col in (("a", 2), ("b", 7)):
-        frm, to = ms(ranges["from_" + k], False), ms(ranges["to_" + k], True)
-        o = s.api(f"/machines/sim-1/compensation/outcome?bucket=week&from={frm}&to={to}")
-        y = next(a["total"] for a in o["axes"] if a["axis"] == "Y")
-        row = next((r for r in rows[:2] if r[1] == "Y"), [])
-        n = sum(1 for c in checks if frm <= int(datetime.datetime.fromisoformat(c["ts"].replace("Z", "+00:00")).timestamp() * 1000) <= to)
-        check(row[col:col + 4] == [um1(y["drift_rms_mm"]), um1(y["residual_rms_mm"]),
-                                   "–" if y["share_removed"] is None else f"{y['share_removed'] * 100:.1f} %", str(y["points"])]
-              and y["points"] > 0 and rows[0][col + 4] == str(n),
-              f"range {k}: sim-1 Y {row[col:col + 4]}, {rows[0][col + 4]} column checks as the API ({y}, {n})")
-    check(d.current_url.endswith(f"/ui/compare#machines=sim-1%2Csim-2&{query}"), f"the address keeps the comparison ({d.current_url})")
-
-
 def make_hidden_lag(dir):
     """A machine whose drift has an effect its declared model lacks, analysed
     with policy propose: an analysis with an effect and a candidate version."""
@@ -446,70 +412,6 @@ def readable(text):
 
 def um(mm):
     return f"{mm * 1000:.2f}"
-
-
-def um1(mm):
-    """Micrometres with one decimal, as the outcome tables show them; – for null."""
-    return "–" if mm is None else f"{mm * 1000:.1f}"
-
-
-def joined(buckets):
-    """Buckets as the machine page lists them: empty ones in a row as one line."""
-    out = []
-    for b in buckets:
-        if not b["points"] and out and not out[-1]["points"]:
-            continue
-        out.append(b)
-    return out
-
-
-def overview_outcome(d, s, axes):
-    """Per axis the share removed over 7 days with its trend and the model's
-    health as a flag, the reason as its tooltip, as /overview has them."""
-    cells = d.execute_script("""
-      return [...document.querySelectorAll('#machines tbody tr')].map((r) => {
-        const td = r.children[9], flag = td.querySelector('.flag');
-        return { text: td.textContent, state: flag && flag.dataset.state, title: flag && flag.title,
-                 cls: flag ? flag.className : '' };
-      });""")
-    check(len(cells) == len(axes), f"one outcome cell per axis ({len(cells)} of {len(axes)})")
-    for cell, a in zip(cells, axes):
-        o, h = a["outcome"], a["health"]
-        share = "no points" if not o["points"] else "–" if o["share_removed"] is None else f"{o['share_removed'] * 100:.0f} %"
-        check(share in cell["text"] and cell["state"] == h["state"],
-              f"axis {a['axis']}: removed {share!r} and health {h['state']} shown ({cell})")
-        if h["state"] in ("degraded", "inputs"):
-            check("warn" in cell["cls"] and cell["title"], f"a {h['state']} model is flagged with its reason ({cell})")
-        if o["points"] and o["share_removed"] is not None and o["previous_share_removed"] is not None:
-            check(("▲" in cell["text"]) or ("▼" in cell["text"]) or ("▶" in cell["text"]), f"a trend against the week before ({cell})")
-
-
-def machine_outcome(d, s):
-    """The machine page's outcome per axis: a row per day (empty days in a
-    row joined), a total row, the health line, and the week toggle."""
-    url = d.execute_script("return document.body.dataset.outcomeRequest")
-    o = s.api(url)
-    check(bool(o["axes"]) and d.find_element(By.ID, "outcome").get_attribute("data-bucket") == o["bucket"],
-          f"the machine page shows what compensation achieves ({url})")
-    for a in o["axes"]:
-        health = d.find_element(By.ID, "health-" + a["axis"])
-        flag = health.find_element(By.CSS_SELECTOR, ".flag")
-        check(flag.get_attribute("data-state") == a["health"]["state"], f"axis {a['axis']}: health {a['health']['state']} shown")
-        if a["health"]["validated_rmse_mm"] is not None:
-            check(f"validated {um1(a['health']['validated_rmse_mm'])} µm" in health.text,
-                  f"axis {a['axis']}: the validated error beside the recent one ({health.text!r})")
-        rows = d.find_elements(By.CSS_SELECTOR, f"#outcome-{a['axis']} tbody tr")
-        if not a["total"]["points"]:
-            check(not rows and "No probe points" in d.find_element(By.ID, "outcome-" + a["axis"]).text,
-                  f"axis {a['axis']}: no probe points said in words")
-            continue
-        check(len(rows) == len(joined(a["buckets"])) + 1, f"axis {a['axis']}: a row per bucket and a total ({len(rows)})")
-        total = [c.text for c in rows[-1].find_elements(By.TAG_NAME, "td")]
-        t = a["total"]
-        want = ["Total", um1(t["drift_rms_mm"]), um1(t["residual_rms_mm"])]
-        check(total[:3] == want and total[5:7] == [str(t["points"]), str(t["served_points"])],
-              f"axis {a['axis']}: total row {total} as the API ({want}, {t['points']} points)")
-    return o
 
 
 def analysis_details(d, report, name):

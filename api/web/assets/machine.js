@@ -183,7 +183,7 @@
         " µm (" + h.recent_points + " points" + since + ")"
       : h.validated_rmse_mm ? " · validated " + um1(h.validated_rmse_mm) + " µm; " + (h.recent_points || 0) + " points" + since + " to compare" : "";
     return el("p", { class: "health", id: "health-" + a.axis }, "Model" + (a.model_version ? " v" + a.model_version : "") + ": ",
-      TC.healthFlag(h), h.reason ? " " + TC.text(h.reason) : "", numbers ? el("span", { class: "muted" }, numbers) : null);
+      TC.healthFlag(h), h.reason && h.reason !== "no active model" ? " " + TC.text(h.reason) : "", numbers ? el("span", { class: "muted" }, numbers) : null);
   }
   // Days (weeks) in a row without probe points as one line.
   function emptyRunsJoined(buckets) {
