@@ -1,5 +1,5 @@
 // Routes of what the line and quality staff read: the compensation (JSON
-// and each control's format) and the drift history.
+// and each control's format), what it achieved, and the drift history.
 #include "api/http_server.h"  // first: Eigen before httplib.h
 
 #include <nlohmann/json.hpp>
@@ -11,9 +11,44 @@
 #include "core/time_format.h"
 #include "service/drift_history_codec.h"
 #include "service/json_fields.h"
+#include "service/outcome/outcome_codec.h"
 
 namespace thermocomp::api {
 using nlohmann::json;
+namespace {
+
+constexpr int64_t kDefaultOutcomeSpanMs = 28 * 86400000LL;
+// Buckets one answer may hold: days over almost three years.
+constexpr int64_t kMaxOutcomeBuckets = 1000;
+
+bool ParseOutcomeQuery(const Req& req, int64_t now_ms, OutcomeQuery& q, FieldErrors& errors) {
+  if (req.has_param("axis")) {
+    q.axis = req.get_param_value("axis");
+    if (!ValidAxisName(*q.axis)) errors.push_back({0, "axis", "must be one of X Y Z A B C U V W"});
+  }
+  const std::string bucket = req.has_param("bucket") ? req.get_param_value("bucket") : "day";
+  if (bucket == "week") {
+    q.bucket = OutcomeBucketSize::kWeek;
+  } else if (bucket != "day") {
+    errors.push_back({0, "bucket", "must be day or week"});
+  }
+  // The range: `to` defaults to now, `from` to 28 days before `to`.
+  q.to_ms = now_ms;
+  q.from_ms = 0;
+  size_t unused = 0;
+  if (!ParseTimeRange(req, q.from_ms, q.to_ms, unused, 0, errors)) return false;
+  if (!req.has_param("from")) q.from_ms = q.to_ms - kDefaultOutcomeSpanMs;
+  if (q.from_ms > q.to_ms) errors.push_back({0, "from", "must not be after to"});
+  const int64_t bucket_ms = (q.bucket == OutcomeBucketSize::kWeek ? 7 : 1) * 86400000LL;
+  if (errors.empty() && (q.to_ms - q.from_ms) / bucket_ms + 2 > kMaxOutcomeBuckets) {
+    errors.push_back({0, "from",
+                      "the range holds more than 1000 buckets; use bucket=week or a "
+                      "shorter range"});
+  }
+  return errors.empty();
+}
+
+}  // namespace
 
 void HttpServer::CompensationRoutes() {
   auto& s = server_;
@@ -43,6 +78,18 @@ void HttpServer::CompensationRoutes() {
           {{0, "format", "unknown format '" + format + "'"}});
     }
     res.set_content(RenderForController(**c, format), "text/plain");
+  });
+
+  s.Get(m + "/compensation/outcome", [this](const Req& req, Res& res) {
+    OutcomeQuery q;
+    FieldErrors errors;
+    if (!ParseOutcomeQuery(req, app_.clock().NowMs(), q, errors)) {
+      return WriteProblem(res, Status::InvalidArgument("invalid outcome query"), errors);
+    }
+    q.machine = req.matches[1];
+    auto o = app_.outcomes().Outcome(q);
+    if (!o.ok()) return WriteProblem(res, o.status());
+    WriteJson(res, MachineOutcomeToJson(*o));
   });
 
   s.Get(m + "/drift", [this](const Req& req, Res& res) {

@@ -105,6 +105,7 @@ const std::vector<std::pair<std::regex, std::set<std::string>>>& RouteParams() {
   static const std::vector<std::pair<std::regex, std::set<std::string>>> table = {
       {std::regex(m + "/compensation"), {"format"}},
       {std::regex(m + "/drift"), {"axis", "from", "to", "max_points"}},
+      {std::regex(m + "/compensation/outcome"), {"axis", "from", "to", "bucket"}},
       {std::regex(m + "/temperatures"), {"from", "to", "max_points"}},
       {std::regex("/ui/sign-in"), {"next"}},
       {std::regex("/"), {"refresh"}},

@@ -53,7 +53,7 @@ class HttpServer {
   void MachineRoutes();       // machine_routes.cc
   void IngestRoutes();        // ingest_routes.cc
   void ModelRoutes();         // model_routes.cc: fits, versions, analyses
-  void CompensationRoutes();  // compensation_routes.cc: compensation, drift
+  void CompensationRoutes();  // compensation_routes.cc: compensation, outcome, drift
   void CheckRoutes();         // check_routes.cc: column and positioning checks
   void OverviewRoutes();      // overview_routes.cc: the line at a glance, temperatures
   void SessionRoutes();       // web/session_routes.cc: signing in to the pages

@@ -8,8 +8,10 @@
 #include "api/http_util.h"
 #include "api/json_mapping.h"
 #include "api/problem.h"
+#include "service/outcome/outcome_codec.h"
 
 namespace thermocomp::api {
+using nlohmann::json;
 namespace {
 
 constexpr size_t kMaxOverviewLimit = 1000;
@@ -62,7 +64,22 @@ void HttpServer::OverviewRoutes() {
       next = "/api/v1/overview?limit=" + std::to_string(limit) +
              "&offset=" + std::to_string(offset + limit);
     }
-    WriteJson(res, OverviewToJson(page, served, app_.clock().NowMs(), next));
+    json body = OverviewToJson(page, served, app_.clock().NowMs(), next);
+    // Per axis what compensation achieved over the last week, and whether
+    // its model is still good (service/outcome/outcome_service.h).
+    for (json& machine : body["machines"]) {
+      const auto summaries = app_.outcomes().Summary(machine["machine"].get<std::string>());
+      for (json& axis : machine["axes"]) {
+        for (const AxisOutcomeSummary& o : summaries) {
+          if (o.axis != axis["axis"].get<std::string>()) continue;
+          axis["outcome"] = OutcomeSummaryToJson(o);
+          axis["health"] = {
+              {"state", o.health.state},
+              {"reason", o.health.reason.empty() ? json(nullptr) : json(o.health.reason)}};
+        }
+      }
+    }
+    WriteJson(res, body);
   });
   s.Get(kMachinePath + "/temperatures", [this](const Req& req, Res& res) {
     TemperatureQuery q;

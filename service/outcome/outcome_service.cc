@@ -110,6 +110,10 @@ AxisHealth OutcomeService::Health(Session& s, const AxisRecord& axis, const Axis
 }
 
 StatusOr<MachineOutcome> OutcomeService::Outcome(const OutcomeQuery& q) {
+  // Before the session: the compensation service opens its own, and one
+  // thread must not hold two (the SQLite backend has one connection).
+  auto served = compensation_.Get(q.machine);
+  const MachineCompensation* served_now = served.ok() ? served->get() : nullptr;
   const std::unique_ptr<Session> session = storage_.Open();
   auto machine = FindMachine(*session, q.machine);
   if (!machine.ok()) return machine.status();
@@ -117,8 +121,6 @@ StatusOr<MachineOutcome> OutcomeService::Outcome(const OutcomeQuery& q) {
     auto found = FindMachineAxis(*session, q.machine, *q.axis);
     if (!found.ok()) return found.status();
   }
-  auto served = compensation_.Get(q.machine);
-  const MachineCompensation* served_now = served.ok() ? served->get() : nullptr;
   MachineOutcome out;
   out.machine = machine->name;
   out.from_ms = q.from_ms;
@@ -160,11 +162,11 @@ std::vector<AxisOutcomeSummary> OutcomeService::Summary(const std::string& machi
     }
   }
   std::vector<AxisOutcomeSummary> axes;
+  auto served = compensation_.Get(machine);  // before the session, as in Outcome()
+  const MachineCompensation* served_now = served.ok() ? served->get() : nullptr;
   const std::unique_ptr<Session> session = storage_.Open();
   auto record = FindMachine(*session, machine);
   if (!record.ok()) return axes;
-  auto served = compensation_.Get(machine);
-  const MachineCompensation* served_now = served.ok() ? served->get() : nullptr;
   for (const AxisRecord& axis : record->axes) {
     // One read of the two weeks; the last one also judges the model.
     const AxisData data = Load(*session, *record, axis, now - 2 * kOutcomeWeekMs, now);
