@@ -38,13 +38,14 @@
   const field = (id, label) => TC.dateInput({ id, "aria-label": label, value: kept().get(id) || defaults[id] });
   const inputs = { from_a: field("from_a", "first range from"), to_a: field("to_a", "first range to"),
     from_b: field("from_b", "second range from"), to_b: field("to_b", "second range to") };
+  const firstChosen = 12;  // compared unless others are chosen: a long line is not all asked for at once
   const chosen = () => (kept().get("machines") || "").split(",").filter((m) => names.includes(m));
   const boxes = names.map((m) => el("input", { type: "checkbox", value: m, id: "pick-" + m,
-    checked: chosen().length ? chosen().includes(m) : true }));
+    checked: chosen().length ? chosen().includes(m) : names.indexOf(m) < firstChosen }));
   // A comparison's address typed or pasted in while the page is open.
   window.addEventListener("hashchange", () => {
     const picked = chosen();
-    for (const b of boxes) b.checked = picked.length ? picked.includes(b.value) : true;
+    for (const [i, b] of boxes.entries()) b.checked = picked.length ? picked.includes(b.value) : i < firstChosen;
     for (const [id, f] of Object.entries(inputs)) f.value = kept().get(id) || defaults[id];
     compare();
   });
