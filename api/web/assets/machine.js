@@ -200,7 +200,9 @@
     if (!a.total.points) {
       return el("div", { class: "outcome-axis", id: "outcome-" + a.axis }, head, healthLine(a),
         el("div", { class: "empty" }, "No probe points of " + a.axis + " from " + time(o.from) + " to " + time(o.to) +
-          ": nothing shows yet what compensation achieves. Probe points come from measuring the datum during runs (POST …/probe-points)."));
+          ", so nothing to judge compensation by. " + (info.probe_points
+          ? "The machine has " + info.probe_points + " probe points in all: choose All or another range above."
+          : "Probe points come from measuring the datum during runs (POST …/probe-points).")));
     }
     const rows = emptyRunsJoined(a.buckets).map((b) => [bucketLabel(b, b.joined ? "span" : o.bucket), ...(b.points ? statsCells(b)
       : [el("span", { class: "muted" }, "no probe points"), "", "", "", 0, 0])]);
