@@ -14,6 +14,7 @@
 #include "service/fit_report_codec.h"
 #include "service/fit_report_text.h"
 #include "service/json_fields.h"
+#include "service/outcome/outcome_codec.h"
 
 namespace thermocomp::api {
 using nlohmann::json;
@@ -111,7 +112,17 @@ void HttpServer::ModelRoutes() {
   s.Get(axis + "/analysis/([0-9]{1,18})", [this](const Req& req, Res& res) {
     auto report = app_.analyses().Get(req.matches[1], req.matches[2], std::stoll(req.matches[3]));
     if (!report.ok()) return WriteProblem(res, report.status());
-    WriteReport(req, res, *report, AnalysisReportToJson, AnalysisMarkdown, AnalysisHtml);
+    // What its model did once applied, beside what the analysis predicted.
+    auto with_outcome = [&](const AnalysisReport& r) {
+      json j = AnalysisReportToJson(r);
+      j["since_applied"] = nullptr;
+      if (r.model) {
+        auto v = app_.outcomes().SinceServed(req.matches[1], req.matches[2], r.model->version);
+        if (v.ok()) j["since_applied"] = VersionOutcomeToJson(*v);
+      }
+      return j;
+    };
+    WriteReport(req, res, *report, with_outcome, AnalysisMarkdown, AnalysisHtml);
   });
 }
 

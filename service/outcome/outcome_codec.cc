@@ -68,4 +68,15 @@ json OutcomeSummaryToJson(const AxisOutcomeSummary& s) {
           {"points", s.last_week.points}};
 }
 
+json VersionOutcomeToJson(const VersionOutcome& v) {
+  if (!v.since_ms) return nullptr;
+  const OutcomeStats& s = v.stats;
+  return {{"version", v.version},
+          {"since", FormatRfc3339(*v.since_ms)},
+          {"points", s.points},
+          {"drift_rms_mm", Optional(s.drift_rms_mm)},
+          {"residual_rms_mm", Optional(s.residual_rms_mm)},
+          {"share_removed", Optional(s.share_removed)}};
+}
+
 }  // namespace thermocomp

@@ -15,5 +15,7 @@ nlohmann::json MachineOutcomeToJson(const MachineOutcome& o);
 // The overview's `outcome` of an axis (the last 7 days, the share removed
 // the 7 days before) and its `health`.
 nlohmann::json OutcomeSummaryToJson(const AxisOutcomeSummary& s);
+// An analysis' `since_applied`: null when its version was never served.
+nlohmann::json VersionOutcomeToJson(const VersionOutcome& v);
 
 }  // namespace thermocomp

@@ -52,6 +52,7 @@ OutcomeService::AxisData OutcomeService::Load(Session& s, const MachineRecord& m
   out.model_version = probe.model_version;
   LogStore& log = s.log();
   out.points.reserve(probe.points.size());
+  out.served_versions.reserve(probe.points.size());
   for (const DriftPoint& p : probe.points) {
     OutcomePoint o;
     o.ts_ms = p.ts_ms;
@@ -60,6 +61,9 @@ OutcomeService::AxisData OutcomeService::Load(Session& s, const MachineRecord& m
     if (auto row = log.CompensationAt(axis.id, p.ts_ms);
         row && p.ts_ms - row->ts_ms <= kServedMaxAgeMs && std::isfinite(row->offset_mm)) {
       o.served_mm = row->offset_mm;
+      out.served_versions.push_back(row->model_version);
+    } else {
+      out.served_versions.emplace_back();
     }
     out.points.push_back(o);
   }
@@ -184,6 +188,28 @@ std::vector<AxisOutcomeSummary> OutcomeService::Summary(const std::string& machi
   std::lock_guard<std::mutex> lock(summary_mutex_);
   summaries_[machine] = {now, axes};
   return axes;
+}
+
+StatusOr<VersionOutcome> OutcomeService::SinceServed(const std::string& machine,
+                                                     const std::string& axis, int version) {
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto found = FindMachineAxis(*session, machine, axis);
+  if (!found.ok()) return found.status();
+  VersionOutcome out;
+  out.version = version;
+  const AxisRecord& a = found->axis();
+  const std::optional<ModelRecord> record = session->models().Get(a.id, version);
+  if (!record)
+    return Status::NotFound("axis " + axis + " has no model version " + std::to_string(version));
+  out.since_ms = session->log().FirstServed(a.id, version, record->created_ms);
+  if (!out.since_ms) return out;
+  const AxisData data = Load(*session, found->machine, a, *out.since_ms, clock_.NowMs());
+  std::vector<OutcomePoint> served_by_it;
+  for (size_t i = 0; i < data.points.size(); ++i) {
+    if (data.served_versions[i] == version) served_by_it.push_back(data.points[i]);
+  }
+  out.stats = SummarizeOutcome(served_by_it);
+  return out;
 }
 
 }  // namespace thermocomp

@@ -63,6 +63,14 @@ struct AxisOutcomeSummary {
   AxisHealth health;
 };
 
+// What one model version achieved while it was served: the probe points
+// whose served offset came from it (by the served log's version).
+struct VersionOutcome {
+  int version = 0;
+  std::optional<int64_t> since_ms;  // first served; empty: never served
+  OutcomeStats stats;
+};
+
 // How far back health looks, and the overview's period.
 inline constexpr int64_t kOutcomeWeekMs = 7 * 86400000LL;
 // A logged value older than this at a probe point's time does not count
@@ -80,12 +88,16 @@ class OutcomeService {
   // Per axis; kept for kSummaryTtlMs per machine, since the overview asks
   // for every machine and probe points arrive minutes apart.
   std::vector<AxisOutcomeSummary> Summary(const std::string& machine);
+  // NotFound for an unknown machine or axis.
+  StatusOr<VersionOutcome> SinceServed(const std::string& machine, const std::string& axis,
+                                       int version);
 
   static constexpr int64_t kSummaryTtlMs = 60000;
 
  private:
   struct AxisData {
-    std::vector<OutcomePoint> points;  // in time order
+    std::vector<OutcomePoint> points;                 // in time order
+    std::vector<std::optional<int>> served_versions;  // per point: the served row's model
     std::optional<int> model_version;
   };
   AxisData Load(Session& s, const MachineRecord& m, const AxisRecord& axis, int64_t from_ms,

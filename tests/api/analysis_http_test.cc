@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <map>
 #include <set>
+#include <thread>
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
@@ -265,6 +266,22 @@ TEST_F(AnalysisHttpTest, PositionDependentExpansionIsServedAsSlopeAndAtTheProbe)
   json comp = GetJson("/api/v1/machines/m1/compensation");
   const json* y = Axis(comp, "Y");
   ASSERT_TRUE(y && (*y)["valid"].get<bool>()) << comp.dump();
+  // Once its model is served, the analysis says since when and what it
+  // achieved at the probe points since (those at the clock's instant).
+  // The worker logs what it serves: wait for it (30 s, generous under
+  // sanitizers).
+  json since = nullptr;
+  for (int i = 0; i < 300 && since.is_null(); ++i) {
+    since = GetJson("/api/v1/machines/m1/axes/Y/analysis/" + report["id"].dump())["since_applied"];
+    if (since.is_null()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_FALSE(since.is_null());
+  EXPECT_EQ(since["version"], report["model"]["version"]);
+  const int64_t since_ms = ParseRfc3339(since["since"].get<std::string>()).value_or(-1);
+  EXPECT_GE(since_ms, clock_.NowMs() - 1);
+  EXPECT_EQ(since["points"], Count("SELECT COUNT(*) FROM probe_points WHERE k > 0 AND ts_ms >= " +
+                                   std::to_string(since_ms)));
+  EXPECT_EQ(since["residual_rms_mm"].is_null(), since["points"] == 0);
   // Slope about the reference (0 mm): -alpha * (Tcb - 20 degC) in um/m,
   // with the simulator's true alpha and the filtered column-base temperature.
   // The model's slope; the served one ramps towards it (compensation.max_rate_um_per_min).

@@ -162,6 +162,19 @@ TEST_F(OutcomeHttpTest, WithoutAModelOrInputsTheHealthSaysWhy) {
   EXPECT_FALSE(o["axes"][0]["health"]["reason"].get<std::string>().empty());
 }
 
+TEST_F(OutcomeHttpTest, AVersionIsJudgedOnThePointsItsOffsetWasServedAt) {
+  Scenario();
+  // v1 served the six points of day 10 (-8 um); the seventh had nothing.
+  auto v1 = app_->outcomes().SinceServed("m1", "Y", 1);
+  ASSERT_TRUE(v1.ok()) << v1.status().ToString();
+  EXPECT_EQ(v1->since_ms, kT0 + 10 * kDay + kH - 30000);
+  EXPECT_EQ(v1->stats.points, 6u);
+  EXPECT_NEAR(*v1->stats.drift_rms_mm, std::sqrt(9100.0 / 6) * kUm, 1e-12);
+  EXPECT_NEAR(*v1->stats.residual_rms_mm, std::sqrt(6124.0 / 6) * kUm, 1e-12);
+  EXPECT_EQ(app_->outcomes().SinceServed("m1", "Y", 2).status().code(), Status::Code::kNotFound);
+  EXPECT_EQ(app_->outcomes().SinceServed("m1", "X", 1).status().code(), Status::Code::kNotFound);
+}
+
 TEST_F(OutcomeHttpTest, BadQueriesAreRefusedNamingTheParameter) {
   const std::string base = "/api/v1/machines/m1/compensation/outcome";
   auto field = [&](const std::string& query) {
