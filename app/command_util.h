@@ -75,8 +75,42 @@ struct HiddenPlan {
   std::set<HiddenEffect> For(const std::string& machine) const;
 };
 StatusOr<HiddenPlan> ParseHiddenPlan(const std::string& text);
+// Where `days` of simulated history ending at end_ms start: midnight UTC
+// `days` days before end_ms's day.
+int64_t HistoryStartMs(int64_t end_ms, int days);
 // `days` of simulated history ending at end_ms, into the app.
 Status SimulateIntoApp(App& app, const std::vector<std::string>& names, int days, uint64_t seed,
                        int64_t end_ms, const HiddenPlan& hidden = {});
+
+// What one simulated axis was served while SimulateAndServe replayed the
+// later part of its history.
+struct ServedReplay {
+  std::string machine, axis;
+  // The fit of days 1..fitted_days, whose version (if accepted) was served.
+  int fitted_days = 0;
+  StatusOr<FitReport> fit{Status::Internal("not fitted")};
+  // The replayed span: from the end of those days to the last minute.
+  int64_t from_ms = 0, to_ms = 0;
+  // Served values logged in the span, and how many of them valid (the
+  // model's value, followed or ramped to).
+  size_t logged = 0, valid = 0;
+};
+// `days` of simulated history ending at end_ms, served as it would have
+// been live. The first half of the days is ingested and every axis of
+// every machine fitted on it alone (the later data does not exist yet);
+// then the rest is replayed minute by minute in time order with `clock`
+// following the data: each minute the machines' samples, signals, events
+// and probe points arrive and each control reads its compensation, so the
+// compensation service's own ramps, holds and log record what a control
+// was served, and the probe points of that part meet the compensation of
+// their time. `app` must run on `clock`, not past the first half's end.
+// The compensation service's worker, which serves on real time, is
+// stopped first: this is for a command that ends afterwards (the demo);
+// a server opened on the database later continues from the value logged
+// last.
+StatusOr<std::vector<ServedReplay>> SimulateAndServe(App& app, ManualClock& clock,
+                                                     const std::vector<std::string>& names,
+                                                     int days, uint64_t seed, int64_t end_ms,
+                                                     const HiddenPlan& hidden = {});
 
 }  // namespace thermocomp::cli

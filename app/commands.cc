@@ -18,6 +18,7 @@
 #include "api/report_page.h"
 #include "app/command_util.h"
 #include "app/live_simulation.h"
+#include "app/open_app.h"
 #include "core/log.h"
 #include "core/time_format.h"
 #include "service/analysis_report_codec.h"
@@ -179,18 +180,54 @@ Status DemoChecks(App& app, const std::string& machine) {
   return r.ok() ? Status::Ok() : r.status();
 }
 
+// "sim-1/Y v1 active (R2 0.982, held-out RMSE 0.0011 mm): passed acceptance"
+std::string FitLine(const std::string& what, const StatusOr<FitReport>& report) {
+  if (!report.ok()) return what + ": " + report.status().message();
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "%s v%d %s (R2 %.3f, held-out RMSE %s mm): ", what.c_str(),
+                report->version.value_or(0), report->status.c_str(), report->fit.r2,
+                FitReportToJson(*report)["validation"]["rmse_mm"].dump().c_str());
+  return buf + report->reason;
+}
+
 int Demo(const Args& a) {
   auto hidden = cli::ParseHiddenPlan(a.Get("hidden"));
   if (!hidden.ok()) return Fail(hidden.status().message());
-  auto app = OpenApp(a);
-  if (!app.ok()) return Fail(app.status().message());
-  App& app_ref = **app;
   const auto names = MachineNames(a);
   const int days = std::stoi(a.Get("days", "14"));
   const uint64_t seed = std::stoull(a.Get("seed", "1"));
-  if (Status s = SimulateIntoApp(app_ref, names, days, seed, NowUnixMs(), *hidden); !s.ok())
-    return Fail(s.message());
+  auto config = LoadWithOverrides(a);
+  if (!config.ok()) return Fail(config.status().message());
+  if (Status s = cli::PrepareDatabasePath(a, config->db_path); !s.ok()) return Fail(s.message());
+  // The app's clock follows the simulated history while it is served
+  // (SimulateAndServe), then stands at the wall clock's time.
+  const int64_t end = NowUnixMs();
+  ManualClock clock(cli::HistoryStartMs(end, days));
+  // A new database is built in memory and written to its file once
+  // complete; into an existing one the demo writes directly (slower).
+  std::error_code ec;
+  const bool in_memory = !std::filesystem::exists(config->db_path, ec);
+  auto app = in_memory ? OpenAppInMemory(*config, clock) : thermocomp::OpenApp(*config, clock);
+  if (!app.ok()) return Fail(app.status().message());
+  App& app_ref = **app;
+  auto served = cli::SimulateAndServe(app_ref, clock, names, days, seed, end, *hidden);
+  if (!served.ok()) return Fail(served.status().message());
   std::printf("demo: %d days of simulated history for %zu machine(s)\n", days, names.size());
+  for (const auto& r : *served) {
+    const std::string what =
+        r.machine + "/" + r.axis + " on days 1-" + std::to_string(r.fitted_days);
+    std::printf("demo: fit %s\n", FitLine(what, r.fit).c_str());
+  }
+  for (const auto& r : *served) {
+    std::printf(
+        "demo: %s/%s served minute by minute from %s to %s (days %d-%d, %.1f days): %zu "
+        "value%s logged, %zu valid\n",
+        r.machine.c_str(), r.axis.c_str(), FormatRfc3339(r.from_ms).c_str(),
+        FormatRfc3339(r.to_ms).c_str(), r.fitted_days + 1, days + 1,
+        static_cast<double>(r.to_ms - r.from_ms) / kDayMs, r.logged, r.logged == 1 ? "" : "s",
+        r.valid);
+  }
+  clock.Set(std::max(clock.NowMs(), NowUnixMs()));
   bool ok = false;
   const std::string study = a.Get("study", "deploy/demo/fms_datum_drift.csv");
   std::string text = ReadFile(study, ok);
@@ -205,15 +242,8 @@ int Demo(const Args& a) {
       FitRequest req;
       req.actor = "demo";
       auto report = app_ref.fits().Fit(m.name, axis.name, req);
-      if (!report.ok()) {
-        std::printf("demo: fit %s/%s: %s\n", m.name.c_str(), axis.name.c_str(),
-                    report.status().message().c_str());
-        continue;
-      }
-      std::printf("demo: fit %s/%s v%d %s (R2 %.3f, held-out RMSE %s mm): %s\n", m.name.c_str(),
-                  axis.name.c_str(), report->version.value_or(0), report->status.c_str(),
-                  report->fit.r2, FitReportToJson(*report)["validation"]["rmse_mm"].dump().c_str(),
-                  report->reason.c_str());
+      std::printf("demo: fit %s\n", FitLine(m.name + "/" + axis.name, report).c_str());
+      if (!report.ok()) continue;
       // Close the loop once, so the API has an analysis to show; what it
       // finds is proposed (a candidate version), for a person to apply.
       AnalysisRequest ar;
@@ -228,6 +258,10 @@ int Demo(const Args& a) {
   if (Status s = DemoChecks(app_ref, names.front()); !s.ok()) return Fail(s.message());
   std::printf("demo: synthetic column checks (4 weekly) and a positioning check of %s/Y\n",
               names.front().c_str());
+  if (in_memory) {
+    if (Status s = app_ref.storage().Backup(config->db_path); !s.ok()) return Fail(s.message());
+    std::printf("demo: wrote %s\n", config->db_path.c_str());
+  }
   return 0;
 }
 

@@ -13,4 +13,10 @@ StatusOr<std::unique_ptr<App>> OpenApp(const Config& config, const Clock& clock)
   return App::Open(config, clock, std::move(storage).value());
 }
 
+StatusOr<std::unique_ptr<App>> OpenAppInMemory(const Config& config, const Clock& clock) {
+  auto storage = SqliteStorage::OpenFile(":memory:");
+  if (!storage.ok()) return storage.status();
+  return App::Open(config, clock, std::move(storage).value());
+}
+
 }  // namespace thermocomp

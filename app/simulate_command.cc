@@ -11,6 +11,8 @@
 #include "app/command_util.h"
 #include "app/live_simulation.h"
 #include "core/time_format.h"
+#include "storage/log_store.h"
+#include "storage/machine_store.h"
 
 namespace thermocomp::cli {
 namespace {
@@ -72,36 +74,154 @@ std::vector<std::string> MachineNames(const Args& a) {
   return names;
 }
 
+int64_t HistoryStartMs(int64_t end_ms, int days) {
+  return (end_ms / kDayMs - days) * kDayMs;
+}
+
+namespace {
+
+// Simulated machines registered in an app and stepped together from the
+// same start; what they measure reaches the app through its ingest
+// service, as from any other source.
+class SimulatedLine {
+ public:
+  SimulatedLine(App& app, std::vector<std::string> names) : app_(app), names_(std::move(names)) {}
+
+  Status Register(uint64_t seed, int64_t start_ms, const HiddenPlan& hidden) {
+    for (size_t i = 0; i < names_.size(); ++i) {
+      FieldErrors errors;
+      auto created =
+          app_.machines().Register(VirtualMachine::Definition(names_[i]), "simulate", &errors);
+      if (!created.ok()) return created.status();
+      SimOptions o;
+      o.machine = names_[i];
+      o.seed = seed + i;
+      o.start_ms = start_ms;
+      o.hidden = hidden.For(names_[i]);
+      vms_.emplace_back(o);
+    }
+    return Status::Ok();
+  }
+
+  // Every machine's data up to until_ms, a machine at a time in batches
+  // of hours: fast, and nothing is served meanwhile.
+  Status Ingest(int64_t until_ms) {
+    for (size_t i = 0; i < vms_.size(); ++i) {
+      Status failed;
+      RunSimulation(vms_[i], until_ms,
+                    [&](const auto& samples, const auto& points, const auto& extras) {
+                      if (failed.ok()) failed = Send(i, samples, points, extras);
+                    });
+      if (!failed.ok()) return failed;
+    }
+    return Status::Ok();
+  }
+
+  // One minute of every machine, as it happens live, with the clock at
+  // that minute: the minute's samples, signals, events and probe points
+  // arrive, and the control reads its compensation. So each served value
+  // is decided, ramped, held and logged by the service itself, from the
+  // data it had then.
+  Status ServeMinute(ManualClock& clock) {
+    clock.Set(vms_.front().now_ms() + kMinuteMs);
+    for (size_t i = 0; i < vms_.size(); ++i) {
+      std::vector<TemperatureInput> samples;
+      std::vector<ProbePointInput> points;
+      SimExtras extras;
+      vms_[i].Step(samples, points, &extras);
+      if (Status s = Send(i, samples, points, extras); !s.ok()) return s;
+      if (auto read = app_.compensation().Get(names_[i]); !read.ok()) return read.status();
+    }
+    return Status::Ok();
+  }
+
+  int64_t now_ms() const { return vms_.front().now_ms(); }
+
+ private:
+  Status Send(size_t i, const std::vector<TemperatureInput>& samples,
+              const std::vector<ProbePointInput>& points, const SimExtras& extras) {
+    const std::string& name = names_[i];
+    IngestResult r;
+    if (!samples.empty()) r = app_.ingest().AddTemperatures(name, samples, "simulate");
+    if (r.status.ok() && !extras.signals.empty())
+      r = app_.ingest().AddSignals(name, extras.signals, "simulate");
+    for (const auto& e : extras.events) {
+      if (r.status.ok()) r = app_.ingest().AddEvent(name, e, "simulate");
+    }
+    if (r.status.ok() && !points.empty())
+      r = app_.ingest().AddProbePoints(name, points, "simulate");
+    return r.status.ok() ? Status::Ok() : Status::Internal(Describe(r));
+  }
+
+  App& app_;
+  std::vector<std::string> names_;
+  std::vector<VirtualMachine> vms_;
+};
+
+}  // namespace
+
 // Fills the database with `days` of simulated history ending at end_ms.
 Status SimulateIntoApp(App& app, const std::vector<std::string>& names, int days, uint64_t seed,
                        int64_t end_ms, const HiddenPlan& hidden) {
-  const int64_t start = (end_ms / kDayMs - days) * kDayMs;
-  for (size_t i = 0; i < names.size(); ++i) {
-    FieldErrors errors;
-    auto created =
-        app.machines().Register(VirtualMachine::Definition(names[i]), "simulate", &errors);
-    if (!created.ok()) return created.status();
-    SimOptions o;
-    o.machine = names[i];
-    o.seed = seed + i;
-    o.start_ms = start;
-    o.hidden = hidden.For(names[i]);
-    VirtualMachine vm(o);
-    Status failed;
-    RunSimulation(vm, end_ms, [&](const auto& samples, const auto& points, const auto& extras) {
-      if (!failed.ok()) return;
-      IngestResult r = app.ingest().AddTemperatures(names[i], samples, "simulate");
-      if (r.status.ok()) r = app.ingest().AddSignals(names[i], extras.signals, "simulate");
-      for (const auto& e : extras.events) {
-        if (r.status.ok()) r = app.ingest().AddEvent(names[i], e, "simulate");
-      }
-      if (r.status.ok() && !points.empty())
-        r = app.ingest().AddProbePoints(names[i], points, "simulate");
-      if (!r.status.ok()) failed = Status::Internal(Describe(r));
-    });
-    if (!failed.ok()) return failed;
+  SimulatedLine line(app, names);
+  if (Status s = line.Register(seed, HistoryStartMs(end_ms, days), hidden); !s.ok()) return s;
+  return line.Ingest(end_ms);
+}
+
+StatusOr<std::vector<ServedReplay>> SimulateAndServe(App& app, ManualClock& clock,
+                                                     const std::vector<std::string>& names,
+                                                     int days, uint64_t seed, int64_t end_ms,
+                                                     const HiddenPlan& hidden) {
+  if (&app.clock() != &clock) return Status::InvalidArgument("the app must run on the clock");
+  if (names.empty()) return Status::InvalidArgument("no machines to simulate");
+  const int64_t start = HistoryStartMs(end_ms, days);
+  const int fitted_days = days / 2;
+  const int64_t split = start + fitted_days * kDayMs;
+  if (clock.NowMs() > split) {
+    return Status::InvalidArgument("the clock is past the end of the history's first half");
   }
-  return Status::Ok();
+  // The service's worker serves on real time; here time is the clock's,
+  // and each minute is served when the control reads it.
+  app.compensation().Stop();
+  SimulatedLine line(app, names);
+  clock.Set(start);
+  if (Status s = line.Register(seed, start, hidden); !s.ok()) return s;
+  // The first half, then a model of each axis fitted on it alone: the
+  // later data does not exist yet.
+  clock.Set(split);
+  if (Status s = line.Ingest(split); !s.ok()) return s;
+  std::vector<ServedReplay> out;
+  for (const auto& name : names) {
+    auto machine = app.machines().Find(name);
+    if (!machine) return Status::NotFound("unknown machine '" + name + "'");
+    for (const auto& axis : machine->axes) {
+      ServedReplay r;
+      r.machine = name;
+      r.axis = axis.name;
+      r.fitted_days = fitted_days;
+      FitRequest req;
+      req.actor = "demo";
+      r.fit = app.fits().Fit(name, axis.name, req);
+      out.push_back(std::move(r));
+    }
+  }
+  // The rest minute by minute, served as it would have been live.
+  while (line.now_ms() + kMinuteMs <= end_ms) {
+    if (Status s = line.ServeMinute(clock); !s.ok()) return s;
+  }
+  const std::unique_ptr<Session> session = app.storage().Open();
+  for (ServedReplay& r : out) {
+    r.from_ms = split;
+    r.to_ms = line.now_ms();
+    auto machine = session->machines().Find(r.machine);
+    const AxisRecord* axis = machine ? machine->FindAxis(r.axis) : nullptr;
+    if (!axis) continue;
+    for (const auto& row : session->log().Compensation(axis->id, r.from_ms, r.to_ms)) {
+      ++r.logged;
+      if (row.valid) ++r.valid;
+    }
+  }
+  return out;
 }
 
 namespace {
