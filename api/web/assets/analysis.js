@@ -1,7 +1,8 @@
 // One effect analysis as a page: sensors to check, what it added and how
 // each addition reads physically and in which blocks it won, the error
 // before and after by every measure and per held-out run, what else
-// explained it equally well, and, for a proposed model, applying it.
+// explained it equally well, what its model achieved once applied beside
+// what was predicted, and, for a proposed model, applying it.
 "use strict";
 
 (async () => {
@@ -95,12 +96,45 @@
     return svg;
   }
 
+  // What the analysis' model did once applied, beside what the analysis
+  // predicted for it on the held-out runs: the error left at the probe
+  // points whose served offset came from that version (since_applied).
+  function sinceApplied(justApplied) {
+    const s = r.since_applied, m = r.model;
+    const um1 = (mm) => um(mm, 1) + " µm";
+    const predicted = r.rmse_after_mm !== null && r.rmse_after_mm !== undefined ? "predicted on held-out runs: " + um1(r.rmse_after_mm) : "";
+    const then = (text) => text + (predicted ? "; " + predicted : "") + ".";
+    let state, text;
+    if (s) {
+      const head = "v" + s.version + " served since " + time(s.since) + " (" + TC.zone + "): ";
+      state = s.points ? "served" : "no-points";
+      text = then(head + (s.points
+        ? "error left " + um1(s.residual_rms_mm) + " over " + s.points + " probe point" + (s.points === 1 ? "" : "s") +
+          " (drift " + um1(s.drift_rms_mm) + ", " + TC.percent(s.share_removed) + " removed)"
+        : "no probe point since, so nothing to judge it by yet"));
+    } else if (justApplied) {
+      state = "applied";
+      text = then("v" + justApplied + " applied just now: no probe point since yet");
+    } else if (!m) {
+      state = "none";
+      text = "Nothing applied: this analysis stored no model.";
+    } else if (m.status === "candidate") {
+      state = "proposed";
+      text = then("v" + m.version + " proposed, not applied yet");
+    } else {
+      state = "never-served";
+      text = then("v" + m.version + " " + m.status + ", never served");
+    }
+    return el("p", { id: "since-applied", "data-state": state }, text);
+  }
+
   async function apply(version) {
     if (!confirm("Serve model v" + version + " (proposed by this analysis) for " + machine + " " + axis + " from now on? The change is recorded in the audit log.")) return;
     try {
       const a = (await api(path + "/models/" + version + "/activate", { method: "POST", body: "" })).audit;
       message.replaceChildren(el("p", { class: "notice" }, "Model v" + version + " is now served. Audit entry: " + time(a.ts) + ", " +
         a.actor + ", " + a.action + " " + a.machine + " " + a.detail + "."));
+      document.getElementById("since-applied").replaceWith(sinceApplied(version));
       document.getElementById("model").replaceChildren(el("a", { href: "/ui" + path + "/models/" + version }, "v" + version), ": active (applied just now).");
       message.scrollIntoView();
     } catch (err) {
@@ -129,6 +163,8 @@
     el("h2", {}, "Error before and after"),
     bars([["training", r.train_rmse_before_mm, r.train_rmse_after_mm], ["blocked cross-validation", v.rmse_before_mm ?? null, v.rmse_after_mm ?? null],
       ["leave one run out", r.cv_rmse_before_mm, r.cv_rmse_after_mm], ["held-out runs", r.rmse_before_mm, r.rmse_after_mm]]),
+    el("h2", {}, "Since applied"),
+    sinceApplied(),
   ];
   if (r.holdout_errors) {
     children.push(el("h2", {}, "Held-out runs (µm)"),
