@@ -104,3 +104,34 @@ def compare(d, s, check, open_page):
               and y["points"] > 0 and rows[0][col + 4] == str(n),
               f"range {k}: sim-1 Y {row[col:col + 4]}, {rows[0][col + 4]} column checks as the API ({y}, {n})")
     check(d.current_url.endswith(f"/ui/compare#machines=sim-1%2Csim-2&{query}"), f"the address keeps the comparison ({d.current_url})")
+
+
+def since_applied(d, report, check):
+    """The analysis page's "Since applied" block: what the analysis' model
+    achieved once served (its error left at the probe points its offset
+    met, beside the held-out error predicted), or why there is nothing yet."""
+    shown = d.find_element(By.ID, "since-applied")
+    text, state = shown.text, shown.get_attribute("data-state")
+    s, m = report["since_applied"], report["model"]
+    predicted = "" if report["rmse_after_mm"] is None else f"predicted on held-out runs: {um1(report['rmse_after_mm'])} µm"
+    if s is None:
+        if m is None:
+            want, parts = "none", ["Nothing applied"]
+        elif m["status"] == "candidate":
+            want, parts = "proposed", [f"v{m['version']} proposed, not applied yet", predicted]
+        else:
+            want, parts = "never-served", [f"v{m['version']} {m['status']}, never served", predicted]
+    else:
+        zone = ZoneInfo(d.execute_script("return TC.zone"))
+        since = datetime.datetime.fromisoformat(s["since"].replace("Z", "+00:00")).astimezone(zone)
+        parts = [f"v{s['version']} served since ", f"{since:%H:%M}", str(since.year), f"({zone.key})", predicted]
+        if s["points"]:
+            share = "–" if s["share_removed"] is None else f"{s['share_removed'] * 100:.1f} %"
+            want = "served"
+            parts += [f"error left {um1(s['residual_rms_mm'])} µm over {s['points']} probe point",
+                      f"(drift {um1(s['drift_rms_mm'])} µm, {share} removed)"]
+        else:
+            want, parts = "no-points", parts + ["no probe point since"]
+    missing = [p for p in parts if p and p not in text]
+    check(state == want and not missing, f"since applied: {want} ({text!r}; missing {missing})")
+    return text

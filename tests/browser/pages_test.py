@@ -9,6 +9,7 @@ OUT_DIR, and its browser console must stay free of errors.
 
 usage: pages_test.py THERMOCOMP_BINARY SOURCE_DIR OUT_DIR
 """
+import datetime
 import json
 import os
 import re
@@ -254,6 +255,7 @@ def open_access(d, s):
         open_page(d, s, f"/ui/machines/sim-1/axes/Y/analysis/{analyses[0]['id']}", "analysis")
         check(bool(d.find_elements(By.CSS_SELECTOR, "svg[aria-label]")), "analysis shows the error chart")
         report = s.api(f"/machines/sim-1/axes/Y/analysis/{analyses[0]['id']}")
+        outcome_pages.since_applied(d, report, check)
         if report["holdout_n"] > 0:
             analysis_details(d, report, "analysis-holdout-demo")
     open_page(d, s, "/ui/checks", "checks")
@@ -458,13 +460,46 @@ def analysis_with_effect(d, s):
     check(bool(d.find_elements(By.ID, "effects-chart")), "error as each effect was added is charted")
     analysis_details(d, report, "analysis-holdout")
     version = report["model"]["version"]
+    check(report["since_applied"] is None, "a proposed model was never served")
+    outcome_pages.since_applied(d, report, check)
+    d.find_element(By.ID, "since-applied").screenshot(os.path.join(OUT, "analysis-since-proposed.png"))
     d.find_element(By.ID, "apply").click()
     d.switch_to.alert.accept()
     WebDriverWait(d, 10).until(lambda x: "is now served" in x.find_element(By.TAG_NAME, "main").text)
+    check(d.find_element(By.ID, "since-applied").get_attribute("data-state") == "applied",
+          "once applied the page says so at once")
     shot(d, "analysis-applied")
     served = s.api("/machines/h1/compensation")["axes"]
     y = next(a for a in served if a["axis"] == "Y")
     check(y["model_version"] == version, f"applying the proposed model serves v{version}")
+
+    # Served: since when, and once probe points meet its offset, the error
+    # it left there beside the error the analysis predicted.
+    path = f"/machines/h1/axes/Y/analysis/{report['id']}"
+    for _ in range(300):  # the worker logs what it serves
+        since = s.api(path)["since_applied"]
+        if since is not None:
+            break
+        time.sleep(0.1)
+    check(since is not None and since["version"] == version, f"the analysis says since when v{version} is served ({since})")
+    if since is None:
+        return
+    open_page(d, s, "/ui" + path, "analysis-served")
+    outcome_pages.since_applied(d, s.api(path), check)
+    start = datetime.datetime.fromisoformat(since["since"].replace("Z", "+00:00"))
+    iso = lambda n: (start + datetime.timedelta(seconds=n)).strftime("%Y-%m-%dT%H:%M:%S.%f")[:-3] + "Z"
+    points = [{"run": "after-apply", "k": k, "ts": iso(k + 1), "position": {"Y": 0.0}, "deviation": {"Y": dev}}
+              for k, dev in enumerate((0.0, 0.004, 0.006))]
+    req = urllib.request.Request(s.base + "/api/v1/machines/h1/probe-points", data=json.dumps({"points": points}).encode(),
+                                 method="POST", headers={"Content-Type": "application/json"})
+    urllib.request.urlopen(req, timeout=10)
+    time.sleep(max(0.0, start.timestamp() + 4 - time.time()))  # the points are in the past
+    open_page(d, s, "/ui" + path, "analysis-served-points")
+    after = s.api(path)
+    check(after["since_applied"]["points"] == 2, f"the two probe points after applying are judged ({after['since_applied']})")
+    outcome_pages.since_applied(d, after, check)
+    d.execute_script("document.getElementById('since-applied').scrollIntoView({block: 'center'})")
+    shot(d, "analysis-since-applied")
 
 
 def forms(d, s, work):
