@@ -204,6 +204,8 @@ StatusOr<std::vector<ServedReplay>> SimulateAndServe(App& app, ManualClock& cloc
       r.fit = app.fits().Fit(name, axis.name, req);
       out.push_back(std::move(r));
     }
+    // The control reads its compensation as the model is fitted.
+    if (auto read = app.compensation().Get(name); !read.ok()) return read.status();
   }
   // The rest minute by minute, served as it would have been live.
   while (line.now_ms() + kMinuteMs <= end_ms) {
