@@ -25,36 +25,45 @@ constexpr int64_t kSplit = kStart + 3 * kDayMs;  // the first half: days 1-3
 // The replay ends in the afternoon of day 7.
 constexpr int64_t kEnd = kStart + kDays * kDayMs + 15 * kHourMs + 30 * kMinuteMs;
 
+// One replay for every test of the suite (a few seconds under the
+// sanitizers); the tests only read it.
 class DemoServedHistoryTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    auto app = OpenAppInMemory(config_, clock_);
+  static void SetUpTestSuite() {
+    clock_ = std::make_unique<ManualClock>(kStart);
+    auto app = OpenAppInMemory(config_, *clock_);
     ASSERT_TRUE(app.ok()) << app.status().ToString();
     app_ = std::move(app).value();
-    auto served = cli::SimulateAndServe(*app_, clock_, {"sim-1"}, kDays, 1, kEnd);
+    auto served = cli::SimulateAndServe(*app_, *clock_, {"sim-1"}, kDays, 1, kEnd);
     ASSERT_TRUE(served.ok()) << served.status().ToString();
-    served_ = std::move(served).value();
+    served_ = std::make_unique<std::vector<cli::ServedReplay>>(std::move(served).value());
   }
-  const cli::ServedReplay& Axis(const std::string& name) {
-    auto it = std::find_if(served_.begin(), served_.end(),
+  static void TearDownTestSuite() {
+    served_.reset();
+    app_.reset();
+    clock_.reset();
+  }
+  void SetUp() override { ASSERT_TRUE(app_ && served_) << "the replay failed"; }
+  static const cli::ServedReplay& Axis(const std::string& name) {
+    auto it = std::find_if(served_->begin(), served_->end(),
                            [&](const cli::ServedReplay& r) { return r.axis == name; });
-    EXPECT_NE(it, served_.end()) << name;
+    EXPECT_NE(it, served_->end()) << name;
     return *it;
   }
-  AxisRecord Record(const std::string& axis) {
+  static AxisRecord Record(const std::string& axis) {
     const std::unique_ptr<Session> session = app_->storage().Open();
     return *session->machines().Find("sim-1")->FindAxis(axis);
   }
-  std::vector<CompensationLogRow> Logged(const std::string& axis) {
+  static std::vector<CompensationLogRow> Logged(const std::string& axis) {
     const int64_t id = Record(axis).id;
     const std::unique_ptr<Session> session = app_->storage().Open();
     return session->log().Compensation(id, kSplit, kEnd);
   }
 
-  Config config_;
-  ManualClock clock_{kStart};
-  std::unique_ptr<App> app_;
-  std::vector<cli::ServedReplay> served_;
+  static inline Config config_;
+  static inline std::unique_ptr<ManualClock> clock_;
+  static inline std::unique_ptr<App> app_;
+  static inline std::unique_ptr<std::vector<cli::ServedReplay>> served_;
 };
 
 TEST_F(DemoServedHistoryTest, TheModelIsFittedOnTheFirstHalfOnly) {
