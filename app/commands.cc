@@ -215,7 +215,8 @@ int Demo(const Args& a) {
   std::printf("demo: %d days of simulated history for %zu machine(s)\n", days, names.size());
   for (const auto& r : *served) {
     const std::string what =
-        r.machine + "/" + r.axis + " on days 1-" + std::to_string(r.fitted_days);
+        r.machine + "/" + r.axis +
+        (r.fitted_days > 0 ? " on days 1-" + std::to_string(r.fitted_days) : " before any day");
     std::printf("demo: fit %s\n", FitLine(what, r.fit).c_str());
   }
   for (const auto& r : *served) {
