@@ -108,10 +108,13 @@
     if (s) {
       const head = "v" + s.version + " served since " + time(s.since) + " (" + TC.zone + "): ";
       state = s.points ? "served" : "no-points";
-      text = then(head + (s.points
-        ? "error left " + um1(s.residual_rms_mm) + " over " + s.points + " probe point" + (s.points === 1 ? "" : "s") +
-          " (drift " + um1(s.drift_rms_mm) + ", " + TC.percent(s.share_removed) + " removed)"
-        : "no probe point since, so nothing to judge it by yet"));
+      // a correction that made it worse in red, as the outcome tables do
+      const worse = s.share_removed !== null && s.share_removed < 0;
+      text = s.points
+        ? [head + "error left " + um1(s.residual_rms_mm) + " over " + s.points + " probe point" + (s.points === 1 ? "" : "s") +
+          " (drift " + um1(s.drift_rms_mm) + ", ", el("span", { class: worse ? "bad" : null }, TC.percent(s.share_removed) + " removed"),
+          then(")")]
+        : then(head + "no probe point since, so nothing to judge it by yet");
     } else if (justApplied) {
       state = "applied";
       text = then("v" + justApplied + " applied just now: no probe point since yet");
