@@ -5,10 +5,18 @@
 #include <cstdio>
 
 #include "api/report_page.h"
+#include "core/time_format.h"
 #include "service/report_text.h"
 
 namespace thermocomp::api {
 namespace {
+
+// An RFC 3339 time from a stored report, as the plant reads it (digits,
+// dashes, colons: nothing to escape); kept, escaped, when it does not parse.
+std::string PlantText(const std::string& rfc3339, const PlantTime& time) {
+  const auto ms = ParseRfc3339(rfc3339);
+  return ms ? time.Format(*ms) : report_text::Text(rfc3339);
+}
 
 using nlohmann::json;
 using report_text::Text;
@@ -70,20 +78,21 @@ std::string ErrorPlotSvg(const json& per) {
 
 }  // namespace
 
-std::string ColumnCheckMarkdown(const json& r) {
+std::string ColumnCheckMarkdown(const json& r, const PlantTime& time) {
   const json& z = r["machine_zero_mm"];
-  std::string md = "# Column check " + std::to_string(r.value("id", 0)) + ": " +
-                   Text(r.value("machine", "")) + "\n\nMeasured " + Text(r.value("ts", "")) +
-                   " on artifact " + Text(r.value("artifact", "")) + " at " +
-                   F(r.value("artifact_temperature_c", 0.0), "%.2f") +
-                   " °C (points corrected for its expansion).\n\n## Machine zero\n\n"
-                   "| | X | Y | Z |\n|---|---|---|---|\n| offset µm | " +
-                   F(z["X"].get<double>() * 1000) + " | " + F(z["Y"].get<double>() * 1000) + " | " +
-                   F(z["Z"].get<double>() * 1000) + " |\n";
+  std::string md =
+      "# Column check " + std::to_string(r.value("id", 0)) + ": " + Text(r.value("machine", "")) +
+      "\n\nMeasured " + PlantText(r.value("ts", ""), time) + " on artifact " +
+      Text(r.value("artifact", "")) + " at " + F(r.value("artifact_temperature_c", 0.0), "%.2f") +
+      " °C (points corrected for its expansion).\n\n## Machine zero\n\n"
+      "| | X | Y | Z |\n|---|---|---|---|\n| offset µm | " +
+      F(z["X"].get<double>() * 1000) + " | " + F(z["Y"].get<double>() * 1000) + " | " +
+      F(z["Z"].get<double>() * 1000) + " |\n";
   if (r.contains("zero_change_um")) {
     const json& c = r["zero_change_um"];
-    md += "| change since " + Text(c.value("since", "")) + " µm | " + F(c["X"].get<double>()) +
-          " | " + F(c["Y"].get<double>()) + " | " + F(c["Z"].get<double>()) + " |\n";
+    md += "| change since " + PlantText(c.value("since", ""), time) + " µm | " +
+          F(c["X"].get<double>()) + " | " + F(c["Y"].get<double>()) + " | " +
+          F(c["Z"].get<double>()) + " |\n";
   }
   md += std::string("\n") +
         (r.value("beyond_tolerance", false) ? "**Beyond tolerance**: logged as an event.\n\n"
@@ -112,18 +121,19 @@ std::string ColumnCheckMarkdown(const json& r) {
   return md;
 }
 
-std::string ColumnCheckHtml(const json& r) {
-  return ReportPage("Column check " + std::to_string(r.value("id", 0)), ColumnCheckMarkdown(r));
+std::string ColumnCheckHtml(const json& r, const PlantTime& time) {
+  return ReportPage("Column check " + std::to_string(r.value("id", 0)),
+                    ColumnCheckMarkdown(r, time));
 }
 
-std::string PositioningMarkdown(const json& r) {
+std::string PositioningMarkdown(const json& r, const PlantTime& time) {
   const json& iso = r["iso230_2"];
   const json& vdi = r["vdi3441"];
   const json& u = r["uncertainty_um"];
   const json& in = r["input"];
   std::string md = "# Positioning check " + std::to_string(r.value("id", 0)) + ": " +
                    Text(r.value("machine", "")) + " axis " + Text(in.value("axis", "")) + "\n\n";
-  md += "Measured " + Text(in.value("ts", "")) + "; " +
+  md += "Measured " + PlantText(in.value("ts", ""), time) + "; " +
         std::to_string(iso.value("runs_per_direction", 0)) + " runs per direction at " +
         std::to_string(iso["per_position"].size()) + " targets; compensation " +
         (in.value("compensation_active", false) ? "active" : "off") +
@@ -175,8 +185,9 @@ std::string PositioningMarkdown(const json& r) {
   return md;
 }
 
-std::string PositioningHtml(const json& r) {
-  return ReportPage("Positioning check " + std::to_string(r.value("id", 0)), PositioningMarkdown(r),
+std::string PositioningHtml(const json& r, const PlantTime& time) {
+  return ReportPage("Positioning check " + std::to_string(r.value("id", 0)),
+                    PositioningMarkdown(r, time),
                     "<figure>" + ErrorPlotSvg(r["iso230_2"]["per_position"]) +
                         "<figcaption>Mean deviation approaching up (blue) and down (red) with "
                         "&plusmn;2s bands.</figcaption></figure>");

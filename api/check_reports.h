@@ -7,15 +7,17 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/plant_time.h"
 #include "core/status.h"
 #include "model/pitch_table.h"
 
 namespace thermocomp::api {
 
-std::string ColumnCheckMarkdown(const nlohmann::json& report);
-std::string ColumnCheckHtml(const nlohmann::json& report);
-std::string PositioningMarkdown(const nlohmann::json& report);
-std::string PositioningHtml(const nlohmann::json& report);
+// Times in `time`'s zone (the plant's; UTC by default).
+std::string ColumnCheckMarkdown(const nlohmann::json& report, const PlantTime& time = {});
+std::string ColumnCheckHtml(const nlohmann::json& report, const PlantTime& time = {});
+std::string PositioningMarkdown(const nlohmann::json& report, const PlantTime& time = {});
+std::string PositioningHtml(const nlohmann::json& report, const PlantTime& time = {});
 
 // format: linuxcnc | sinumerik | beckhoff | csv. `per_direction`: one table
 // per direction (LinuxCNC, Beckhoff, CSV) instead of the bidirectional mean

@@ -80,8 +80,11 @@ void HttpServer::CheckRoutes() {
   s.Get(m + "/column-checks/([0-9]{1,18})", [this](const Req& req, Res& res) {
     auto report = app_.checks().ColumnCheck(req.matches[1], std::stoll(req.matches[2]));
     if (!report.ok()) return WriteProblem(res, report.status());
-    WriteReport(req, res, ColumnCheckReportToJson(*report), AsIs, ColumnCheckMarkdown,
-                ColumnCheckHtml);
+    const PlantTime& time = app_.plant_time();
+    WriteReport(
+        req, res, ColumnCheckReportToJson(*report), AsIs,
+        [&](const json& j) { return ColumnCheckMarkdown(j, time); },
+        [&](const json& j) { return ColumnCheckHtml(j, time); });
   });
 
   s.Post(m + "/positioning-checks", [this](const Req& req, Res& res) {
@@ -135,8 +138,11 @@ void HttpServer::CheckRoutes() {
   s.Get(m + "/positioning-checks/([0-9]{1,18})", [this](const Req& req, Res& res) {
     auto report = app_.checks().PositioningCheck(req.matches[1], std::stoll(req.matches[2]));
     if (!report.ok()) return WriteProblem(res, report.status());
-    WriteReport(req, res, PositioningCheckReportToJson(*report), AsIs, PositioningMarkdown,
-                PositioningHtml);
+    const PlantTime& time = app_.plant_time();
+    WriteReport(
+        req, res, PositioningCheckReportToJson(*report), AsIs,
+        [&](const json& j) { return PositioningMarkdown(j, time); },
+        [&](const json& j) { return PositioningHtml(j, time); });
   });
   s.Get(m + "/positioning-checks/([0-9]{1,18})/pitch-table", [this](const Req& req, Res& res) {
     const std::string format = req.has_param("format") ? req.get_param_value("format") : "csv";

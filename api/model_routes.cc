@@ -61,9 +61,11 @@ void HttpServer::ModelRoutes() {
   s.Get(axis + "/models/([0-9]{1,9})", [this](const Req& req, Res& res) {
     auto one = GetModel(app_, req.matches[1], req.matches[2], std::stoi(req.matches[3]));
     if (!one.ok()) return WriteProblem(res, one.status());
+    const PlantTime& time = app_.plant_time();
     WriteReport(
-        req, res, *one, AsIs, [](const json& j) { return FitReportMarkdown(ModelReportOf(j)); },
-        [](const json& j) { return FitReportHtml(ModelReportOf(j)); });
+        req, res, *one, AsIs,
+        [&](const json& j) { return FitReportMarkdown(ModelReportOf(j), time); },
+        [&](const json& j) { return FitReportHtml(ModelReportOf(j), time); });
   });
   s.Post(axis + "/models/([0-9]{1,9})/activate", [this](const Req& req, Res& res) {
     const int version = std::stoi(req.matches[3]);
@@ -122,7 +124,11 @@ void HttpServer::ModelRoutes() {
       }
       return j;
     };
-    WriteReport(req, res, *report, with_outcome, AnalysisMarkdown, AnalysisHtml);
+    const PlantTime& time = app_.plant_time();
+    WriteReport(
+        req, res, *report, with_outcome,
+        [&](const AnalysisReport& r) { return AnalysisMarkdown(r, time); },
+        [&](const AnalysisReport& r) { return AnalysisHtml(r, time); });
   });
 }
 

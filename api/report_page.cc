@@ -79,15 +79,15 @@ std::string ReportPage(const std::string& title, const std::string& markdown,
          "</body></html>\n";
 }
 
-std::string AnalysisHtml(const AnalysisReport& r) {
-  return ReportPage("Effect analysis " + std::to_string(r.id), AnalysisMarkdown(r),
+std::string AnalysisHtml(const AnalysisReport& r, const PlantTime& time) {
+  return ReportPage("Effect analysis " + std::to_string(r.id), AnalysisMarkdown(r, time),
                     "<figure>" + AnalysisErrorChartSvg(r) +
                         "<figcaption>RMSE of the declared model (grey) and with the effects "
                         "added (blue), µm.</figcaption></figure>");
 }
 
-std::string FitReportHtml(const FitReport& r) {
-  return ReportPage("Model " + r.machine + " " + r.axis, FitReportMarkdown(r));
+std::string FitReportHtml(const FitReport& r, const PlantTime& time) {
+  return ReportPage("Model " + r.machine + " " + r.axis, FitReportMarkdown(r, time));
 }
 
 }  // namespace thermocomp::api

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "core/plant_time.h"
 #include "service/analysis_report.h"
 #include "service/fit_report.h"
 
@@ -15,7 +16,8 @@ std::string ReportPage(const std::string& title, const std::string& markdown,
                        const std::string& figures = "");
 // The pages of an effect analysis (with its error chart) and of a model
 // version.
-std::string AnalysisHtml(const AnalysisReport& report);
-std::string FitReportHtml(const FitReport& report);
+// Times in `time`'s zone (the plant's; UTC by default).
+std::string AnalysisHtml(const AnalysisReport& report, const PlantTime& time = {});
+std::string FitReportHtml(const FitReport& report, const PlantTime& time = {});
 
 }  // namespace thermocomp::api

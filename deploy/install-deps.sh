@@ -12,7 +12,7 @@ packages=(
   build-essential cmake pkg-config curl ca-certificates python3 tzdata
   libsqlite3-dev sqlite3 libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev zlib1g-dev libssl-dev
   libboost-math-dev libtomlplusplus-dev cyclonedds-dev cyclonedds-tools
-  libcmark-gfm-dev libcmark-gfm-extensions-dev libjs-dygraphs
+  libcmark-gfm-dev libcmark-gfm-extensions-dev libjs-dygraphs libhowardhinnant-date-dev
 )
 case $purpose in
   run) ;;

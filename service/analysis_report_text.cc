@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/time_format.h"
 #include "service/report_text.h"
 
 namespace thermocomp {
@@ -186,7 +185,7 @@ std::string HeldOutMarkdown(const AnalysisReport& r) {
 }
 
 // A faulty sensor is reported for a person to check, apart from the effects.
-std::string SensorsMarkdown(const AnalysisReport& r) {
+std::string SensorsMarkdown(const AnalysisReport& r, const PlantTime& time) {
   if (r.sensor_faults.empty()) return "";
   std::string md =
       "## Sensors to check\n\nThese declared sensors read differently from their neighbours "
@@ -197,7 +196,7 @@ std::string SensorsMarkdown(const AnalysisReport& r) {
   for (const auto& f : r.sensor_faults) {
     std::string kind = f.kind;
     std::replace(kind.begin(), kind.end(), '_', ' ');  // lost_contact -> lost contact
-    md += "| " + Code(f.sensor) + " | " + Text(kind) + " | " + FormatRfc3339(f.onset_ms) + " | " +
+    md += "| " + Code(f.sensor) + " | " + Text(kind) + " | " + time.Format(f.onset_ms) + " | " +
           Fixed(f.size_c, "%+.2f") + " | " + Um(f.effect_mm) + " | " +
           std::to_string(f.points_left_out) + " | " + Text(Readable(f.reason)) + " |\n";
   }
@@ -239,16 +238,16 @@ std::string ErrorsMarkdown(const AnalysisReport& r) {
 
 }  // namespace
 
-std::string AnalysisMarkdown(const AnalysisReport& r) {
+std::string AnalysisMarkdown(const AnalysisReport& r, const PlantTime& time) {
   const AnalysisContext& c = r.context;
   std::string md = "# Effect analysis " + std::to_string(r.id) + ": " + Text(c.machine) + " axis " +
                    Text(c.axis) + "\n\n";
-  md += "Created " + FormatRfc3339(c.created_ms) + " (" + Text(c.trigger) +
+  md += "Created " + time.Format(c.created_ms) + " (" + Text(c.trigger) +
         "). Declared inputs: " + Join(c.declared_inputs) +
         ". Held-out runs, never seen by the search: " + Join(c.holdout_runs) + ". " +
         std::to_string(r.candidates) + " candidate effects, " + std::to_string(r.training_runs) +
         " training runs, " + std::to_string(r.n) + " probe points.\n\n";
-  md += SensorsMarkdown(r);
+  md += SensorsMarkdown(r, time);
   md += EffectsMarkdown(r);
   md += ClosestMarkdown(r);
   md += FindingsMarkdown(r);

@@ -7,11 +7,14 @@
 
 #include <string>
 
+#include "core/plant_time.h"
+
 #include "service/analysis_report.h"
 
 namespace thermocomp {
 
-std::string AnalysisMarkdown(const AnalysisReport& report);
+// Times in `time`'s zone (the plant's; UTC by default).
+std::string AnalysisMarkdown(const AnalysisReport& report, const PlantTime& time = {});
 // The error before (grey) and after (blue) by every measure, as inline SVG.
 std::string AnalysisErrorChartSvg(const AnalysisReport& report);
 

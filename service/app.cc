@@ -7,7 +7,10 @@ namespace thermocomp {
 StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& clock,
                                          std::unique_ptr<Storage> storage) {
   if (!storage) return Status::InvalidArgument("no storage");
+  auto plant_time = PlantTime::Load(config.web_time_zone);
+  if (!plant_time.ok()) return plant_time.status();
   std::unique_ptr<App> app(new App(config, clock));
+  app->plant_time_ = *plant_time;
   app->storage_ = std::move(storage);
   Storage& d = *app->storage_;
   const Config& c = app->config_;

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "core/clock.h"
+#include "core/plant_time.h"
 #include "service/analysis_service.h"
 #include "service/check_service.h"
 #include "service/compensation_service.h"
@@ -31,6 +32,8 @@ class App {
 
   const Config& config() const { return config_; }
   const Clock& clock() const { return clock_; }
+  // How reports and texts for people write times (web.time_zone).
+  const PlantTime& plant_time() const { return plant_time_; }
   Storage& storage() { return *storage_; }
   MachineService& machines() { return *machines_; }
   IngestService& ingest() { return *ingest_; }
@@ -57,6 +60,7 @@ class App {
   std::unique_ptr<CheckService> checks_;
   std::unique_ptr<CompensationService> compensation_;
   std::unique_ptr<HistoryService> history_;
+  PlantTime plant_time_;
   std::unique_ptr<OutcomeService> outcomes_;
   std::unique_ptr<RefitScheduler> scheduler_;
   Metrics metrics_;

@@ -1,6 +1,5 @@
 #include "service/fit_report_text.h"
 
-#include "core/time_format.h"
 #include "service/report_text.h"
 
 namespace thermocomp {
@@ -12,14 +11,13 @@ using report_text::P;
 using report_text::Text;
 using report_text::Um;
 
-std::string FitReportMarkdown(const FitReport& r) {
+std::string FitReportMarkdown(const FitReport& r, const PlantTime& time) {
   std::string md = "# Model " + Text(r.machine) + " axis " + Text(r.axis) + " v" +
                    (r.version ? std::to_string(*r.version) : std::string("?")) + "\n\n";
-  md += "**" + Text(r.status) + "**: " + Text(r.reason) + ". Created " +
-        FormatRfc3339(r.created_ms) + " (" + Text(r.trigger) +
-        "). Declared inputs: " + Join(r.declared_inputs) + "; kept: " + Join(r.model.inputs) +
-        ". " + std::to_string(r.fit.n) + " probe points of " + std::to_string(r.training_runs) +
-        " training runs.\n\n";
+  md += "**" + Text(r.status) + "**: " + Text(r.reason) + ". Created " + time.Format(r.created_ms) +
+        " (" + Text(r.trigger) + "). Declared inputs: " + Join(r.declared_inputs) +
+        "; kept: " + Join(r.model.inputs) + ". " + std::to_string(r.fit.n) + " probe points of " +
+        std::to_string(r.training_runs) + " training runs.\n\n";
   md +=
       "## Coefficients (µm per unit of each term)\n\n| term | estimate | std. error | t | p | VIF "
       "|\n|---|---|---|---|---|---|\n";
@@ -62,7 +60,7 @@ std::string FitReportMarkdown(const FitReport& r) {
     md +=
         "## Largest standardized residuals\n\n| run | point | time | value |\n|---|---|---|---|\n";
     for (const NamedResidual& n : r.residuals.largest) {
-      md += "| " + Text(n.run) + " | " + std::to_string(n.k) + " | " + FormatRfc3339(n.ts_ms) +
+      md += "| " + Text(n.run) + " | " + std::to_string(n.k) + " | " + time.Format(n.ts_ms) +
             " | " + Fixed(n.value, "%.2f") + " |\n";
     }
   }

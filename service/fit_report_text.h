@@ -7,10 +7,13 @@
 
 #include <string>
 
+#include "core/plant_time.h"
+
 #include "service/fit_report.h"
 
 namespace thermocomp {
 
-std::string FitReportMarkdown(const FitReport& report);
+// Times in `time`'s zone (the plant's; UTC by default).
+std::string FitReportMarkdown(const FitReport& report, const PlantTime& time = {});
 
 }  // namespace thermocomp

@@ -406,5 +406,25 @@ TEST_F(CheckHttpTest, MalformedChecksAreRefusedAndStoreNothing) {
   EXPECT_EQ(client_->Get("/api/v1/artifacts/col-2")->status, 404);
 }
 
+// A plant in Berlin reads its reports in Berlin time; the JSON stays UTC.
+class CheckHttpBerlinTest : public CheckHttpTest {
+ protected:
+  void Configure(Config& c) override { c.web_time_zone = "Europe/Berlin"; }
+};
+
+TEST_F(CheckHttpBerlinTest, TheReportSaysWhenInThePlantsZone) {
+  PutArtifact();
+  auto r = Post("/api/v1/machines/m1/column-checks",
+                ColumnCheck("2026-03-16T06:00:00Z", 0.003, 0.004, -0.002));
+  ASSERT_EQ(r->status, 201) << r->body;
+  const std::string one = "/api/v1/machines/m1/column-checks/" + json::parse(r->body)["id"].dump();
+  EXPECT_EQ(Get(one)["ts"], "2026-03-16T06:00:00.000Z");
+  for (const std::string format : {"markdown", "html"}) {
+    auto text = client_->Get(one + "?format=" + format);
+    ASSERT_TRUE(text);
+    EXPECT_NE(text->body.find("Measured 2026-03-16 07:00:00 CET"), std::string::npos) << text->body;
+  }
+}
+
 }  // namespace
 }  // namespace thermocomp

@@ -166,7 +166,7 @@ TEST(AnalysisReportCodec, TheRenderingsShowEverySectionInMicrometres) {
         "## Held-out runs (µm)", "| run\\-31 | 20 | 2.80 | 1.00 | 3.40 | 1.20 | 6.10 | 2.40 |",
         "| all held-out runs | 40 | 2.45 | 0.90 | 3.00 | 1.10 | 6.10 | 2.40 |",
         "| held-out MAE | 2.45 | 0.90 |", "max \\|error\\| | 6.10 | 2.40 |", "## Sensors to check",
-        "| `Tbed` | lost contact | 2026-03-08T09:30:00.000Z | -1.80 | 12.60 | 57 |",
+        "| `Tbed` | lost contact | 2026-03-08 09:30:00 UTC | -1.80 | 12.60 | 57 |",
         "readings from the onset on were left out"}) {
     EXPECT_NE(md.find(part), std::string::npos) << part << "\n" << md;
   }
