@@ -17,6 +17,10 @@ namespace {
 constexpr size_t kMaxOverviewLimit = 1000;
 // Far beyond any line; keeps offset + limit well inside size_t.
 constexpr size_t kMaxOverviewOffset = 1000000000;
+// How long one overview may spend computing what compensation achieved
+// (a machine's whole probe history is read for it); machines beyond carry
+// their last summary, or none yet, and later requests fill them in.
+constexpr int64_t kOutcomeBudgetMs = 250;
 
 // The query parameter `name` as an integer in [min, max]; `value` is kept
 // when it is absent. False with an error naming it when it is not.
@@ -67,8 +71,12 @@ void HttpServer::OverviewRoutes() {
     json body = OverviewToJson(page, served, app_.clock().NowMs(), next);
     // Per axis what compensation achieved over the last week, and whether
     // its model is still good (service/outcome/outcome_service.h).
+    const int64_t started = app_.clock().MonotonicMs();
     for (json& machine : body["machines"]) {
-      const auto summaries = app_.outcomes().Summary(machine["machine"].get<std::string>());
+      const std::string name = machine["machine"].get<std::string>();
+      const bool in_time = app_.clock().MonotonicMs() - started < kOutcomeBudgetMs;
+      const auto summaries =
+          in_time ? app_.outcomes().Summary(name) : app_.outcomes().LastSummary(name);
       for (json& axis : machine["axes"]) {
         for (const AxisOutcomeSummary& o : summaries) {
           if (o.axis != axis["axis"].get<std::string>()) continue;

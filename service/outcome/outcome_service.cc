@@ -190,6 +190,12 @@ std::vector<AxisOutcomeSummary> OutcomeService::Summary(const std::string& machi
   return axes;
 }
 
+std::vector<AxisOutcomeSummary> OutcomeService::LastSummary(const std::string& machine) {
+  std::lock_guard<std::mutex> lock(summary_mutex_);
+  auto it = summaries_.find(machine);
+  return it == summaries_.end() ? std::vector<AxisOutcomeSummary>{} : it->second.axes;
+}
+
 StatusOr<VersionOutcome> OutcomeService::SinceServed(const std::string& machine,
                                                      const std::string& axis, int version) {
   const std::unique_ptr<Session> session = storage_.Open();

@@ -88,6 +88,9 @@ class OutcomeService {
   // Per axis; kept for kSummaryTtlMs per machine, since the overview asks
   // for every machine and probe points arrive minutes apart.
   std::vector<AxisOutcomeSummary> Summary(const std::string& machine);
+  // The last summary computed, however old, without computing one (empty
+  // when there is none yet): for a caller out of time.
+  std::vector<AxisOutcomeSummary> LastSummary(const std::string& machine);
   // NotFound for an unknown machine or axis.
   StatusOr<VersionOutcome> SinceServed(const std::string& machine, const std::string& axis,
                                        int version);
