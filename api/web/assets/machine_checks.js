@@ -16,10 +16,12 @@
   const positioning = el("div", { id: "positioning" });
   const entry = el("div", {});
   const positioningEntry = el("div", {});
+  const artifactEditor = el("form", { class: "panel", id: "artifact-editor" });
   const measured = el("form", { class: "panel", id: "measure-check" });
   TC.main(el("h1", {}, el("a", { href: "/ui" + path }, machine), " · checks"), message,
     el("h2", {}, "Column-check requests"), requests,
     el("h2", {}, "Column checks"), trend.node, columns, entry,
+    el("h2", {}, "Artifact"), artifactEditor,
     el("h2", {}, "Positioning checks (ISO 230-2, VDI/DGQ 3441)"), positioning, positioningEntry);
 
   // Two decimals; a value that rounds to zero is 0.00, not -0.00.
@@ -159,6 +161,117 @@
     if (artifact.value) await listPoints();
   }
 
+  // The reference artifact's definition: its points' nominal positions and
+  // thermal expansion (ε = β·T + b per direction, mm), read and edited in a
+  // table and stored with PUT /artifacts/{artifact} (admin only). Schemes
+  // and table_centre are kept as loaded.
+  async function renderArtifact(defaultName) {
+    const name = el("input", { id: "artifact-name", value: defaultName || "", size: 16, required: true });
+    const loadButton = el("button", { type: "button", id: "artifact-load" }, "Load");
+    const rows = el("tbody", {});
+    const said = el("div", { class: "wide", role: "status", id: "artifact-message" });
+    const mayWrite = TC.can("define_artifact");
+    const cols = [["id", "Point"], ["nominal-x", "X mm"], ["nominal-y", "Y mm"], ["nominal-z", "Z mm"]];
+    for (const d of ["x", "y", "z"]) cols.push(["expansion-" + d + "-beta_mm_per_c", "β" + d + " mm/°C"], ["expansion-" + d + "-b_mm", "b" + d + " mm"]);
+    const addButton = el("button", { type: "button", id: "artifact-add" }, "Add point");
+    const saveButton = el("button", { class: "primary", type: "submit", id: "artifact-save", disabled: !mayWrite }, "Save artifact");
+    const head = el("thead", {}, el("tr", {}, cols.map(([, l]) => el("th", {}, l)), el("th", {}, "")));
+    const tableNode = el("table", { id: "artifact-points", class: "artifact-points" }, head, rows);
+    let definition = null;
+    const show = (v) => (v === undefined || v === null ? "" : String(v));
+    function addRow(p) {
+      const tr = el("tr", {});
+      const values = { id: p.id, "nominal-x": p.nominal && p.nominal.x, "nominal-y": p.nominal && p.nominal.y, "nominal-z": p.nominal && p.nominal.z };
+      for (const d of ["x", "y", "z"]) {
+        const e = p.expansion && p.expansion[d];
+        values["expansion-" + d + "-beta_mm_per_c"] = e && e.beta_mm_per_c;
+        values["expansion-" + d + "-b_mm"] = e && e.b_mm;
+      }
+      for (const [c, l] of cols) {
+        tr.append(el("td", {}, el("input", { "data-col": c, value: show(values[c]), size: c === "id" ? 6 : 9, inputmode: c === "id" ? null : "decimal",
+          "aria-label": l, disabled: !mayWrite })));
+      }
+      tr.append(el("td", {}, el("button", { type: "button", class: "remove", disabled: !mayWrite, onclick: () => tr.remove() }, "Remove")));
+      rows.append(tr);
+    }
+    function clearErrors() {
+      tableNode.querySelectorAll(".field-error").forEach((n) => n.remove());
+      tableNode.querySelectorAll("input.invalid").forEach((n) => { n.classList.remove("invalid"); n.removeAttribute("aria-invalid"); });
+    }
+    // A number typed as one; anything else goes as typed so that the server
+    // names the field; an empty cell is left out.
+    const value = (tr, c) => {
+      const v = tr.querySelector('[data-col="' + c + '"]').value.trim();
+      return v === "" ? undefined : (isFinite(Number(v)) ? Number(v) : v);
+    };
+    function body() {
+      const points = [...rows.children].map((tr) => {
+        const p = { id: value(tr, "id") === undefined ? undefined : tr.querySelector('[data-col="id"]').value.trim(),
+          nominal: { x: value(tr, "nominal-x"), y: value(tr, "nominal-y"), z: value(tr, "nominal-z") } };
+        const expansion = {};
+        for (const d of ["x", "y", "z"]) {
+          const beta = value(tr, "expansion-" + d + "-beta_mm_per_c"), b = value(tr, "expansion-" + d + "-b_mm");
+          if (beta !== undefined || b !== undefined) expansion[d] = { beta_mm_per_c: beta, b_mm: b };
+        }
+        if (Object.keys(expansion).length) p.expansion = expansion;
+        return p;
+      });
+      return Object.assign({}, definition || {}, { points });
+    }
+    async function loadArtifact() {
+      clearErrors();
+      rows.replaceChildren();
+      try {
+        definition = await api("/artifacts/" + encodeURIComponent(name.value.trim()));
+      } catch (err) {
+        definition = null;
+        said.replaceChildren(el("p", { class: err.status === 404 ? "empty" : "error" },
+          err.status === 404 ? "No artifact " + name.value.trim() + " defined yet" + (mayWrite ? ": enter its points and save." : ".") : TC.problemText(err)));
+        if (err.status === 404 && mayWrite) addRow({});
+        return;
+      }
+      definition.points.forEach(addRow);
+      said.replaceChildren(el("p", { class: "muted" }, "Loaded " + name.value.trim() + ": " + definition.points.length + " points" +
+        ((definition.schemes || []).length ? ", schemes " + definition.schemes.map((s) => s.id + " (" + s.travel_axis + " travel, reference " + s.reference_point + ")").join(", ") : "") + "."));
+    }
+    loadButton.addEventListener("click", loadArtifact);
+    addButton.addEventListener("click", () => addRow({}));
+    artifactEditor.onsubmit = async (e) => {
+      e.preventDefault();
+      clearErrors();
+      const artifact = name.value.trim();
+      if (!artifact) { said.replaceChildren(el("p", { class: "error" }, "Name the artifact.")); return; }
+      try {
+        await api("/artifacts/" + encodeURIComponent(artifact), { method: "PUT", body: body() });
+        said.replaceChildren(el("p", { class: "notice" }, "Saved artifact " + artifact + " (" + rows.children.length + " points)."));
+        definition = body();
+      } catch (err) {
+        // Each error next to the cell it names (points.nominal.x of point 2);
+        // those of no cell (schemes, the artifact as a whole) in the message.
+        const errors = (err.problem && err.problem.errors) || [];
+        const rest = [];
+        for (const fe of errors) {
+          const col = String(fe.field || "").replace(/^points\./, "").replace(/\./g, "-");
+          const tr = String(fe.field || "").startsWith("points.") ? rows.children[fe.index] : null;
+          const input = tr && tr.querySelector('[data-col="' + col + '"]');
+          if (!input) { rest.push(fe.field + " " + fe.message); continue; }
+          input.classList.add("invalid");
+          input.setAttribute("aria-invalid", "true");
+          input.after(el("div", { class: "field-error" }, fe.message));
+        }
+        said.replaceChildren(el("p", { class: "error" }, err.message + (rest.length ? ": " + rest.join("; ") : errors.length ? ": see the marked fields; nothing was saved." : "")));
+      }
+    };
+    artifactEditor.replaceChildren(
+      el("label", { for: "artifact-name" }, "Artifact"), el("span", { class: "inline" }, name, " ", loadButton),
+      el("div", { class: "wide" }, tableNode),
+      el("div", { class: "wide" }, addButton, " ", saveButton,
+        mayWrite ? null : el("span", { class: "muted", id: "artifact-read-only" }, " Read only: defining an artifact needs the admin role (signed in as " + session.role + ").")),
+      el("div", { class: "wide muted" }, "Positions and b in mm, β in mm/°C; an empty β and b leave that direction without expansion. PUT /api/v1/artifacts/{artifact} (docs/api.md, Column checks)."),
+      said);
+    if (name.value.trim()) await loadArtifact();
+  }
+
   // Uploading a laser positioning check: the laser software's CSV with what
   // the file cannot carry, as `thermocomp import --positioning` takes it.
   if (TC.can("record_check")) {
@@ -205,4 +318,6 @@
   }
   await load();
   if (TC.can("record_check")) await renderMeasured();
+  const machineInfo = await api(path).catch(() => ({}));
+  await renderArtifact(machineInfo.artifact || lastArtifact);
 })();
