@@ -313,6 +313,10 @@ def with_tokens(d, s):
     shot(d, "checks-requested")
     check(not d.find_elements(By.CSS_SELECTOR, "button.activate") , "maintenance sees no activate button")
     console_errors(d, "checks as maintenance")
+    open_page(d, s, "/ui/machines/sim-1/checks", "machine-checks-maintenance")
+    WebDriverWait(d, 10).until(lambda x: x.find_elements(By.ID, "artifact-save"))
+    check(not d.find_element(By.ID, "artifact-save").is_enabled() and d.find_elements(By.ID, "artifact-read-only"),
+          "maintenance sees the artifact read only, Save disabled with a note")
 
     # Maintenance records a column-check result and reviews it.
     artifact = {"points": [{"id": "KD", "nominal": {"x": 0, "y": 500, "z": 0}},
@@ -539,6 +543,34 @@ def forms(d, s, work):
     want = f"X {f2(zero['X'] * 1000)}, Y {f2(zero['Y'] * 1000)}, Z {f2(zero['Z'] * 1000)} µm"
     check(all(abs(zero[a]) < 0.0005 for a in "XYZ") and want in text,
           f"the form's check gives the machine zero the values imply ({zero}, {text!r})")
+
+    # The artifact's definition edited in the page: one nominal changed and
+    # saved; an empty id refused next to its cell, the definition unchanged.
+    WebDriverWait(d, 10).until(lambda x: x.find_elements(By.CSS_SELECTOR, "#artifact-points tbody tr"))
+    d.find_element(By.ID, "artifact-name").clear()
+    d.find_element(By.ID, "artifact-name").send_keys("col-1")
+    d.find_element(By.ID, "artifact-load").click()
+    WebDriverWait(d, 10).until(lambda x: "Loaded col-1" in x.find_element(By.ID, "artifact-message").text)
+    old = s.api("/artifacts/col-1")
+    cell = d.find_element(By.CSS_SELECTOR, "#artifact-points tbody tr:nth-child(2) [data-col=nominal-x]")
+    cell.clear()
+    cell.send_keys(str(old["points"][1]["nominal"]["x"] + 0.5))
+    d.find_element(By.ID, "artifact-save").click()
+    WebDriverWait(d, 10).until(lambda x: "Saved artifact" in x.find_element(By.ID, "artifact-message").text
+                               or "error" in x.find_element(By.ID, "artifact-message").get_attribute("innerHTML"))
+    new = s.api("/artifacts/col-1")
+    check(new["points"][1]["nominal"]["x"] == old["points"][1]["nominal"]["x"] + 0.5 and new.get("schemes") == old.get("schemes"),
+          f"the artifact editor stores the changed nominal ({new['points'][1]})")
+    shot(d, "machine-checks-artifact-saved")
+    idcell = d.find_element(By.CSS_SELECTOR, "#artifact-points tbody tr:nth-child(1) [data-col=id]")
+    idcell.clear()
+    d.find_element(By.ID, "artifact-save").click()
+    WebDriverWait(d, 10).until(lambda x: x.find_elements(By.CSS_SELECTOR, "#artifact-points .field-error"))
+    marked = d.find_element(By.CSS_SELECTOR, "#artifact-points tbody tr:nth-child(1) input.invalid")
+    check(marked.get_attribute("data-col") == "id", "the artifact editor shows the empty id's error at its cell")
+    check(s.api("/artifacts/col-1") == new, "a refused artifact leaves the definition as it was")
+    shot(d, "machine-checks-artifact-error")
+    console_errors(d, "artifact editor")
 
     csv = os.path.join(work, "laser.csv")
     with open(csv, "w") as f:
