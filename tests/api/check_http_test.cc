@@ -419,8 +419,8 @@ TEST_F(CheckHttpBerlinTest, TheReportSaysWhenInThePlantsZone) {
   ASSERT_EQ(r->status, 201) << r->body;
   const std::string one = "/api/v1/machines/m1/column-checks/" + json::parse(r->body)["id"].dump();
   EXPECT_EQ(Get(one)["ts"], "2026-03-16T06:00:00.000Z");
-  for (const std::string format : {"markdown", "html"}) {
-    auto text = client_->Get(one + "?format=" + format);
+  for (const char* query : {"?format=markdown", "?format=html"}) {
+    auto text = client_->Get(one + query);
     ASSERT_TRUE(text);
     EXPECT_NE(text->body.find("Measured 2026-03-16 07:00:00 CET"), std::string::npos) << text->body;
   }
