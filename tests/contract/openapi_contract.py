@@ -178,8 +178,11 @@ def exercise(base):
     m = "/api/v1/machines/sim-1"
     ax = m + "/axes/Y"
     now = int(time.time() * 1000)
-    ts = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime(now / 1000 - 60))
-    ts2 = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime(now / 1000 - 30))
+    # Half a second past a whole second: the simulated machines sample on
+    # whole minutes up to now, and a sample of the same time with another
+    # value is (rightly) a conflict.
+    ts = time.strftime("%Y-%m-%dT%H:%M:%S.500Z", time.gmtime(now / 1000 - 60))
+    ts2 = time.strftime("%Y-%m-%dT%H:%M:%S.500Z", time.gmtime(now / 1000 - 30))
     call(base, "GET", "/healthz", expect=200)
     call(base, "GET", "/readyz", expect=200)
     call(base, "GET", "/metrics", expect=200)
