@@ -56,6 +56,16 @@ std::optional<double> ParseDouble(std::string_view s) {
   return v;
 }
 
+// The optional `compensated` column: true/false/1/0 (an empty cell is false).
+std::optional<bool> ParseCompensated(std::string_view s) {
+  if (s.empty() || s == "false" || s == "0") return false;
+  if (s == "true" || s == "1") return true;
+  return std::nullopt;
+}
+
+constexpr const char* kCompensatedColumn = "compensated";
+constexpr const char* kCompensatedHelp = "must be true, false, 1 or 0";
+
 const char* kTsHelp =
     "must be RFC 3339 (e.g. 2026-03-01T06:00:00Z) or integer Unix milliseconds, from 2000 to 2099";
 
@@ -311,6 +321,7 @@ bool ParseProbePointsJson(const std::string& body, std::vector<ProbePointInput>&
     in.run = f.String("run", JsonFields::kRequired, 64).value_or("");
     in.k = static_cast<int>(f.Integer("k", JsonFields::kRequired, 0, kMaxProbeK).value_or(0));
     in.ts_ms = f.Timestamp("ts").value_or(0);
+    in.compensated = f.Bool("compensated", JsonFields::kOptional).value_or(false);
     for (const char* part : {"position", "deviation"}) {
       const json* axes = f.Object(part, JsonFields::kOptional);
       if (!axes) continue;
@@ -365,9 +376,16 @@ bool ParseProbePointsCsv(const std::string& body, std::vector<ProbePointInput>& 
     }
     in.k = k;
     for (size_t c = 3; c < cells.size(); ++c) {
+      std::string name(header[c]);
+      if (name == kCompensatedColumn) {
+        if (auto flag = ParseCompensated(cells[c]))
+          in.compensated = *flag;
+        else
+          errors.push_back({index, name, kCompensatedHelp});
+        continue;
+      }
       if (cells[c].empty()) continue;
       auto v = ParseDouble(cells[c]);
-      std::string name(header[c]);
       if (!v) {
         errors.push_back({index, name, "not a number"});
         continue;
@@ -390,11 +408,19 @@ bool ParseDisplacementsCsv(const std::string& body, int64_t run_gap_ms,
   const bool has_run = !rows.empty() && rows[0].size() > 1 && rows[0][1] == "run";
   const size_t first_axis = has_run ? 2 : 1;
   bool header_ok = !rows.empty() && rows[0].size() > first_axis && rows[0][0] == "ts";
+  size_t compensated_column = 0;  // none
   for (size_t c = first_axis; header_ok && c < rows[0].size(); ++c) {
+    if (rows[0][c] == kCompensatedColumn && compensated_column == 0) {
+      compensated_column = c;
+      continue;
+    }
     header_ok = rows[0][c].size() > 4 && rows[0][c].substr(0, 4) == "dev_";
   }
+  header_ok = header_ok && rows[0].size() > first_axis + (compensated_column ? 1 : 0);
   if (!header_ok) {
-    errors.push_back({0, "header", "CSV must start with ts,[run,] then dev_<axis> columns"});
+    errors.push_back({0, "header",
+                      "CSV must start with ts,[run,] then dev_<axis> columns (and an optional "
+                      "compensated column)"});
     return false;
   }
   const auto& header = rows[0];
@@ -442,6 +468,13 @@ bool ParseDisplacementsCsv(const std::string& body, int64_t run_gap_ms,
     in.run = run;
     in.k = k++;
     for (size_t c = first_axis; c < cells.size(); ++c) {
+      if (c == compensated_column) {
+        if (auto flag = ParseCompensated(cells[c]))
+          in.compensated = *flag;
+        else
+          errors.push_back({index, kCompensatedColumn, kCompensatedHelp});
+        continue;
+      }
       if (cells[c].empty()) continue;
       auto v = ParseDouble(cells[c]);
       if (!v) {

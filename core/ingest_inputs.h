@@ -26,6 +26,9 @@ struct ProbePointInput {
   int64_t ts_ms = 0;
   std::map<std::string, AxisValue> axes;       // positions and deviations by axis
   std::map<std::string, double> temperatures;  // optional filtered snapshot
+  // Probed with the served compensation applied: the deviations are the
+  // error left, not raw drift (docs/api.md, Data in).
+  bool compensated = false;
 };
 
 // An auxiliary signal the machine logs (spindle speed, load, ...).

@@ -91,6 +91,7 @@ struct ProbePointRecord {
   int64_t ts_ms = 0;
   std::map<std::string, AxisValue> axes;       // by axis name
   std::map<std::string, double> temperatures;  // by sensor name (snapshot)
+  bool compensated = false;                    // probed with the served compensation applied
 };
 
 struct RunRecord {

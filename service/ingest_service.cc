@@ -285,7 +285,7 @@ IngestResult IngestService::StoreProbePoints(const std::string& machine_name,
     if (!run_id.ok()) return Rejected({}, run_id.status());
     if (auto existing = store.FindPoint(*run_id, p.k)) {
       if (existing->ts_ms == p.ts_ms && existing->axes == p.axes &&
-          existing->temperatures == p.temperatures) {
+          existing->temperatures == p.temperatures && existing->compensated == p.compensated) {
         ++result.duplicates;
       } else {
         conflicts.push_back(
@@ -293,7 +293,7 @@ IngestResult IngestService::StoreProbePoints(const std::string& machine_name,
       }
       continue;
     }
-    ProbePointRecord rec{0, p.k, p.ts_ms, p.axes, p.temperatures};
+    ProbePointRecord rec{0, p.k, p.ts_ms, p.axes, p.temperatures, p.compensated};
     if (Status st = store.InsertPoint(*run_id, rec, sensor_ids); !st.ok()) return Rejected({}, st);
     ++result.accepted;
   }

@@ -166,7 +166,7 @@ void DdsBridge::Run() {
       for (int i = 0; i < n; ++i) {
         if (!info[i].valid_data) continue;
         auto* p = static_cast<thermocomp_ProbePoint*>(buf[i]);
-        ProbePointInput in{p->run, p->k, p->ts_ms, {}, {}};
+        ProbePointInput in{p->run, p->k, p->ts_ms, {}, {}, p->compensated};
         for (uint32_t j = 0; j < p->axes._length; ++j) {
           const auto& a = p->axes._buffer[j];
           AxisValue& v = in.axes[a.axis];

@@ -103,7 +103,8 @@ class DdsClient {
 
   void PublishProbePoint(
       const std::string& machine, const std::string& run, int k, int64_t ts_ms,
-      const std::map<std::string, std::pair<std::optional<double>, std::optional<double>>>& axes) {
+      const std::map<std::string, std::pair<std::optional<double>, std::optional<double>>>& axes,
+      bool compensated = false) {
     std::vector<thermocomp_AxisReading> readings;
     for (const auto& [axis, v] : axes) {
       thermocomp_AxisReading r{};
@@ -119,6 +120,7 @@ class DdsClient {
     p.run = const_cast<char*>(run.c_str());
     p.k = k;
     p.ts_ms = ts_ms;
+    p.compensated = compensated;
     p.axes._buffer = readings.data();
     p.axes._length = p.axes._maximum = static_cast<uint32_t>(readings.size());
     dds_write(probe_writer_, &p);

@@ -24,11 +24,12 @@ StatusOr<int64_t> SqliteProbeStore::EnsureRun(int64_t machine_id, const std::str
 std::optional<ProbePointRecord> SqliteProbeStore::FindPoint(int64_t run_id, int k) {
   ProbePointRecord p;
   {
-    Statement q(db_, "SELECT id, ts_ms FROM probe_points WHERE run_id = ? AND k = ?");
+    Statement q(db_, "SELECT id, ts_ms, compensated FROM probe_points WHERE run_id = ? AND k = ?");
     q.Bind(1, run_id).Bind(2, int64_t{k});
     if (!q.Step()) return std::nullopt;
     p.id = q.Int(0);
     p.ts_ms = q.Int(1);
+    p.compensated = q.Int(2) != 0;
     p.k = k;
   }
   Statement a(db_,
@@ -51,8 +52,8 @@ std::optional<ProbePointRecord> SqliteProbeStore::FindPoint(int64_t run_id, int 
 
 Status SqliteProbeStore::InsertPoint(int64_t run_id, const ProbePointRecord& p,
                                      const std::map<std::string, int64_t>& sensor_ids) {
-  Statement ins(db_, "INSERT INTO probe_points(run_id, k, ts_ms) VALUES (?, ?, ?)");
-  ins.Bind(1, run_id).Bind(2, int64_t{p.k}).Bind(3, p.ts_ms);
+  Statement ins(db_, "INSERT INTO probe_points(run_id, k, ts_ms, compensated) VALUES (?, ?, ?, ?)");
+  ins.Bind(1, run_id).Bind(2, int64_t{p.k}).Bind(3, p.ts_ms).Bind(4, int64_t{p.compensated});
   if (Status s = ins.Run(); !s.ok()) return s;
   const int64_t id = db_.LastInsertId();
   Statement a(db_,
@@ -78,7 +79,8 @@ std::vector<RunRecord> SqliteProbeStore::LoadAxisRuns(int64_t machine_id, const 
   {
     Statement q(
         db_,
-        "SELECT r.id, r.name, r.first_ts_ms, p.id, p.k, p.ts_ms, v.position_mm, v.deviation_mm"
+        "SELECT r.id, r.name, r.first_ts_ms, p.id, p.k, p.ts_ms, v.position_mm, v.deviation_mm,"
+        " p.compensated"
         " FROM runs r JOIN probe_points p ON p.run_id = r.id"
         " JOIN probe_axis_values v ON v.point_id = p.id AND v.axis = ?"
         " WHERE r.machine_id = ? AND v.deviation_mm IS NOT NULL"
@@ -94,6 +96,7 @@ std::vector<RunRecord> SqliteProbeStore::LoadAxisRuns(int64_t machine_id, const 
       AxisValue& v = p.axes[axis];
       if (!q.IsNull(6)) v.position_mm = q.Double(6);
       v.deviation_mm = q.Double(7);
+      p.compensated = q.Int(8) != 0;
       runs.back().points.push_back(std::move(p));
     }
   }

@@ -104,6 +104,64 @@ TEST(IngestParsersTest, ContinuousDisplacementBecomesRunsWithTheirFirstSampleAsD
   EXPECT_EQ(errors[0].field, "header");
 }
 
+TEST(IngestParsersTest, CompensatedIsAnOptionalFlagOnEveryProbeForm) {
+  std::vector<ProbePointInput> out;
+  FieldErrors errors;
+  // JSON: absent is false, a boolean is taken, anything else names the field.
+  ASSERT_TRUE(ParseProbePointsJson(
+      R"({"points": [{"run": "E7", "k": 1, "ts": 1772344800000, "deviation": {"Y": 0.001}},
+                     {"run": "E7", "k": 2, "ts": 1772344860000, "deviation": {"Y": 0.002},
+                      "compensated": true}]})",
+      out, errors));
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_FALSE(out[0].compensated);
+  EXPECT_TRUE(out[1].compensated);
+  out.clear();
+  EXPECT_FALSE(ParseProbePointsJson(
+      R"({"points": [{"run": "E7", "k": 1, "ts": 1772344800000, "deviation": {"Y": 0.001},
+                      "compensated": "yes"}]})",
+      out, errors));
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].field, "points.compensated");
+
+  // CSV: a header-named column anywhere after k; true/false/1/0, empty is false.
+  out.clear();
+  errors.clear();
+  ASSERT_TRUE(ParseProbePointsCsv(
+      "ts,run,k,dev_Y,compensated\n1772344800000,E7,0,0,false\n1772344860000,E7,1,0.001,true\n"
+      "1772344920000,E7,2,0.002,1\n1772344980000,E7,3,0.003,0\n1772345040000,E7,4,0.004,\n",
+      out, errors));
+  ASSERT_EQ(out.size(), 5u);
+  EXPECT_EQ((std::vector<bool>{out[0].compensated, out[1].compensated, out[2].compensated,
+                               out[3].compensated, out[4].compensated}),
+            (std::vector<bool>{false, true, true, false, false}));
+  EXPECT_FALSE(out[1].temperatures.count("compensated"));  // not a sensor
+  out.clear();
+  EXPECT_FALSE(ParseProbePointsCsv("ts,run,k,compensated,dev_Y\n1772344800000,E7,1,maybe,0.001\n",
+                                   out, errors));
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].field, "compensated");
+
+  // Continuous displacements: the same column beside the deviations.
+  out.clear();
+  errors.clear();
+  ASSERT_TRUE(ParseDisplacementsCsv(
+      "ts,run,dev_Y,compensated\n1772344800000,A,0,0\n1772344815000,A,0.001,true\n", 60000, out,
+      errors));
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_FALSE(out[0].compensated);
+  EXPECT_TRUE(out[1].compensated);
+  EXPECT_EQ(out[1].axes.size(), 1u);
+  out.clear();
+  EXPECT_FALSE(
+      ParseDisplacementsCsv("ts,dev_Y,compensated\n1772344800000,0,yes\n", 60000, out, errors));
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].field, "compensated");
+  errors.clear();
+  EXPECT_FALSE(ParseDisplacementsCsv("ts,compensated\n1772344800000,1\n", 60000, out, errors));
+  EXPECT_EQ(errors[0].field, "header");  // a deviation column is still required
+}
+
 TEST(IngestParsersTest, TimestampForms) {
   EXPECT_EQ(ParseTimestamp("2026-03-01T07:00:00+01:00"), ParseTimestamp("2026-03-01T06:00:00Z"));
   EXPECT_EQ(ParseTimestamp("2026-03-01T05:30:00-00:30"), ParseTimestamp("2026-03-01T06:00:00Z"));

@@ -113,6 +113,19 @@ TEST_F(DdsBridgeTest, ABadSampleIsRefusedAloneAndNoReceiptCoversIt) {
   EXPECT_GE(app_->metrics().ingest_rejected.load(), 1u);
 }
 
+TEST_F(DdsBridgeTest, AProbePointCarriesItsCompensatedFlagIntoSqlite) {
+  StartBridge();
+  dds::DdsClient peer(testing::TestDomain());
+  ASSERT_TRUE(peer.WaitForServer());
+  const int64_t t0 = clock_.NowMs() - 3600000;
+  peer.PublishProbePoint(machine_, "R1", 0, t0, {{"Y", {std::nullopt, 0.0}}});
+  peer.PublishProbePoint(machine_, "R1", 1, t0 + 60000, {{"Y", {std::nullopt, 0.004}}}, true);
+  ASSERT_TRUE(WaitFor([&] { return Count("SELECT COUNT(*) FROM probe_points") == 2; }))
+      << Count("SELECT COUNT(*) FROM probe_points") << " of 2 stored";
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM probe_points WHERE k = 1 AND compensated = 1"), 1);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM probe_points WHERE k = 0 AND compensated = 0"), 1);
+}
+
 TEST_F(DdsBridgeTest, LateJoinerGetsTheCurrentCompensation) {
   InsertActiveModel(
       1,

@@ -65,6 +65,25 @@ TEST_F(MigrationTest, FromEveryEarlierVersionUpgradesKeepingData) {
   }
 }
 
+TEST_F(MigrationTest, ProbePointsStoredBeforeTheFlagWereProbedWithoutCompensation) {
+  {
+    DatabaseOptions opt;
+    opt.migrate_to = 7;
+    auto old = Database::Open(Path(), opt);
+    ASSERT_TRUE(old.ok());
+    ASSERT_TRUE((*old)
+                    ->Exec("INSERT INTO machines(id, name, created_ms, updated_ms) VALUES "
+                           "(1, 'm1', 1, 1); INSERT INTO runs(id, machine_id, name, first_ts_ms) "
+                           "VALUES (1, 1, 'R1', 5); INSERT INTO probe_points(run_id, k, ts_ms) "
+                           "VALUES (1, 0, 5)")
+                    .ok());
+  }
+  auto db = Database::Open(Path());
+  ASSERT_TRUE(db.ok()) << db.status().ToString();
+  EXPECT_EQ(Scalar(**db, "SELECT compensated FROM probe_points"), 0);
+  EXPECT_FALSE((*db)->Exec("UPDATE probe_points SET compensated = 2").ok());
+}
+
 TEST_F(MigrationTest, ReopeningIsIdempotent) {
   { ASSERT_TRUE(Database::Open(Path()).ok()); }
   auto db = Database::Open(Path());
