@@ -21,9 +21,14 @@ int64_t FloorTo(int64_t t, int64_t origin, int64_t step) {
 
 OutcomeStats SummarizeOutcome(std::span<const OutcomePoint> points) {
   OutcomeStats s;
-  double drift2 = 0, residual2 = 0, model2 = 0, max_drift = 0, max_residual = 0;
+  double drift2 = 0, residual2 = 0, model2 = 0, max_drift = 0, max_residual = 0, left2 = 0;
   for (const OutcomePoint& p : points) {
-    const double residual = p.measured_mm + p.served_mm.value_or(0.0);
+    // Probed with compensation active, the error left was measured, not inferred.
+    const double residual = p.left_mm ? *p.left_mm : p.measured_mm + p.served_mm.value_or(0.0);
+    if (p.left_mm) {
+      ++s.compensated_points;
+      left2 += *p.left_mm * *p.left_mm;
+    }
     ++s.points;
     if (p.served_mm) ++s.served_points;
     drift2 += p.measured_mm * p.measured_mm;
@@ -37,6 +42,7 @@ OutcomeStats SummarizeOutcome(std::span<const OutcomePoint> points) {
     }
   }
   if (s.points == 0) return s;
+  if (auto rms = Rms(left2, s.compensated_points)) s.measured_error_rms_um = *rms * 1000.0;
   s.drift_rms_mm = Rms(drift2, s.points);
   s.residual_rms_mm = Rms(residual2, s.points);
   s.model_residual_rms_mm = Rms(model2, s.predicted_points);

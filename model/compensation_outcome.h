@@ -3,8 +3,11 @@
 // measured (datum-relative, docs/model.md §2), the offset the control was
 // served at that time (if one was logged) and the active model's
 // prediction there. The error left with the served correction is
-// measured + served (the served offset is the negated predicted drift);
-// the share removed is 1 - residual RMS / drift RMS. Values only, no I/O.
+// measured + served (the served offset is the negated predicted drift),
+// except at a point probed with compensation active: the probe read the
+// error left itself (`left_mm`), and `measured_mm` is the raw drift
+// recovered from it. The share removed is 1 - residual RMS / drift RMS.
+// Values only, no I/O.
 #pragma once
 
 #include <cstdint>
@@ -19,12 +22,16 @@ struct OutcomePoint {
   double measured_mm = 0;
   std::optional<double> served_mm;     // none: nothing was served (counted as 0)
   std::optional<double> predicted_mm;  // the active model, in hindsight
+  // Probed with compensation active: what it read (the error left).
+  std::optional<double> left_mm = std::nullopt;
 };
 
 struct OutcomeStats {
   size_t points = 0;
   size_t served_points = 0;  // points with a served value
   size_t predicted_points = 0;
+  size_t compensated_points = 0;  // points with left_mm (probed with compensation active)
+  std::optional<double> measured_error_rms_um;  // RMS of their left_mm, in µm; empty if none
   // Empty when there are no points (model_residual: no prediction).
   std::optional<double> drift_rms_mm, residual_rms_mm, model_residual_rms_mm;
   std::optional<double> max_abs_drift_mm, max_abs_residual_mm;

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "model/block_validation.h"
+#include "storage/log_store.h"
 #include "storage/probe_store.h"
 #include "storage/sample_store.h"
 
@@ -39,6 +40,22 @@ std::vector<double> TemperaturesAt(SampleStore& samples, const MachineRecord& ma
 
 }  // namespace
 
+std::optional<CompensationLogRow> ServedAt(LogStore& log, int64_t axis_id, int64_t ts_ms) {
+  auto row = log.CompensationAt(axis_id, ts_ms);
+  if (!row || ts_ms - row->ts_ms > kServedMaxAgeMs || !std::isfinite(row->offset_mm)) {
+    return std::nullopt;
+  }
+  return row;
+}
+
+std::optional<double> RawDeviation(LogStore& log, int64_t axis_id, int64_t ts_ms,
+                                   double measured_mm, bool compensated) {
+  if (!compensated) return measured_mm;
+  auto served = ServedAt(log, axis_id, ts_ms);
+  if (!served) return std::nullopt;
+  return measured_mm - served->offset_mm;
+}
+
 DriftDataset BuildDriftDataset(Session& s, const MachineRecord& machine, const std::string& axis,
                                double gross_error_mm, int64_t max_gap_ms,
                                ProbeTemperatureCache* cache, bool other_axes) {
@@ -69,6 +86,17 @@ DriftDataset BuildDriftDataset(Session& s, const MachineRecord& machine, const s
     return v;
   };
   SampleStore& samples = s.samples();
+  LogStore& log = s.log();
+  const AxisRecord* axis_record = machine.FindAxis(axis);
+  const int64_t axis_id = axis_record ? axis_record->id : 0;
+  auto raw = [&](const ProbePointRecord& p, double measured) {
+    return RawDeviation(log, axis_id, p.ts_ms, measured, p.compensated);
+  };
+  auto count_points = [&](const RunRecord& run, int& counter) {
+    for (const auto& p : run.points) {
+      if (p.k > 0 && p.axes.count(axis)) ++counter;
+    }
+  };
   for (const RunRecord& run : runs) {
     const ProbePointRecord* datum = nullptr;
     for (const auto& p : run.points) {
@@ -77,9 +105,13 @@ DriftDataset BuildDriftDataset(Session& s, const MachineRecord& machine, const s
     auto datum_axis =
         datum ? datum->axes.find(axis) : std::map<std::string, AxisValue>::const_iterator{};
     if (!datum || datum_axis == datum->axes.end() || !datum_axis->second.deviation_mm) {
-      for (const auto& p : run.points) {
-        if (p.k > 0 && p.axes.count(axis)) ++d.skipped_no_datum;
-      }
+      count_points(run, d.skipped_no_datum);
+      continue;
+    }
+    const double datum_measured = *datum_axis->second.deviation_mm;
+    const std::optional<double> datum_raw = raw(*datum, datum_measured);
+    if (!datum_raw) {  // nothing of the run can be made raw
+      count_points(run, d.skipped_unserved);
       continue;
     }
     const std::vector<double> t0 = TemperaturesAt(samples, machine, *datum, max_gap_ms, cache);
@@ -88,11 +120,18 @@ DriftDataset BuildDriftDataset(Session& s, const MachineRecord& machine, const s
     for (const auto& p : run.points) {
       auto it = p.axes.find(axis);
       if (p.k == 0 || it == p.axes.end() || !it->second.deviation_mm) continue;
+      const std::optional<double> point_raw = raw(p, *it->second.deviation_mm);
+      if (!point_raw) {
+        ++d.skipped_unserved;
+        continue;
+      }
       DriftRow row;
       row.run = run_index;
       row.k = p.k;
       row.ts_ms = p.ts_ms;
-      row.drift_mm = *it->second.deviation_mm - *datum_axis->second.deviation_mm;
+      row.drift_mm = *point_raw - *datum_raw;
+      row.probed_mm = *it->second.deviation_mm - datum_measured;
+      row.compensated = p.compensated;
       if (std::fabs(row.drift_mm) >= gross_error_mm) {
         ++d.skipped_gross;
         continue;

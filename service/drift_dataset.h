@@ -2,6 +2,8 @@
 // rows (docs/model.md §1): drift = deviation(pk) - deviation(p0) of the same
 // run, dT_i = T_i(pk) - T_i(p0) with T the filtered temperature (the point's
 // snapshot if it has one, else the archive's filtered value at its time).
+// A point probed with compensation active is turned back into raw drift
+// first (RawDeviation), so fits see what the machine did, not what was left.
 #pragma once
 
 #include <optional>
@@ -11,15 +13,36 @@
 #include "core/records.h"
 #include "model/observations.h"
 #include "service/probe_temperature_cache.h"
+#include "storage/log_store.h"
 #include "storage/storage.h"
 
 namespace thermocomp {
+
+// A logged value older than this at a probe point's time does not count
+// as served then (the server was not running).
+inline constexpr int64_t kServedMaxAgeMs = 86400000LL;
+
+// The served row in force at `ts_ms`: the newest at or before it, at most
+// kServedMaxAgeMs old, with a finite offset.
+std::optional<CompensationLogRow> ServedAt(LogStore& log, int64_t axis_id, int64_t ts_ms);
+
+// The raw deviation of a point on an axis. The served offset is a
+// correction, the negated predicted drift (docs/api.md, Compensation
+// out), which the control adds: a point probed with it applied reads
+// raw + offset (the error left), so raw = measured - offset. Empty for a
+// compensated point without a served value (ServedAt) to undo.
+std::optional<double> RawDeviation(LogStore& log, int64_t axis_id, int64_t ts_ms,
+                                   double measured_mm, bool compensated);
 
 struct DriftRow {
   int run = 0;  // index into DriftDataset::runs
   int k = 0;
   int64_t ts_ms = 0;
-  double drift_mm = 0;
+  double drift_mm = 0;  // raw: compensated points recovered (RawDeviation)
+  // As probed, datum-relative: equal to drift_mm unless the point or its
+  // datum was probed with compensation active (then the error left).
+  double probed_mm = 0;
+  bool compensated = false;  // the point (not its datum) was probed compensated
   int64_t datum_ts_ms = 0;
   // Filtered, per DriftDataset::sensors; NaN where unknown. dT is their difference.
   std::vector<double> temperature, datum_temperature;
@@ -33,6 +56,9 @@ struct DriftDataset {
   std::vector<DriftRow> rows;
   int skipped_gross = 0;     // |drift| >= gross error limit (chips in the hole)
   int skipped_no_datum = 0;  // run without a p0 deviation on this axis
+  // Probed with compensation active (the point or its datum) without a
+  // served value within kServedMaxAgeMs to recover the raw drift from.
+  int skipped_unserved = 0;
 
   // Rows of the given runs (by name), or of all other runs when `invert`.
   std::vector<int> RowsOfRuns(const std::vector<std::string>& names, bool invert) const;

@@ -11,10 +11,15 @@
 namespace thermocomp {
 
 // A probe point: measured drift, the active model's prediction, residual.
+// For a point probed with compensation active `measured_mm` is the raw
+// drift recovered from the served offset (service/drift_dataset.h) and
+// `probed_mm` what the probe read, the error left; else the two are equal.
 struct DriftPoint {
   int64_t ts_ms = 0;
   std::string run;
   double measured_mm = 0, predicted_mm = 0, residual_mm = 0;
+  bool compensated = false;
+  double probed_mm = 0;
 };
 
 struct TimedValue {

@@ -24,7 +24,9 @@ json DriftHistoryToJson(const DriftHistory& h) {
                       {"run", p.run},
                       {"measured_mm", p.measured_mm},
                       {"predicted_mm", FiniteOrNull(p.predicted_mm)},
-                      {"residual_mm", FiniteOrNull(p.residual_mm)}});
+                      {"residual_mm", FiniteOrNull(p.residual_mm)},
+                      {"compensated", p.compensated},
+                      {"probed_mm", p.probed_mm}});
   }
   json served = json::array();
   for (const auto& v : h.served_offset) {
@@ -61,9 +63,10 @@ StatusOr<DriftHistory> DriftHistoryFromJson(const json& j) {
     h.served_offset_source = j.value("served_offset_source", "");
     h.served_offset_total = j.value("served_offset_total", size_t{0});
     for (const auto& p : j.at("probe_points")) {
-      h.probe_points.push_back({TimeOf(p), p.value("run", ""), p.value("measured_mm", 0.0),
-                                json_read::NumberOr(p, "predicted_mm"),
-                                json_read::NumberOr(p, "residual_mm")});
+      h.probe_points.push_back(
+          {TimeOf(p), p.value("run", ""), p.value("measured_mm", 0.0),
+           json_read::NumberOr(p, "predicted_mm"), json_read::NumberOr(p, "residual_mm"),
+           p.value("compensated", false), p.value("probed_mm", p.value("measured_mm", 0.0))});
     }
     for (const auto& v : j.at("served_offset")) {
       h.served_offset.push_back({TimeOf(v), v.value("value_mm", 0.0)});

@@ -62,6 +62,7 @@ struct FitReport {
   int64_t removed_outliers = 0;
   int outlier_steps = 0;
   int skipped_gross_errors = 0, skipped_no_datum = 0;
+  int skipped_unserved = 0;  // compensated points without a served value to undo
   int training_runs = 0;
   HeldOutErrors cross_validation;  // leave-one-run-out; n = folds
   std::vector<std::string> validation_runs;

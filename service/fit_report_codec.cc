@@ -121,7 +121,10 @@ json FitReportToJson(const FitReport& r) {
       {"removed_terms", removed_terms},
       {"removed_outliers", r.removed_outliers},
       {"outlier_steps", r.outlier_steps},
-      {"skipped", {{"gross_errors", r.skipped_gross_errors}, {"no_datum", r.skipped_no_datum}}},
+      {"skipped",
+       {{"gross_errors", r.skipped_gross_errors},
+        {"no_datum", r.skipped_no_datum},
+        {"compensated_unserved", r.skipped_unserved}}},
       {"training_runs", r.training_runs},
       {"training_range", ranges},
       {"cross_validation", cv},
@@ -188,6 +191,7 @@ StatusOr<FitReport> FitReportFromJson(const json& j) {
     const json& skipped = ObjectAt(j, "skipped");
     r.skipped_gross_errors = skipped.value("gross_errors", 0);
     r.skipped_no_datum = skipped.value("no_datum", 0);
+    r.skipped_unserved = skipped.value("compensated_unserved", 0);  // absent before 0008
     r.training_runs = j.value("training_runs", 0);
     r.cross_validation = ErrorsFromJson(ObjectAt(j, "cross_validation"), "folds");
     const json& validation = ObjectAt(j, "validation");

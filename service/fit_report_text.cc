@@ -47,7 +47,13 @@ std::string FitReportMarkdown(const FitReport& r, const PlantTime& time) {
         "\n\n## Removed\n\n";
   md += std::to_string(r.removed_outliers) + " outlier(s) in " + std::to_string(r.outlier_steps) +
         " step(s); " + std::to_string(r.skipped_gross_errors) + " gross error(s) and " +
-        std::to_string(r.skipped_no_datum) + " point(s) without a datum skipped.\n\n";
+        std::to_string(r.skipped_no_datum) + " point(s) without a datum skipped.";
+  if (r.skipped_unserved > 0) {
+    md += " " + std::to_string(r.skipped_unserved) +
+          " point(s) probed with compensation active skipped: no served offset within a day to "
+          "recover their raw drift.";
+  }
+  md += "\n\n";
   if (!r.removed_terms.empty()) {
     md += "| term | reason | p | VIF |\n|---|---|---|---|\n";
     for (const RemovedTerm& t : r.removed_terms) {

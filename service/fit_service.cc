@@ -143,6 +143,7 @@ StatusOr<FitReport> FitService::Fit(const std::string& machine_name, const std::
   report.outlier_steps = sel->outlier_steps;
   report.skipped_gross_errors = data.skipped_gross;
   report.skipped_no_datum = data.skipped_no_datum;
+  report.skipped_unserved = data.skipped_unserved;
   report.training_runs = static_cast<int>(data.runs.size() - holdout.size());
   if (cv.ok()) report.cross_validation = {cv->folds, cv->rmse, cv->r2};
   report.validation_runs = holdout;

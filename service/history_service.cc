@@ -64,8 +64,8 @@ AxisProbeDrift HistoryService::ProbeDrift(Session& session, const MachineRecord&
   for (size_t i = 0; i < data.rows.size(); ++i) {
     const DriftRow& row = data.rows[i];
     if (row.ts_ms < from_ms || row.ts_ms > to_ms) continue;
-    out.points.push_back(
-        {row.ts_ms, data.runs[row.run], row.drift_mm, by_model[i], row.drift_mm - by_model[i]});
+    out.points.push_back({row.ts_ms, data.runs[row.run], row.drift_mm, by_model[i],
+                          row.drift_mm - by_model[i], row.compensated, row.probed_mm});
   }
   std::stable_sort(out.points.begin(), out.points.end(),
                    [](const DriftPoint& a, const DriftPoint& b) { return a.ts_ms < b.ts_ms; });

@@ -20,6 +20,8 @@ json Time(const std::optional<int64_t>& ms) {
 json OutcomeStatsToJson(const OutcomeStats& s) {
   return {{"points", s.points},
           {"served_points", s.served_points},
+          {"compensated_points", s.compensated_points},
+          {"measured_error_rms_um", Optional(s.measured_error_rms_um)},
           {"drift_rms_mm", Optional(s.drift_rms_mm)},
           {"residual_rms_mm", Optional(s.residual_rms_mm)},
           {"model_residual_rms_mm", Optional(s.model_residual_rms_mm)},

@@ -58,8 +58,10 @@ OutcomeService::AxisData OutcomeService::Load(Session& s, const MachineRecord& m
     o.ts_ms = p.ts_ms;
     o.measured_mm = p.measured_mm;
     if (std::isfinite(p.predicted_mm)) o.predicted_mm = p.predicted_mm;
-    if (auto row = log.CompensationAt(axis.id, p.ts_ms);
-        row && p.ts_ms - row->ts_ms <= kServedMaxAgeMs && std::isfinite(row->offset_mm)) {
+    // measured_mm is the raw drift (recovered for compensated points); what
+    // a compensated point's probe read is the error left itself.
+    if (p.compensated) o.left_mm = p.probed_mm;
+    if (auto row = ServedAt(log, axis.id, p.ts_ms)) {
       o.served_mm = row->offset_mm;
       out.served_versions.push_back(row->model_version);
     } else {

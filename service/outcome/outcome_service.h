@@ -16,6 +16,7 @@
 #include "core/clock.h"
 #include "model/compensation_outcome.h"
 #include "service/compensation_service.h"
+#include "service/drift_dataset.h"
 #include "service/history_service.h"
 #include "storage/storage.h"
 
@@ -73,9 +74,8 @@ struct VersionOutcome {
 
 // How far back health looks, and the overview's period.
 inline constexpr int64_t kOutcomeWeekMs = 7 * 86400000LL;
-// A logged value older than this at a probe point's time does not count
-// as served then (the server was not running).
-inline constexpr int64_t kServedMaxAgeMs = 86400000LL;
+// kServedMaxAgeMs (service/drift_dataset.h): how old a logged value may be
+// at a probe point's time and still count as served then.
 
 class OutcomeService {
  public:

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/time_format.h"
+#include "service/drift_dataset.h"
 #include "service/model_codec.h"
 #include "storage/log_store.h"
 #include "storage/model_store.h"
@@ -192,6 +193,138 @@ TEST_F(OutcomeHttpTest, BadQueriesAreRefusedNamingTheParameter) {
   EXPECT_EQ(field("?bucket_size=day"), "bucket_size");
   Get(base.substr(0, base.find("m1")) + "nope/compensation/outcome", 404);
   Get(base + "?axis=X", 404);
+}
+
+// Probe points taken with compensation active, over the real faces: the
+// control applied the served offset (a correction, the negated predicted
+// drift), so the probe read raw + offset, the error left. Day 10, run R1:
+// the datum (0) and four points measuring 10 (raw), 4 and 6 (compensated),
+// 20 (raw) um, with -8 um served from just before the first; day 12, run
+// R2: its datum, one compensated point two days after the last served
+// value (nothing to undo: left out) and one raw point of 30 um.
+class CompensatedProbeTest : public OutcomeHttpTest {
+ protected:
+  static constexpr int64_t kDay10 = kT0 + 10 * kDay, kDay12 = kT0 + 12 * kDay;
+  int Post(const std::string& body, const std::string& type, json* problem = nullptr) {
+    auto r = client_->Post("/api/v1/machines/m1/probe-points", body, type);
+    EXPECT_TRUE(r);
+    if (!r) return 0;
+    if (problem) *problem = json::parse(r->body, nullptr, false);
+    return r->status;
+  }
+  void Scenario() {
+    Served(kDay10 + kH - 30000, -0.008);
+    const std::string json_body =
+        R"({"points": [{"run": "R1", "k": 0, "ts": )" + std::to_string(kDay10) +
+        R"(, "deviation": {"Y": 0.0}},
+           {"run": "R1", "k": 1, "ts": )" +
+        std::to_string(kDay10 + kH) +
+        R"(, "deviation": {"Y": 0.010}, "compensated": false},
+           {"run": "R1", "k": 2, "ts": )" +
+        std::to_string(kDay10 + 2 * kH) + R"(, "deviation": {"Y": 0.004}, "compensated": true}]})";
+    ASSERT_EQ(Post(json_body, "application/json"), 200);
+    std::string csv = "ts,run,k,dev_Y,compensated\n";
+    auto row = [&](int64_t ts, const char* run, int k, const char* dev, const char* flag) {
+      csv +=
+          std::to_string(ts) + "," + run + "," + std::to_string(k) + "," + dev + "," + flag + "\n";
+    };
+    row(kDay10 + 3 * kH, "R1", 3, "0.006", "true");
+    row(kDay10 + 4 * kH, "R1", 4, "0.020", "0");
+    row(kDay12, "R2", 0, "0.0", "false");
+    row(kDay12 + kH, "R2", 1, "0.005", "1");
+    row(kDay12 + 2 * kH, "R2", 2, "0.030", "");
+    ASSERT_EQ(Post(csv, "text/csv"), 200);
+  }
+  std::string Range() const {
+    return "from=" + std::to_string(kT0 + 9 * kDay) + "&to=" + std::to_string(kT0 + 14 * kDay);
+  }
+};
+
+TEST_F(CompensatedProbeTest, TheFlagIsStoredFromJsonAndCsvAndDefaultsToFalse) {
+  Scenario();
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM probe_points"), 8);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM probe_points WHERE compensated = 1"), 3);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM probe_points WHERE compensated = 1 AND k IN (2, 3)"), 2);
+  // The same point again is a duplicate; with the other flag, a conflict.
+  std::string again =
+      "ts,run,k,dev_Y,compensated\n" + std::to_string(kDay10 + 3 * kH) + ",R1,3,0.006,true\n";
+  ASSERT_EQ(Post(again, "text/csv"), 200);
+  again.replace(again.rfind("true"), 4, "false");
+  EXPECT_EQ(Post(again, "text/csv"), 409);
+}
+
+TEST_F(CompensatedProbeTest, BadValuesAreRefusedNamingTheFieldAndStoreNothing) {
+  const std::string ts = std::to_string(kDay10);
+  json problem;
+  EXPECT_EQ(Post(R"({"points": [{"run": "R1", "k": 0, "ts": )" + ts +
+                     R"(, "deviation": {"Y": 0.0}, "compensated": "yes"}]})",
+                 "application/json", &problem),
+            400);
+  ASSERT_FALSE(problem["errors"].empty()) << problem.dump();
+  EXPECT_EQ(problem["errors"][0]["field"], "points.compensated");
+  EXPECT_EQ(
+      Post("ts,run,k,dev_Y,compensated\n" + ts + ",R1,0,0.0,false\n" + ts + ",R1,1,0.001,maybe\n",
+           "text/csv", &problem),
+      400);
+  ASSERT_FALSE(problem["errors"].empty()) << problem.dump();
+  EXPECT_EQ(problem["errors"][0]["field"], "compensated");
+  EXPECT_EQ(problem["errors"][0]["index"], 1);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM probe_points"), 0);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM runs"), 0);
+}
+
+TEST_F(CompensatedProbeTest, TheDriftDatasetRecoversRawDriftAsMeasuredMinusTheServedOffset) {
+  Scenario();
+  const std::unique_ptr<Session> session = app_->storage().Open();
+  const auto machine = session->machines().Find("m1");
+  ASSERT_TRUE(machine);
+  const DriftDataset d = BuildDriftDataset(*session, *machine, "Y", 1.0, 300000);
+  // R1 k=2 read 4 um with -8 um applied: raw 4 - (-8) = 12 um; k=3: 6 + 8 = 14.
+  ASSERT_EQ(d.rows.size(), 5u);
+  const std::vector<double> raw = {10, 12, 14, 20, 30}, probed = {10, 4, 6, 20, 30};
+  for (size_t i = 0; i < raw.size(); ++i) {
+    EXPECT_NEAR(d.rows[i].drift_mm, raw[i] * kUm, 1e-12) << i;
+    EXPECT_NEAR(d.rows[i].probed_mm, probed[i] * kUm, 1e-12) << i;
+    EXPECT_EQ(d.rows[i].compensated, i == 1 || i == 2) << i;
+  }
+  // R2 k=1 was compensated two days after the last served value: left out.
+  EXPECT_EQ(d.skipped_unserved, 1);
+  EXPECT_EQ(d.skipped_no_datum, 0);
+}
+
+TEST_F(CompensatedProbeTest, TheDriftHistoryListsTheFlagWithRawAndProbedValues) {
+  Scenario();
+  const json h = Get("/api/v1/machines/m1/drift?axis=Y&" + Range());
+  ASSERT_EQ(h["probe_points"].size(), 5u) << h.dump();
+  const json& p = h["probe_points"][1];
+  EXPECT_EQ(p["compensated"], true);
+  EXPECT_NEAR(p["measured_mm"].get<double>(), 0.012, 1e-12);
+  EXPECT_NEAR(p["probed_mm"].get<double>(), 0.004, 1e-12);
+  EXPECT_EQ(h["probe_points"][0]["compensated"], false);
+  EXPECT_NEAR(h["probe_points"][0]["probed_mm"].get<double>(), 0.010, 1e-12);
+}
+
+TEST_F(CompensatedProbeTest, TheOutcomeTakesTheErrorLeftAsMeasuredAtCompensatedPoints) {
+  Scenario();
+  const json o = Get("/api/v1/machines/m1/compensation/outcome?axis=Y&" + Range());
+  const json& t = o["axes"][0]["total"];
+  EXPECT_EQ(t["points"], 5);
+  EXPECT_EQ(t["served_points"], 4);
+  EXPECT_EQ(t["compensated_points"], 2);
+  // Measured error left at the compensated points: 4 and 6 um.
+  EXPECT_NEAR(t["measured_error_rms_um"].get<double>(), std::sqrt((16.0 + 36.0) / 2), 1e-9);
+  // Raw drift 10 12 14 20 30: squares sum to 1740.
+  EXPECT_NEAR(t["drift_rms_mm"].get<double>(), std::sqrt(1740.0 / 5) * kUm, 1e-12);
+  // Left: 10-8=2, 4 and 6 as measured, 20-8=12, 30 unserved: 1100.
+  EXPECT_NEAR(t["residual_rms_mm"].get<double>(), std::sqrt(1100.0 / 5) * kUm, 1e-12);
+  EXPECT_NEAR(t["share_removed"].get<double>(), 1 - std::sqrt(1100.0 / 1740.0), 1e-12);
+  const json& b = o["axes"][0]["buckets"];
+  ASSERT_EQ(b.size(), 6u);
+  EXPECT_EQ(b[1]["compensated_points"], 2);  // day 10
+  EXPECT_NEAR(b[1]["measured_error_rms_um"].get<double>(), std::sqrt(26.0), 1e-9);
+  EXPECT_EQ(b[3]["compensated_points"], 0);  // day 12: its one was left out
+  EXPECT_EQ(b[3]["points"], 1);
+  EXPECT_TRUE(b[3]["measured_error_rms_um"].is_null());
 }
 
 }  // namespace

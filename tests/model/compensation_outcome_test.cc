@@ -33,6 +33,22 @@ TEST(CompensationOutcomeTest, ResidualIsTheDriftPlusTheServedOffset) {
   EXPECT_NEAR(*s.model_residual_rms_mm, std::sqrt(5.0 / 2) * kUm, 1e-12);
 }
 
+TEST(CompensationOutcomeTest, AtACompensatedPointTheErrorLeftIsWhatItMeasured) {
+  // A compensated point of raw drift 12 um that read 5 um with -8 served
+  // (they differ by 1 um when its datum was probed with 1 um served):
+  // the error left is the 5 it read, not 12 - 8. Beside it a raw point of
+  // 10 um with -8 served, left 2.
+  const std::vector<OutcomePoint> p = {{0, 12 * kUm, -8 * kUm, std::nullopt, 5 * kUm},
+                                       {1, 10 * kUm, -8 * kUm, std::nullopt}};
+  const OutcomeStats s = SummarizeOutcome(p);
+  EXPECT_EQ(s.points, 2u);
+  EXPECT_EQ(s.compensated_points, 1u);
+  EXPECT_NEAR(*s.measured_error_rms_um, 5.0, 1e-9);
+  EXPECT_NEAR(*s.drift_rms_mm, std::sqrt((144.0 + 100.0) / 2) * kUm, 1e-12);
+  EXPECT_NEAR(*s.residual_rms_mm, std::sqrt((25.0 + 4.0) / 2) * kUm, 1e-12);
+  EXPECT_FALSE(SummarizeOutcome(std::span(p).subspan(1)).measured_error_rms_um);
+}
+
 TEST(CompensationOutcomeTest, NothingToSayIsEmptyNotZero) {
   const OutcomeStats none = SummarizeOutcome({});
   EXPECT_EQ(none.points, 0u);
