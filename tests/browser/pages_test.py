@@ -213,7 +213,8 @@ def open_access(d, s):
       const done = arguments[arguments.length - 1];
       window.thermocompExport().then((t) => done({ header: t.header, first: t.rows.length ? t.rows[0][0] : "",
         probe: t.rows.filter((r) => r[2] !== "").length,
-        temps: t.rows.reduce((n, r) => n + r.slice(6).filter((v) => v !== "").length, 0) }));""")
+        temps: t.rows.reduce((n, r) => n + r.slice(t.header.indexOf("served_offset_um") + 1)
+          .filter((v) => v !== "").length, 0) }));""")
     want_probe = s.api(f"/machines/sim-1/drift?axis=Y&from={frm}&to={to}&max_points=2")["probe_points_total"]
     want_temps = sum(x["total"] for x in s.api(f"/machines/sim-1/temperatures?from={frm}&to={to}&max_points=2")["sensors"])
     check(table["probe"] == want_probe and table["temps"] == want_temps and want_temps > 1000,

@@ -335,7 +335,8 @@
       if (thinned && step > 3600000) { step = Math.max(3600000, step / 4); continue; }
       for (const p of d.probe_points) {
         Object.assign(row(new Date(p.ts).getTime()).values, { run: p.run, measured_um: umCsv(p.measured_mm),
-          predicted_um: umCsv(p.predicted_mm), residual_um: umCsv(p.residual_mm) });
+          predicted_um: umCsv(p.predicted_mm), residual_um: umCsv(p.residual_mm),
+          compensated: p.compensated ? "true" : "false", probed_um: umCsv(p.probed_mm) });
       }
       for (const p of d.served_offset) row(new Date(p.ts).getTime()).values.served_offset_um = umCsv(p.value_mm);
       for (const x of t.sensors) {
@@ -346,7 +347,8 @@
       if (progress) progress(Math.min(1, (end - from + 1) / Math.max(1, to - from + 1)));
       start = end + 1;
     }
-    const columns = ["run", "measured_um", "predicted_um", "residual_um", "served_offset_um", ...sensors];
+    const columns = ["run", "measured_um", "predicted_um", "residual_um", "compensated", "probed_um",
+      "served_offset_um", ...sensors];
     return {
       header: ["time (" + TC.zone + ")", ...columns],
       rows: [...rows.values()].sort((a, b) => a.ms - b.ms).map((r) => [TC.plantIso(r.ms, true), ...columns.map((c) => r.values[c] ?? "")]),
