@@ -41,6 +41,74 @@ TEST_F(FitReportTest, TheStoredReportDecodesToTheReportTheFitReturned) {
   EXPECT_EQ(decoded->created_ms, report->created_ms);
 }
 
+// Points probed with compensation active read raw drift + the offset served
+// then; marked compensated, the fit recovers the raw drift and learns the
+// same model as from the raw points. Without a served value within a day
+// a compensated point is left out, and the report counts it.
+TEST_F(FitReportTest, CompensatedPointsFitTheSameModelAsTheirRawDrift) {
+  Simulate("m1", 10);
+  FitRequest req;
+  req.actor = "test";
+  auto raw = app_->fits().Fit("m1", "Y", req);
+  ASSERT_TRUE(raw.ok()) << raw.status().ToString();
+  int64_t axis_id = 0;
+  {
+    const std::unique_ptr<Session> session = app_->storage().Open();
+    axis_id = session->machines().Find("m1")->FindAxis("Y")->id;
+  }
+  // A served offset that changes every hour (up to 8 um): each point read
+  // its raw deviation plus the one served in its hour.
+  constexpr int64_t kHour = 3600000;
+  const int64_t first = clock_.NowMs() - 11 * 24 * kHour;
+  auto served = [&](int64_t ts) { return 0.008 * std::sin(static_cast<double>(ts / kHour)); };
+  {
+    const std::unique_ptr<Session> session = app_->storage().Open();
+    for (int64_t ts = first - first % kHour; ts <= clock_.NowMs(); ts += kHour) {
+      ASSERT_TRUE(session->log()
+                      .AppendCompensation(axis_id, {ts, served(ts), -served(ts), true, false, 1})
+                      .ok());
+    }
+  }
+  Sqlite().WithConnection([&](Database& db) {
+    std::vector<std::pair<int64_t, int64_t>> points;  // id, ts
+    Statement q(db, "SELECT id, ts_ms FROM probe_points");
+    while (q.Step()) points.emplace_back(q.Int(0), q.Int(1));
+    for (const auto& [id, ts] : points) {
+      Statement up(db,
+                   "UPDATE probe_axis_values SET deviation_mm = deviation_mm + ? WHERE point_id = ?"
+                   " AND axis = 'Y'");
+      up.Bind(1, served(ts)).Bind(2, id);
+      ASSERT_TRUE(up.Run().ok());
+      Statement flag(db, "UPDATE probe_points SET compensated = 1 WHERE id = ?");
+      flag.Bind(1, id);
+      ASSERT_TRUE(flag.Run().ok());
+    }
+  });
+  auto recovered = app_->fits().Fit("m1", "Y", req);
+  ASSERT_TRUE(recovered.ok()) << recovered.status().ToString();
+  EXPECT_EQ(recovered->skipped_unserved, 0);
+  EXPECT_EQ(recovered->validation.n, raw->validation.n);
+  ASSERT_EQ(recovered->model.inputs, raw->model.inputs);
+  EXPECT_NEAR(recovered->model.intercept, raw->model.intercept, 1e-9);
+  for (size_t j = 0; j < raw->model.coefficients.size(); ++j) {
+    EXPECT_NEAR(recovered->model.coefficients[j], raw->model.coefficients[j], 1e-9) << j;
+  }
+  // The served log stops two days before now: later compensated points
+  // have nothing to undo.
+  Sqlite().WithConnection([&](Database& db) {
+    Statement del(db, "DELETE FROM compensation_log WHERE ts_ms > ?");
+    del.Bind(1, clock_.NowMs() - 2 * 24 * kHour);
+    ASSERT_TRUE(del.Run().ok());
+  });
+  auto cut = app_->fits().Fit("m1", "Y", req);
+  ASSERT_TRUE(cut.ok()) << cut.status().ToString();
+  EXPECT_GT(cut->skipped_unserved, 0);
+  // Fewer points reach the fit and its validation than with the whole log.
+  EXPECT_LT(cut->fit.n + cut->validation.n, recovered->fit.n + recovered->validation.n);
+  EXPECT_NE(FitReportMarkdown(*cut).find("probed with compensation active"), std::string::npos);
+  EXPECT_EQ(FitReportToJson(*cut)["skipped"]["compensated_unserved"], cut->skipped_unserved);
+}
+
 TEST_F(FitReportTest, NumbersThatWereNotComputedAreNullAndComeBackAsNaN) {
   FitReport r;
   r.status = "rejected";
