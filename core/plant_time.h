@@ -25,6 +25,12 @@ class PlantTime {
 
   // "YYYY-MM-DD hh:mm:ss" and the zone's abbreviation at that instant.
   std::string Format(int64_t unix_ms) const;
+  // The start of the plant's day that holds `unix_ms`, moved by `days`
+  // whole days: local midnight (or, where a clock change skips midnight,
+  // the first instant of that day). Days are 23, 24 or 25 hours long.
+  int64_t DayStartMs(int64_t unix_ms, int days = 0) const;
+  // The start of the plant's week (from Monday) that holds `unix_ms`.
+  int64_t WeekStartMs(int64_t unix_ms) const;
   const std::string& zone() const { return name_; }
 
  private:

@@ -70,6 +70,25 @@ std::vector<OutcomeBucket> BucketOutcome(std::span<const OutcomePoint> points, i
   return out;
 }
 
+std::vector<OutcomeBucket> BucketOutcome(std::span<const OutcomePoint> points, int64_t from_ms,
+                                         int64_t to_ms, std::span<const int64_t> edges) {
+  std::vector<OutcomeBucket> out;
+  if (to_ms < from_ms) return out;
+  auto next = points.begin();
+  for (size_t i = 0; i + 1 < edges.size(); ++i) {
+    if (edges[i + 1] <= from_ms || edges[i] > to_ms) continue;
+    OutcomeBucket b;
+    b.start_ms = std::max(edges[i], from_ms);
+    b.end_ms = std::min(edges[i + 1], to_ms + 1);
+    while (next != points.end() && next->ts_ms < b.start_ms) ++next;
+    auto first = next;
+    while (next != points.end() && next->ts_ms < b.end_ms) ++next;
+    b.stats = SummarizeOutcome({first, next});
+    out.push_back(b);
+  }
+  return out;
+}
+
 ModelHealth JudgeModelHealth(std::span<const OutcomePoint> recent,
                              std::optional<double> validated_rmse_mm) {
   ModelHealth h;

@@ -50,6 +50,11 @@ struct OutcomeBucket {
 // and last are cut to the range. `points` in time order.
 std::vector<OutcomeBucket> BucketOutcome(std::span<const OutcomePoint> points, int64_t from_ms,
                                          int64_t to_ms, int64_t bucket_ms, int64_t origin_ms);
+// Buckets between consecutive `edges` (ascending, the first at or before
+// `from_ms`, the last after `to_ms`): calendar days of unequal length, as
+// the plant's clock changes make them. Cut to [from, to] like the above.
+std::vector<OutcomeBucket> BucketOutcome(std::span<const OutcomePoint> points, int64_t from_ms,
+                                         int64_t to_ms, std::span<const int64_t> edges);
 
 // Is the active model still as good as its validation said? Judged on the
 // probe points since it was first served, by the model's own residual.

@@ -24,7 +24,8 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
   app->checks_ = std::make_unique<CheckService>(d, clock, c);
   app->compensation_ = std::make_unique<CompensationService>(d, clock, c);
   app->history_ = std::make_unique<HistoryService>(d, c, cache);
-  app->outcomes_ = std::make_unique<OutcomeService>(d, clock, *app->history_, *app->compensation_);
+  app->outcomes_ = std::make_unique<OutcomeService>(d, clock, *app->history_, *app->compensation_,
+                                                    app->plant_time_);
   app->scheduler_ = std::make_unique<RefitScheduler>(d, *app->fits_, clock, c, app->analyses_.get(),
                                                      app->checks_.get());
   CompensationService* compensation = app->compensation_.get();

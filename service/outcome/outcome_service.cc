@@ -14,7 +14,6 @@ namespace thermocomp {
 namespace {
 
 // 1970-01-05 was a Monday: weeks start there, at 00:00 UTC.
-constexpr int64_t kMondayMs = 4 * kDayMs;
 
 // The validation error a version's report states, if it states one.
 std::optional<double> ValidatedRmse(const ModelRecord& record) {
@@ -135,6 +134,13 @@ StatusOr<MachineOutcome> OutcomeService::Outcome(const OutcomeQuery& q) {
   out.computed_at_ms = clock_.NowMs();
   const bool weeks = q.bucket == OutcomeBucketSize::kWeek;
   const int64_t recent_from = out.computed_at_ms - kOutcomeWeekMs;
+  // The plant's calendar days (or weeks from Monday) over the range.
+  std::vector<int64_t> edges;
+  for (int64_t at = weeks ? plant_time_.WeekStartMs(q.from_ms) : plant_time_.DayStartMs(q.from_ms);;
+       at = plant_time_.DayStartMs(at, weeks ? 7 : 1)) {
+    edges.push_back(at);
+    if (at > q.to_ms) break;
+  }
   for (const AxisRecord& axis : machine->axes) {
     if (q.axis && axis.name != *q.axis) continue;
     // One read covers the range asked and the recent week health needs.
@@ -149,8 +155,7 @@ StatusOr<MachineOutcome> OutcomeService::Outcome(const OutcomeQuery& q) {
     a.axis = axis.name;
     a.model_version = data.model_version;
     a.total = SummarizeOutcome(in_range.points);
-    a.buckets = BucketOutcome(in_range.points, q.from_ms, q.to_ms, weeks ? 7 * kDayMs : kDayMs,
-                              weeks ? kMondayMs : 0);
+    a.buckets = BucketOutcome(in_range.points, q.from_ms, q.to_ms, edges);
     a.health = Health(*session, axis, recent, ServedAxis(served_now, axis.name));
     out.axes.push_back(std::move(a));
   }

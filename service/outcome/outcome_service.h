@@ -11,9 +11,11 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/clock.h"
+#include "core/plant_time.h"
 #include "model/compensation_outcome.h"
 #include "service/compensation_service.h"
 #include "service/drift_dataset.h"
@@ -79,9 +81,15 @@ inline constexpr int64_t kOutcomeWeekMs = 7 * 86400000LL;
 
 class OutcomeService {
  public:
+  // Days and weeks are the plant's (`plant_time`), as people on the line
+  // count them.
   OutcomeService(Storage& storage, const Clock& clock, HistoryService& history,
-                 CompensationService& compensation)
-      : storage_(storage), clock_(clock), history_(history), compensation_(compensation) {}
+                 CompensationService& compensation, PlantTime plant_time = PlantTime())
+      : storage_(storage),
+        clock_(clock),
+        history_(history),
+        compensation_(compensation),
+        plant_time_(std::move(plant_time)) {}
 
   // NotFound for an unknown machine or axis.
   StatusOr<MachineOutcome> Outcome(const OutcomeQuery& q);
@@ -114,6 +122,7 @@ class OutcomeService {
   const Clock& clock_;
   HistoryService& history_;
   CompensationService& compensation_;
+  PlantTime plant_time_;
   std::mutex summary_mutex_;
   struct CachedSummary {
     int64_t at_ms = 0;

@@ -27,6 +27,29 @@ TEST(PlantTimeTest, BerlinIsOneHourAheadInWinterAndTwoInSummer) {
   EXPECT_EQ(berlin->Format(At("2026-12-31T23:30:00Z")), "2027-01-01 00:30:00 CET");
 }
 
+TEST(PlantTimeTest, ThePlantsDaysAndWeeksFollowItsClock) {
+  auto berlin = PlantTime::Load("Europe/Berlin");
+  ASSERT_TRUE(berlin.ok());
+  // 2026-03-29 (a Sunday) starts at 00:00 CET = 03-28 23:00 UTC and, the
+  // clocks going forward, lasts 23 hours: 03-30 starts at 00:00 CEST.
+  const int64_t noon = At("2026-03-29T12:00:00Z");
+  EXPECT_EQ(berlin->DayStartMs(noon), At("2026-03-28T23:00:00Z"));
+  EXPECT_EQ(berlin->DayStartMs(noon, 1), At("2026-03-29T22:00:00Z"));
+  EXPECT_EQ(berlin->DayStartMs(noon, -1), At("2026-03-27T23:00:00Z"));
+  // 23:30 UTC on 03-28 is already the 29th in Berlin.
+  EXPECT_EQ(berlin->DayStartMs(At("2026-03-28T23:30:00Z")), At("2026-03-28T23:00:00Z"));
+  // Its week began on Monday 03-23 at 00:00 CET.
+  EXPECT_EQ(berlin->WeekStartMs(noon), At("2026-03-22T23:00:00Z"));
+  // A Monday is its own week's start; October's day lasts 25 hours.
+  EXPECT_EQ(berlin->WeekStartMs(At("2026-03-30T08:00:00Z")), At("2026-03-29T22:00:00Z"));
+  EXPECT_EQ(berlin->DayStartMs(At("2026-10-25T12:00:00Z"), 1) -
+                berlin->DayStartMs(At("2026-10-25T12:00:00Z")),
+            25 * 3600000LL);
+  // UTC: midnight, and weeks from Monday 1970-01-05.
+  EXPECT_EQ(PlantTime().DayStartMs(noon), At("2026-03-29T00:00:00Z"));
+  EXPECT_EQ(PlantTime().WeekStartMs(noon), At("2026-03-23T00:00:00Z"));
+}
+
 TEST(PlantTimeTest, UtcByDefaultAndAnUnknownZoneIsRefusedByName) {
   EXPECT_EQ(PlantTime().Format(At("2026-11-24T13:30:05Z")), "2026-11-24 13:30:05 UTC");
   auto utc = PlantTime::Load("UTC");

@@ -85,6 +85,24 @@ TEST(CompensationOutcomeTest, DaysAreCutToTheRangeAndHoldTheirPoints) {
   EXPECT_EQ(b[2].stats.points, 1u);
 }
 
+TEST(CompensationOutcomeTest, BucketsBetweenEdgesOfUnequalLength) {
+  // A plant day of 23 hours between edges 0, 23 h and 47 h; the range from
+  // 1 h to 40 h cuts the first and the last.
+  const std::vector<int64_t> edges = {0, 23 * kH, 47 * kH};
+  const std::vector<OutcomePoint> p = {{2 * kH, 1 * kUm, {}, {}},
+                                       {22 * kH + 59 * 60000, 1 * kUm, {}, {}},
+                                       {23 * kH, 3 * kUm, {}, {}}};
+  const auto b = BucketOutcome(p, 1 * kH, 40 * kH, edges);
+  ASSERT_EQ(b.size(), 2u);
+  EXPECT_EQ(b[0].start_ms, 1 * kH);
+  EXPECT_EQ(b[0].end_ms, 23 * kH);
+  EXPECT_EQ(b[0].stats.points, 2u);
+  EXPECT_EQ(b[1].start_ms, 23 * kH);
+  EXPECT_EQ(b[1].end_ms, 40 * kH + 1);
+  EXPECT_EQ(b[1].stats.points, 1u);
+  EXPECT_NEAR(*b[1].stats.drift_rms_mm, 3 * kUm, 1e-15);
+}
+
 TEST(CompensationOutcomeTest, WeeksStartOnTheOriginGivenBeforeTheRange) {
   // Origin day 4 (a Monday since 1970-01-05): weeks [4, 11), [11, 18).
   // Days 5 to 10 lie in one; days 10 to 13 in two, cut to the range.

@@ -225,7 +225,7 @@
         onclick: () => rebucket(b) }, b)));
     outcome.replaceChildren(el("h2", {}, "What compensation achieves"), toggle,
       el("p", { class: "muted", id: "outcome-range" }, "Probe points from " + time(o.from) + " to " + time(o.to) + " (" + TC.zone +
-        (TC.zone === "UTC" ? "" : "; " + o.bucket + "s begin at 00:00 UTC") +
+        "; " + o.bucket + "s of the plant, from 00:00" +
         (state.from === null ? "; from the first to the last probe point shown above" : "") +
         "). RMS in µm; left: the error after the offset served at the time."),
       ...(o.axes.length ? o.axes.map((a) => outcomeAxis(a, o)) : [el("div", { class: "empty" }, "This machine has no axes.")]));
