@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
@@ -65,6 +66,19 @@ std::optional<bool> ParseCompensated(std::string_view s) {
 
 constexpr const char* kCompensatedColumn = "compensated";
 constexpr const char* kCompensatedHelp = "must be true, false, 1 or 0";
+
+// A column named twice would let one cell overwrite the other unseen (or
+// make a sample conflict with itself): the header is refused, naming it.
+bool RepeatedColumn(const std::vector<std::string_view>& header, FieldErrors& errors) {
+  std::set<std::string_view> seen;
+  for (std::string_view name : header) {
+    if (!seen.insert(name).second) {
+      errors.push_back({0, std::string(name), "column named twice in the header"});
+      return true;
+    }
+  }
+  return false;
+}
 
 const char* kTsHelp =
     "must be RFC 3339 (e.g. 2026-03-01T06:00:00Z) or integer Unix milliseconds, from 2000 to 2099";
@@ -223,6 +237,7 @@ bool ParseChannelCsv(const std::string& body, const std::string& key,
     return false;
   }
   const auto& header = rows[0];
+  if (RepeatedColumn(header, errors)) return false;
   const bool long_form = header.size() == 3 && header[1] == key && header[2] == "value";
   out.reserve((rows.size() - 1) * (long_form ? 1 : header.size() - 1));
   for (size_t r = 1; r < rows.size(); ++r) {
@@ -355,6 +370,7 @@ bool ParseProbePointsCsv(const std::string& body, std::vector<ProbePointInput>& 
     return false;
   }
   const auto& header = rows[0];
+  if (RepeatedColumn(header, errors)) return false;
   for (size_t r = 1; r < rows.size(); ++r) {
     const auto& cells = rows[r];
     const size_t index = r - 1;
@@ -424,6 +440,7 @@ bool ParseDisplacementsCsv(const std::string& body, int64_t run_gap_ms,
     return false;
   }
   const auto& header = rows[0];
+  if (RepeatedColumn(header, errors)) return false;
   std::string run;
   int k = 0;
   int64_t last_ts = 0;

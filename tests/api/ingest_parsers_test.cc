@@ -162,6 +162,32 @@ TEST(IngestParsersTest, CompensatedIsAnOptionalFlagOnEveryProbeForm) {
   EXPECT_EQ(errors[0].field, "header");  // a deviation column is still required
 }
 
+TEST(IngestParsersTest, AColumnNamedTwiceIsRefusedNamingIt) {
+  // Otherwise the later cell would overwrite the earlier one unseen.
+  std::vector<ProbePointInput> points;
+  FieldErrors errors;
+  EXPECT_FALSE(ParseProbePointsCsv("ts,run,k,dev_Y,dev_Y\n1772344800000,E7,0,0.001,0.002\n", points,
+                                   errors));
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].field, "dev_Y");
+  EXPECT_TRUE(points.empty());
+  errors.clear();
+  EXPECT_FALSE(ParseProbePointsCsv(
+      "ts,run,k,dev_Y,compensated,compensated\n1772344800000,E7,0,0.001,1,0\n", points, errors));
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].field, "compensated");
+  errors.clear();
+  EXPECT_FALSE(ParseDisplacementsCsv("ts,dev_Y,dev_Y\n1772344800000,0,1\n", 60000, points, errors));
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].field, "dev_Y");
+  std::vector<TemperatureInput> samples;
+  errors.clear();
+  EXPECT_FALSE(ParseTemperaturesCsv("ts,T1,T2,T1\n1772344800000,20,21,22\n", samples, errors));
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].field, "T1");
+  EXPECT_TRUE(samples.empty());
+}
+
 TEST(IngestParsersTest, TimestampForms) {
   EXPECT_EQ(ParseTimestamp("2026-03-01T07:00:00+01:00"), ParseTimestamp("2026-03-01T06:00:00Z"));
   EXPECT_EQ(ParseTimestamp("2026-03-01T05:30:00-00:30"), ParseTimestamp("2026-03-01T06:00:00Z"));
