@@ -60,7 +60,10 @@ TEST_F(FitReportTest, CompensatedPointsFitTheSameModelAsTheirRawDrift) {
   // its raw deviation plus the one served in its hour.
   constexpr int64_t kHour = 3600000;
   const int64_t first = clock_.NowMs() - 11 * 24 * kHour;
-  auto served = [&](int64_t ts) { return 0.008 * std::sin(static_cast<double>(ts / kHour)); };
+  auto served = [&](int64_t ts) {
+    const int64_t hour = ts / kHour;  // the same offset all hour
+    return 0.008 * std::sin(static_cast<double>(hour));
+  };
   {
     const std::unique_ptr<Session> session = app_->storage().Open();
     for (int64_t ts = first - first % kHour; ts <= clock_.NowMs(); ts += kHour) {
