@@ -43,8 +43,7 @@ int64_t PlantTime::DayStartMs(int64_t unix_ms, int days) const {
 int64_t PlantTime::WeekStartMs(int64_t unix_ms) const {
   using namespace std::chrono;
   const int64_t day = DayStartMs(unix_ms);
-  // The weekday of that local day: its local date is the civil date of
-  // the UTC-shifted start, read through the zone again.
+  // The weekday of the plant's date at that instant.
   const sys_time<milliseconds> at{milliseconds(unix_ms)};
   const auto local = zone_ == nullptr ? date::local_time<milliseconds>(at.time_since_epoch())
                                       : zone_->to_local(at);

@@ -12,13 +12,9 @@ namespace {
 // the zeroing position when the check has one.
 ScrewShape ShapeAt(const ScrewAxis& axis, const ScrewProfile& rise, double machine_mm,
                    const std::optional<double>& zeroed_at_mm) {
-  auto at = [&](double p) {
-    ScrewShape s = ScrewShapeAt(axis, rise, axis.direction * (p - axis.zero_mm));
-    return ScrewShape{axis.direction * s.expansion, axis.direction * s.preload};
-  };
-  ScrewShape s = at(machine_mm);
+  ScrewShape s = ScrewShapeAtMachine(axis, rise, machine_mm);
   if (zeroed_at_mm) {
-    const ScrewShape z = at(*zeroed_at_mm);
+    const ScrewShape z = ScrewShapeAtMachine(axis, rise, *zeroed_at_mm);
     s.expansion -= z.expansion;
     s.preload -= z.preload;
   }
@@ -103,9 +99,8 @@ StatusOr<ScrewCheckError> ScrewCheckResidual(const ScrewAxis& axis, const ScrewC
   ScrewCheckError e;
   const size_t n = check.position_mm.size();
   for (size_t k = 0; k < n; ++k) {
-    const ScrewShape s = ShapeAt(axis, *rise, check.position_mm[k], check.zeroed_at_mm);
-    const double alpha = axis.alpha_um_per_m_k;
-    const double predicted = alpha * s.expansion + alpha * axis.stiffness_ratio * s.preload;
+    const double predicted =
+        ScrewShapeUm(axis, ShapeAt(axis, *rise, check.position_mm[k], check.zeroed_at_mm));
     const double left = check.error_um[k] - predicted;
     e.rms_um += check.error_um[k] * check.error_um[k];
     e.rms_left_um += left * left;

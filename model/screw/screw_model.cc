@@ -93,15 +93,22 @@ ScrewShape ScrewShapeAt(const ScrewAxis& axis, const ScrewProfile& rise, double 
   return {i_x - s * i_l, i_l * (2.0 * s - 1.0)};
 }
 
-double ScrewElongationUm(const ScrewAxis& axis, const ScrewProfile& rise, double screw_x_mm) {
-  const ScrewShape shape = ScrewShapeAt(axis, rise, screw_x_mm);
+ScrewShape ScrewShapeAtMachine(const ScrewAxis& axis, const ScrewProfile& rise, double machine_mm) {
+  const ScrewShape s = ScrewShapeAt(axis, rise, axis.direction * (machine_mm - axis.zero_mm));
+  return {axis.direction * s.expansion, axis.direction * s.preload};
+}
+
+double ScrewShapeUm(const ScrewAxis& axis, const ScrewShape& shape) {
   const double alpha = axis.alpha_um_per_m_k;
   return alpha * shape.expansion + alpha * axis.stiffness_ratio * shape.preload;
 }
 
+double ScrewElongationUm(const ScrewAxis& axis, const ScrewProfile& rise, double screw_x_mm) {
+  return ScrewShapeUm(axis, ScrewShapeAt(axis, rise, screw_x_mm));
+}
+
 double ScrewErrorUm(const ScrewAxis& axis, const ScrewProfile& rise, double machine_mm) {
-  const double x = axis.direction * (machine_mm - axis.zero_mm);
-  return axis.direction * ScrewElongationUm(axis, rise, x);
+  return ScrewShapeUm(axis, ScrewShapeAtMachine(axis, rise, machine_mm));
 }
 
 double ScrewCorrectionUm(const ScrewAxis& axis, const ScrewProfile& rise, double machine_mm) {

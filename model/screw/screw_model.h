@@ -62,6 +62,10 @@ struct ScrewShape {
   double expansion = 0, preload = 0;
 };
 ScrewShape ScrewShapeAt(const ScrewAxis& axis, const ScrewProfile& rise, double screw_x_mm);
+// The shapes at a machine position, in machine coordinates (times direction).
+ScrewShape ScrewShapeAtMachine(const ScrewAxis& axis, const ScrewProfile& rise, double machine_mm);
+// α·expansion + α·a·preload with the axis' α and a (µm).
+double ScrewShapeUm(const ScrewAxis& axis, const ScrewShape& shape);
 
 // δ at screw coordinate x (µm).
 double ScrewElongationUm(const ScrewAxis& axis, const ScrewProfile& rise, double screw_x_mm);

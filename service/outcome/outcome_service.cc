@@ -13,8 +13,6 @@
 namespace thermocomp {
 namespace {
 
-// 1970-01-05 was a Monday: weeks start there, at 00:00 UTC.
-
 // The validation error a version's report states, if it states one.
 std::optional<double> ValidatedRmse(const ModelRecord& record) {
   const auto j = nlohmann::json::parse(record.report_json, nullptr, false);

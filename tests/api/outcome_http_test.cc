@@ -141,6 +141,30 @@ TEST_F(OutcomeHttpTest, WeeksStartOnMondayAndTheDefaultRangeIsTheLast28Days) {
   EXPECT_EQ(b[3]["points"], 7);
 }
 
+// A plant in Berlin counts its days from midnight there (23:00 UTC in
+// March before the clocks change); the times stay UTC.
+class OutcomeBerlinTest : public OutcomeHttpTest {
+ protected:
+  void Configure(Config& c) override { c.web_time_zone = "Europe/Berlin"; }
+};
+
+TEST_F(OutcomeBerlinTest, DaysAndWeeksAreThePlantsDays) {
+  Scenario();
+  const json o =
+      Get("/api/v1/machines/m1/compensation/outcome?axis=Y&from=" + std::to_string(kT0 + 9 * kDay) +
+          "&to=" + std::to_string(kT0 + 14 * kDay));
+  const json& b = o["axes"][0]["buckets"];
+  ASSERT_EQ(b.size(), 6u) << b.dump();
+  EXPECT_EQ(b[0]["start"], FormatRfc3339(kT0 + 9 * kDay));
+  EXPECT_EQ(b[0]["end"], FormatRfc3339(kT0 + 10 * kDay - kH));
+  EXPECT_EQ(b[1]["start"], FormatRfc3339(kT0 + 10 * kDay - kH));
+  EXPECT_EQ(b[1]["points"], 6);
+  EXPECT_EQ(b[5]["start"], FormatRfc3339(kT0 + 14 * kDay - kH));
+  // Now is Monday 2026-03-16 01:00 in Berlin: its week began at 00:00 there.
+  const json w = Get("/api/v1/machines/m1/compensation/outcome?bucket=week");
+  EXPECT_EQ(w["axes"][0]["buckets"].back()["start"], "2026-03-15T23:00:00.000Z");
+}
+
 TEST_F(OutcomeHttpTest, TheOverviewCarriesTheLastWeekAndTheHealthPerAxis) {
   Scenario();
   const json o = Get("/api/v1/overview");
