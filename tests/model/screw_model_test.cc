@@ -35,8 +35,8 @@ ScrewProfile Rise(const ScrewAxis& axis, const std::vector<double>& theta) {
 }
 
 std::vector<double> NineSensors() {
-  std::vector<double> x;
-  for (int i = 0; i < 9; ++i) x.push_back(135.0 * i);  // 0, 135, ..., 1080 mm
+  std::vector<double> x(9);
+  for (int i = 0; i < 9; ++i) x[i] = 135.0 * i;  // 0, 135, ..., 1080 mm
   return x;
 }
 
