@@ -6,7 +6,7 @@
 
 #include "api/report_page.h"
 #include "core/time_format.h"
-#include "service/report_text.h"
+#include "reports/report_text.h"
 
 namespace thermocomp::api {
 namespace {

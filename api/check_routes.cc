@@ -6,8 +6,8 @@
 #include "api/http_util.h"
 #include "api/ingest_parsers.h"
 #include "core/time_format.h"
-#include "service/check_report_codec.h"
-#include "service/json_fields.h"
+#include "reports/check_report_codec.h"
+#include "reports/json_fields.h"
 
 namespace thermocomp::api {
 using nlohmann::json;

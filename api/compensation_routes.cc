@@ -9,8 +9,8 @@
 #include "api/json_mapping.h"
 #include "api/problem.h"
 #include "core/time_format.h"
-#include "service/drift_history_codec.h"
-#include "service/json_fields.h"
+#include "reports/drift_history_codec.h"
+#include "reports/json_fields.h"
 #include "service/outcome/outcome_codec.h"
 
 namespace thermocomp::api {

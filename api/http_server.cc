@@ -411,6 +411,8 @@ void HttpServer::Routes() {
   ModelRoutes();
   CompensationRoutes();
   CheckRoutes();
+  FeedAxisRoutes();
+  ThermalErrorRoutes();
   OverviewRoutes();
   SessionRoutes();
   PageRoutes();

@@ -55,6 +55,8 @@ class HttpServer {
   void ModelRoutes();         // model_routes.cc: fits, versions, analyses
   void CompensationRoutes();  // compensation_routes.cc: compensation, outcome, drift
   void CheckRoutes();         // check_routes.cc: column and positioning checks
+  void FeedAxisRoutes();      // feed_axis_routes.cc: screw configuration, feed-axis models
+  void ThermalErrorRoutes();  // thermal_error_routes.cc: the thermal error table, its history
   void OverviewRoutes();      // overview_routes.cc: the line at a glance, temperatures
   void SessionRoutes();       // web/session_routes.cc: signing in to the pages
   void PageRoutes();          // web/page_routes.cc: the pages and their assets

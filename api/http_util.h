@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/problem.h"
-#include "service/json_text.h"
+#include "reports/json_text.h"
 
 namespace thermocomp::api {
 

@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/time_format.h"
-#include "service/json_fields.h"
-#include "service/json_text.h"
+#include "reports/json_fields.h"
+#include "reports/json_text.h"
 
 namespace thermocomp::api {
 namespace {

@@ -4,9 +4,9 @@
 
 #include "api/ingest_parsers.h"
 #include "core/time_format.h"
-#include "service/json_fields.h"
-#include "service/json_text.h"
-#include "service/model_codec.h"
+#include "reports/json_fields.h"
+#include "reports/json_text.h"
+#include "reports/model_codec.h"
 
 namespace thermocomp::api {
 

@@ -6,8 +6,8 @@
 #include "api/http_util.h"
 #include "api/json_mapping.h"
 #include "api/problem.h"
-#include "service/json_fields.h"
-#include "service/machine_status_codec.h"
+#include "reports/json_fields.h"
+#include "reports/machine_status_codec.h"
 
 namespace thermocomp::api {
 using nlohmann::json;

@@ -9,11 +9,11 @@
 #include "api/problem.h"
 #include "api/report_page.h"
 #include "core/time_format.h"
-#include "service/analysis_report_codec.h"
-#include "service/analysis_report_text.h"
-#include "service/fit_report_codec.h"
-#include "service/fit_report_text.h"
-#include "service/json_fields.h"
+#include "reports/analysis_report_codec.h"
+#include "reports/analysis_report_text.h"
+#include "reports/fit_report_codec.h"
+#include "reports/fit_report_text.h"
+#include "reports/json_fields.h"
 #include "service/outcome/outcome_codec.h"
 
 namespace thermocomp::api {

@@ -2,7 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "service/json_text.h"
+#include "reports/json_text.h"
 
 namespace thermocomp::api {
 namespace {

@@ -6,8 +6,8 @@
 #include <memory>
 #include <mutex>
 
-#include "service/analysis_report_text.h"
-#include "service/fit_report_text.h"
+#include "reports/analysis_report_text.h"
+#include "reports/fit_report_text.h"
 
 namespace thermocomp::api {
 namespace {

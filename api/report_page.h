@@ -7,8 +7,8 @@
 #include <string>
 
 #include "core/plant_time.h"
-#include "service/analysis_report.h"
-#include "service/fit_report.h"
+#include "reports/analysis_report.h"
+#include "reports/fit_report.h"
 
 namespace thermocomp::api {
 

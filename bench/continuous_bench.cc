@@ -37,7 +37,7 @@
 #include <benchmark/benchmark.h>
 #include <sqlite3.h>
 
-#include "app/open_app.h"
+#include "server/open_app.h"
 #include "model/term_features.h"
 #include "service/app.h"
 #include "sim/sim_recording.h"

@@ -15,7 +15,7 @@
 #include <sqlite3.h>
 
 #include "api/dds/dds_client.h"
-#include "app/open_app.h"
+#include "server/open_app.h"
 #include "core/time_format.h"
 #include "storage/sqlite/sqlite_storage.h"
 

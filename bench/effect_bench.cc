@@ -35,7 +35,7 @@
 #include <benchmark/benchmark.h>
 #include <sqlite3.h>
 
-#include "app/open_app.h"
+#include "server/open_app.h"
 #include "service/app.h"
 #include "sim/column_machine.h"
 #include "sim/sim_recording.h"

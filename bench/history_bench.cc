@@ -8,10 +8,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "app/open_app.h"
+#include "server/open_app.h"
 #include "service/app.h"
-#include "service/drift_history_codec.h"
-#include "service/model_codec.h"
+#include "reports/drift_history_codec.h"
+#include "reports/model_codec.h"
 #include "storage/sqlite/log_store.h"
 #include "storage/sqlite/model_store.h"
 #include "storage/sqlite/sqlite_storage.h"

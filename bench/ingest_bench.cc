@@ -2,7 +2,7 @@
 // request, one keep-alive client) against raw batched SQLite inserts into
 // the same table layout, in the same process, with the same durability.
 //   build/bench/ingest_bench --benchmark_min_time=3
-#include "app/open_app.h"
+#include "server/open_app.h"
 #include "service/app.h"  // before httplib.h (Eigen vs resolv.h)
 
 #include <filesystem>

@@ -11,7 +11,7 @@
 #include "model/positioning_check.h"
 #include "model/selection.h"
 #include "model/thinning.h"
-#include "service/check_codec.h"
+#include "reports/check_codec.h"
 
 namespace thermocomp {
 namespace {

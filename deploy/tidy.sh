@@ -22,7 +22,7 @@ if [[ ! -f $build/compile_commands.json ]]; then
 fi
 db=$build/tidy
 mkdir -p "$db"
-folders='(core|model|storage|service|api|sim|app|bench|tests)'
+folders='(core|model|storage|reports|service|api|sim|server|bench|tests)'
 record=deploy/tidy-clean.txt
 version=$(clang-tidy-14 --version | tr -s ' \n' ' ')
 python3 - "$build/compile_commands.json" build/compile_commands.json "$db" "$root" "$record" \
@@ -50,7 +50,7 @@ def without_pch(command):
             out.append(args[i])
             i += 1
     return out
-ours = re.compile("^" + re.escape(root) + "/(core|model|storage|service|api|sim|app|bench|tests)/")
+ours = re.compile("^" + re.escape(root) + "/(core|model|storage|reports|service|api|sim|server|bench|tests)/")
 # The checkout's path, as written and as generated headers mangle it into
 # include guards (/tmp/x -> _TMP_X), is left out: the same tree hashes the
 # same wherever it is checked out.

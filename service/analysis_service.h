@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "core/clock.h"
-#include "service/analysis_report.h"
+#include "reports/analysis_report.h"
 #include "service/config.h"
 #include "service/probe_temperature_cache.h"
 #include "storage/analysis_store.h"

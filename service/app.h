@@ -26,7 +26,7 @@ namespace thermocomp {
 class App {
  public:
   // The services over `storage` (the backend is chosen by the caller:
-  // app/open_app.h).
+  // server/open_app.h).
   static StatusOr<std::unique_ptr<App>> Open(const Config& config, const Clock& clock,
                                              std::unique_ptr<Storage> storage);
 

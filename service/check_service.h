@@ -15,10 +15,10 @@
 
 #include "core/clock.h"
 #include "model/pitch_table.h"
-#include "service/check_codec.h"
-#include "service/check_reports.h"
+#include "reports/check_codec.h"
+#include "reports/check_reports.h"
 #include "service/config.h"
-#include "service/machine_status.h"
+#include "reports/machine_status.h"
 #include "storage/check_store.h"
 #include "storage/storage.h"
 

@@ -7,7 +7,7 @@
 #include "core/time_format.h"
 #include "model/drift_model.h"
 #include "service/live_terms.h"
-#include "service/model_codec.h"
+#include "reports/model_codec.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"

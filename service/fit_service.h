@@ -17,7 +17,7 @@
 #include "core/clock.h"
 #include "core/records.h"
 #include "service/config.h"
-#include "service/fit_report.h"
+#include "reports/fit_report.h"
 #include "service/probe_temperature_cache.h"
 #include "storage/storage.h"
 

@@ -8,7 +8,7 @@
 #include "service/drift_dataset.h"
 #include "service/live_terms.h"
 #include "service/machine_lookup.h"
-#include "service/model_codec.h"
+#include "reports/model_codec.h"
 #include "service/term_input.h"
 #include "storage/aux_store.h"
 #include "storage/check_store.h"

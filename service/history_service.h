@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "service/config.h"
-#include "service/drift_history.h"
+#include "reports/drift_history.h"
 #include "service/probe_temperature_cache.h"
 #include "storage/storage.h"
 

@@ -14,7 +14,7 @@
 #include "core/records.h"
 #include "service/config.h"
 #include "service/ingest_service.h"
-#include "service/machine_status.h"
+#include "reports/machine_status.h"
 #include "service/probe_temperature_cache.h"
 #include "storage/storage.h"
 

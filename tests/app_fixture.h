@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "api/http_server.h"
-#include "app/open_app.h"
+#include "server/open_app.h"
 #include "service/app.h"
 #include "sim/virtual_machine.h"
 #include "storage/sqlite/sqlite_storage.h"

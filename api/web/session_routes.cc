@@ -8,7 +8,7 @@
 #include "api/http_util.h"
 #include "api/problem.h"
 #include "core/time_format.h"
-#include "service/json_fields.h"
+#include "reports/json_fields.h"
 
 namespace thermocomp::api {
 namespace {

@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/time_format.h"
-#include "service/analysis_report_codec.h"
-#include "service/drift_history_codec.h"
+#include "reports/analysis_report_codec.h"
+#include "reports/drift_history_codec.h"
 #include "sim/sensor_fault.h"
 #include "sim/sim_recording.h"
 

@@ -9,8 +9,8 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
-#include "service/check_report_codec.h"
-#include "service/machine_status_codec.h"
+#include "reports/check_report_codec.h"
+#include "reports/machine_status_codec.h"
 
 namespace thermocomp {
 namespace {

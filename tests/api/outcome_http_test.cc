@@ -12,7 +12,7 @@
 
 #include "core/time_format.h"
 #include "service/drift_dataset.h"
-#include "service/model_codec.h"
+#include "reports/model_codec.h"
 #include "storage/log_store.h"
 #include "storage/model_store.h"
 

@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "api/check_reports.h"
-#include "service/analysis_report_text.h"
-#include "service/fit_report_text.h"
-#include "service/report_text.h"
+#include "reports/analysis_report_text.h"
+#include "reports/fit_report_text.h"
+#include "reports/report_text.h"
 
 namespace thermocomp::api {
 namespace {

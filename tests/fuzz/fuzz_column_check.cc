@@ -6,8 +6,8 @@
 #include <string>
 
 #include "model/column_check.h"
-#include "service/check_codec.h"
-#include "service/json_text.h"
+#include "reports/check_codec.h"
+#include "reports/json_text.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace thermocomp;

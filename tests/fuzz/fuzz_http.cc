@@ -14,7 +14,7 @@
 #include <string>
 
 #include "api/http_server.h"
-#include "app/open_app.h"
+#include "server/open_app.h"
 #include "core/log.h"
 #include "sim/virtual_machine.h"
 

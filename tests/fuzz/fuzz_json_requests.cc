@@ -9,8 +9,8 @@
 
 #include "api/ingest_parsers.h"
 #include "api/json_mapping.h"
-#include "service/check_codec.h"
-#include "service/json_text.h"
+#include "reports/check_codec.h"
+#include "reports/json_text.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace thermocomp;

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "model/drift_model.h"
-#include "service/model_codec.h"
+#include "reports/model_codec.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace thermocomp;

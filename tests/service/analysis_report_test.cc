@@ -3,7 +3,7 @@
 // the confidence sections existed still reads and renders; a damaged one is
 // an error, not a crash. Built from a search result, it names runs and
 // blocks as a person knows them.
-#include "service/analysis_report_codec.h"
+#include "reports/analysis_report_codec.h"
 
 #include <cmath>
 #include <cstdio>
@@ -11,9 +11,9 @@
 #include <gtest/gtest.h>
 
 #include "core/time_format.h"
-#include "service/analysis_report_text.h"
-#include "service/model_codec.h"
-#include "service/report_text.h"
+#include "reports/analysis_report_text.h"
+#include "reports/model_codec.h"
+#include "reports/report_text.h"
 
 namespace thermocomp {
 namespace {

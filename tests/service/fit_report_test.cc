@@ -1,12 +1,12 @@
 // The fit report is one typed value with one codec: what a fit returns is
 // what is stored with the version, and decoding the stored JSON gives back
 // the same report.
-#include "service/fit_report_codec.h"
+#include "reports/fit_report_codec.h"
 
 #include <cmath>
 #include <cstdio>
 
-#include "service/fit_report_text.h"
+#include "reports/fit_report_text.h"
 #include "tests/app_fixture.h"
 
 namespace thermocomp {

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "app/open_app.h"
+#include "server/open_app.h"
 #include "model/ewma_filter.h"
 #include "storage/sample_store.h"
 #include "tests/app_fixture.h"

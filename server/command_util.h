@@ -1,0 +1,116 @@
+// Helpers shared by the command-line subcommands (server/commands.cc,
+// import_command.cc, simulate_command.cc): option parsing, errors, the App.
+#pragma once
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/time_units.h"
+#include "service/app.h"
+#include "sim/virtual_machine.h"
+
+namespace thermocomp::cli {
+
+// What a command accepts: its options (with or without a value), how
+// many positional arguments, and its usage line.
+struct OptionSpec {
+  const char* name;
+  bool takes_value;
+};
+struct CommandSpec {
+  const char* name;
+  const char* usage;  // "thermocomp <name> ..." lines
+  std::vector<OptionSpec> options;
+  size_t max_positional = 0;
+};
+
+// --key value / --flag arguments.
+struct Args {
+  std::map<std::string, std::string> opts;
+  std::vector<std::string> positional;
+  std::string Get(const std::string& k, const std::string& def = "") const {
+    auto it = opts.find(k);
+    return it == opts.end() ? def : it->second;
+  }
+  bool Has(const std::string& k) const { return opts.count(k) > 0; }
+};
+
+// The arguments as the command takes them; InvalidArgument naming an
+// unknown option, a missing value or a stray argument.
+StatusOr<Args> Parse(const CommandSpec& spec, const std::vector<std::string>& in);
+// Prints "thermocomp: what" to stderr; returns the exit code 1.
+int Fail(const std::string& what);
+// Config from --config, then --db / --listen / --dds-domain overrides.
+StatusOr<Config> LoadWithOverrides(const Args& a);
+// The App of a command: the config with overrides, the database opened.
+// A database is created (with its directory) only with --create; without
+// it a missing file is an error, so a mistyped path creates nothing.
+StatusOr<std::unique_ptr<App>> OpenApp(const Args& a);
+// NotFound unless the database file exists or --create was given (then
+// its directory is made).
+Status PrepareDatabasePath(const Args& a, const std::string& path);
+std::string ReadFile(const std::string& path, bool& ok);
+// "n accepted, d duplicates", or the error with its first items.
+std::string Describe(const IngestResult& r);
+// Set by SIGINT/SIGTERM in long-running commands.
+extern std::atomic<bool> g_stop;
+void OnSignal(int);
+
+int Import(const Args& a);
+int Simulate(const Args& a);
+// The study table as machine `machine` (see import_command.cc).
+StatusOr<std::pair<int, int>> ImportStudy(App& app, const std::string& machine,
+                                          const std::string& text, int64_t start_ms);
+// --machines a,b (default sim-1,sim-2).
+std::vector<std::string> MachineNames(const Args& a);
+// --hidden: undeclared effects on the Y axis of simulated machines:
+// "lag,signal" for every machine, "lag@sim-2" for one.
+struct HiddenPlan {
+  std::set<HiddenEffect> every_machine;
+  std::map<std::string, std::set<HiddenEffect>> by_machine;
+  std::set<HiddenEffect> For(const std::string& machine) const;
+};
+StatusOr<HiddenPlan> ParseHiddenPlan(const std::string& text);
+// Where `days` of simulated history ending at end_ms start: midnight UTC
+// `days` days before end_ms's day.
+int64_t HistoryStartMs(int64_t end_ms, int days);
+// `days` of simulated history ending at end_ms, into the app.
+Status SimulateIntoApp(App& app, const std::vector<std::string>& names, int days, uint64_t seed,
+                       int64_t end_ms, const HiddenPlan& hidden = {});
+
+// What one simulated axis was served while SimulateAndServe replayed the
+// later part of its history.
+struct ServedReplay {
+  std::string machine, axis;
+  // The fit of days 1..fitted_days, whose version (if accepted) was served.
+  int fitted_days = 0;
+  StatusOr<FitReport> fit{Status::Internal("not fitted")};
+  // The replayed span: from the end of those days to the last minute.
+  int64_t from_ms = 0, to_ms = 0;
+  // Served values logged in the span, and how many of them valid (the
+  // model's value, followed or ramped to).
+  size_t logged = 0, valid = 0;
+};
+// `days` of simulated history ending at end_ms, served as it would have
+// been live. The first half of the days is ingested and every axis of
+// every machine fitted on it alone (the later data does not exist yet);
+// then the rest is replayed minute by minute in time order with `clock`
+// following the data: each minute the machines' samples, signals, events
+// and probe points arrive and each control reads its compensation, so the
+// compensation service's own ramps, holds and log record what a control
+// was served, and the probe points of that part meet the compensation of
+// their time. `app` must run on `clock`, not past the first half's end.
+// The compensation service's worker, which serves on real time, is
+// stopped first: this is for a command that ends afterwards (the demo);
+// a server opened on the database later continues from the value logged
+// last.
+StatusOr<std::vector<ServedReplay>> SimulateAndServe(App& app, ManualClock& clock,
+                                                     const std::vector<std::string>& names,
+                                                     int days, uint64_t seed, int64_t end_ms,
+                                                     const HiddenPlan& hidden = {});
+
+}  // namespace thermocomp::cli

@@ -1,0 +1,22 @@
+#include "server/open_app.h"
+
+#include "storage/sqlite/sqlite_storage.h"
+
+namespace thermocomp {
+
+StatusOr<std::unique_ptr<App>> OpenApp(const Config& config, const Clock& clock) {
+  DatabaseOptions options;
+  options.synchronous = config.synchronous;
+  options.busy_timeout_ms = config.busy_timeout_ms;
+  auto storage = SqliteStorage::OpenFile(config.db_path, options);
+  if (!storage.ok()) return storage.status();
+  return App::Open(config, clock, std::move(storage).value());
+}
+
+StatusOr<std::unique_ptr<App>> OpenAppInMemory(const Config& config, const Clock& clock) {
+  auto storage = SqliteStorage::OpenFile(":memory:");
+  if (!storage.ok()) return storage.status();
+  return App::Open(config, clock, std::move(storage).value());
+}
+
+}  // namespace thermocomp

@@ -1,0 +1,1 @@
+// Being written: see service/feed_axis/feed_model.h.
