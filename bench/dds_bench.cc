@@ -15,8 +15,8 @@
 #include <sqlite3.h>
 
 #include "api/dds/dds_client.h"
-#include "server/open_app.h"
 #include "core/time_format.h"
+#include "server/open_app.h"
 #include "storage/sqlite/sqlite_storage.h"
 
 namespace thermocomp {

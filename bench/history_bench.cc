@@ -8,10 +8,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "server/open_app.h"
-#include "service/app.h"
 #include "reports/drift_history_codec.h"
 #include "reports/model_codec.h"
+#include "server/open_app.h"
+#include "service/app.h"
 #include "storage/sqlite/log_store.h"
 #include "storage/sqlite/model_store.h"
 #include "storage/sqlite/sqlite_storage.h"

@@ -11,9 +11,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/field_errors.h"
 #include "model/column_check.h"
 #include "model/positioning_check.h"
-#include "core/field_errors.h"
 #include "reports/check_reports.h"
 
 namespace thermocomp {

@@ -5,8 +5,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "server/open_app.h"
 #include "core/log.h"
+#include "server/open_app.h"
 
 namespace thermocomp::cli {
 

@@ -4,9 +4,9 @@
 #include <sstream>
 
 #include "api/ingest_parsers.h"
-#include "server/command_util.h"
 #include "core/time_format.h"
 #include "reports/check_codec.h"
+#include "server/command_util.h"
 
 namespace thermocomp::cli {
 

@@ -8,9 +8,9 @@
 
 #include "api/dds/dds_bridge.h"
 #include "api/json_mapping.h"
+#include "core/time_format.h"
 #include "server/command_util.h"
 #include "server/live_simulation.h"
-#include "core/time_format.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
 

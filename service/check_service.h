@@ -17,8 +17,8 @@
 #include "model/pitch_table.h"
 #include "reports/check_codec.h"
 #include "reports/check_reports.h"
-#include "service/config.h"
 #include "reports/machine_status.h"
+#include "service/config.h"
 #include "storage/check_store.h"
 #include "storage/storage.h"
 

@@ -6,8 +6,8 @@
 
 #include "core/time_format.h"
 #include "model/drift_model.h"
-#include "service/live_terms.h"
 #include "reports/model_codec.h"
+#include "service/live_terms.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"

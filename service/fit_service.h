@@ -16,8 +16,8 @@
 
 #include "core/clock.h"
 #include "core/records.h"
-#include "service/config.h"
 #include "reports/fit_report.h"
+#include "service/config.h"
 #include "service/probe_temperature_cache.h"
 #include "storage/storage.h"
 

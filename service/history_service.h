@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "service/config.h"
 #include "reports/drift_history.h"
+#include "service/config.h"
 #include "service/probe_temperature_cache.h"
 #include "storage/storage.h"
 

@@ -12,9 +12,9 @@
 
 #include "core/clock.h"
 #include "core/records.h"
+#include "reports/machine_status.h"
 #include "service/config.h"
 #include "service/ingest_service.h"
-#include "reports/machine_status.h"
 #include "service/probe_temperature_cache.h"
 #include "storage/storage.h"
 

@@ -11,8 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/time_format.h"
-#include "service/drift_dataset.h"
 #include "reports/model_codec.h"
+#include "service/drift_dataset.h"
 #include "storage/log_store.h"
 #include "storage/model_store.h"
 

@@ -14,8 +14,8 @@
 #include <string>
 
 #include "api/http_server.h"
-#include "server/open_app.h"
 #include "core/log.h"
+#include "server/open_app.h"
 #include "sim/virtual_machine.h"
 
 namespace {

@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "server/open_app.h"
 #include "model/ewma_filter.h"
+#include "server/open_app.h"
 #include "storage/sample_store.h"
 #include "tests/app_fixture.h"
 

@@ -6,8 +6,8 @@
 
 #include "api/controller_formats.h"
 #include "model/correction_line.h"
-#include "service/compensation_service.h"
 #include "reports/model_codec.h"
+#include "service/compensation_service.h"
 #include "service/served_correction.h"
 #include "tests/app_fixture.h"
 
