@@ -183,6 +183,54 @@ StatusOr<ThermalNetwork> ThermalNetwork::Train(const Eigen::MatrixXd& x, const E
   return net;
 }
 
+NetworkParameters ThermalNetwork::Parameters() const {
+  NetworkParameters p;
+  p.hidden = hidden_;
+  p.weights.assign(w_.data(), w_.data() + w_.size());
+  p.center.assign(center_.data(), center_.data() + center_.size());
+  p.scale.assign(scale_.data(), scale_.data() + scale_.size());
+  p.y_center = y_center_;
+  p.y_scale = y_scale_;
+  p.range = range_;
+  p.effective_parameters = gamma_;
+  p.training_rmse = rmse_;
+  return p;
+}
+
+StatusOr<ThermalNetwork> ThermalNetwork::FromParameters(const NetworkParameters& p) {
+  const int d = static_cast<int>(p.center.size());
+  const Layout layout{d, p.hidden};
+  if (p.hidden < 1 || d < 1) return Status::InvalidArgument("network: no units or no inputs");
+  if (static_cast<int>(p.weights.size()) != layout.size()) {
+    return Status::InvalidArgument("network: " + std::to_string(p.weights.size()) +
+                                   " weights for " + std::to_string(layout.size()));
+  }
+  if (p.scale.size() != p.center.size() || p.range.low.size() != p.center.size() ||
+      p.range.high.size() != p.center.size()) {
+    return Status::InvalidArgument("network: scaling and range must have one value per input");
+  }
+  auto finite = [](const std::vector<double>& v) {
+    return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+  };
+  if (!finite(p.weights) || !finite(p.center) || !finite(p.range.low) || !finite(p.range.high) ||
+      !std::isfinite(p.y_center) || !(p.y_scale > 0) || !std::isfinite(p.y_scale) ||
+      !std::all_of(p.scale.begin(), p.scale.end(),
+                   [](double x) { return x > 0 && std::isfinite(x); })) {
+    return Status::InvalidArgument("network: a value is not finite or a scale not positive");
+  }
+  ThermalNetwork net;
+  net.hidden_ = p.hidden;
+  net.w_ = Eigen::Map<const Eigen::VectorXd>(p.weights.data(), layout.size());
+  net.center_ = Eigen::Map<const Eigen::VectorXd>(p.center.data(), d);
+  net.scale_ = Eigen::Map<const Eigen::VectorXd>(p.scale.data(), d);
+  net.y_center_ = p.y_center;
+  net.y_scale_ = p.y_scale;
+  net.range_ = p.range;
+  net.gamma_ = p.effective_parameters;
+  net.rmse_ = p.training_rmse;
+  return net;
+}
+
 double ThermalNetwork::Predict(const Eigen::Ref<const Eigen::VectorXd>& input) const {
   const Layout layout{inputs(), hidden_};
   const Eigen::RowVectorXd xs = ((input - center_).array() / scale_.array()).matrix().transpose();

@@ -43,9 +43,26 @@ struct InputRange {
   int Outside(const Eigen::Ref<const Eigen::VectorXd>& input) const;
 };
 
+// Everything a trained network is, as plain values: what a stored model
+// keeps (the JSON is the caller's, service/feed_axis/neural_type.cc) and
+// FromParameters rebuilds exactly.
+struct NetworkParameters {
+  int hidden = 0;
+  std::vector<double> weights;        // hidden × (inputs + 2) + 1, see thermal_network.cc
+  std::vector<double> center, scale;  // per input: x_scaled = (x − center) / scale
+  double y_center = 0, y_scale = 1;
+  InputRange range;
+  double effective_parameters = 0, training_rmse = 0;
+};
+
 class ThermalNetwork {
  public:
   ThermalNetwork() = default;
+
+  // The network as values, and back. FromParameters: InvalidArgument when
+  // the sizes do not agree, a scale is not positive or a value not finite.
+  NetworkParameters Parameters() const;
+  static StatusOr<ThermalNetwork> FromParameters(const NetworkParameters& p);
 
   // Trains on rows of `x` (n × d) against `y`. Unprocessable with fewer
   // rows than 2 × the weights, inputs or outputs not finite, or an input

@@ -124,5 +124,35 @@ TEST(ThermalNetwork, RefusesWhatItCannotTrainOn) {
             Status::Code::kInvalidArgument);
 }
 
+TEST(ThermalNetwork, ItsParametersRebuildTheSameNetwork) {
+  Eigen::MatrixXd x;
+  Eigen::VectorXd y;
+  Sample(120, 6, 0.1, &x, &y);
+  auto net = ThermalNetwork::Train(x, y, NetworkOptions{});
+  ASSERT_TRUE(net.ok());
+  auto copy = ThermalNetwork::FromParameters(net->Parameters());
+  ASSERT_TRUE(copy.ok()) << copy.status().message();
+  for (int i = 0; i < x.rows(); i += 7) {
+    EXPECT_EQ(copy->Predict(x.row(i).transpose()), net->Predict(x.row(i).transpose()));
+  }
+  EXPECT_EQ(copy->range().low, net->range().low);
+  EXPECT_EQ(copy->range().high, net->range().high);
+  EXPECT_EQ(copy->effective_parameters(), net->effective_parameters());
+  EXPECT_EQ(copy->training_rmse(), net->training_rmse());
+  // A stored network that does not add up is refused, not half-built.
+  NetworkParameters bad = net->Parameters();
+  bad.weights.pop_back();
+  EXPECT_EQ(ThermalNetwork::FromParameters(bad).status().code(), Status::Code::kInvalidArgument);
+  bad = net->Parameters();
+  bad.scale[1] = 0;
+  EXPECT_EQ(ThermalNetwork::FromParameters(bad).status().code(), Status::Code::kInvalidArgument);
+  bad = net->Parameters();
+  bad.range.high.pop_back();
+  EXPECT_EQ(ThermalNetwork::FromParameters(bad).status().code(), Status::Code::kInvalidArgument);
+  bad = net->Parameters();
+  bad.weights[0] = NAN;
+  EXPECT_EQ(ThermalNetwork::FromParameters(bad).status().code(), Status::Code::kInvalidArgument);
+}
+
 }  // namespace
 }  // namespace thermocomp
