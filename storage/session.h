@@ -9,6 +9,7 @@
 #include "storage/analysis_store.h"
 #include "storage/aux_store.h"
 #include "storage/check_store.h"
+#include "storage/feed_model_store.h"
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"
@@ -29,6 +30,7 @@ class Session {
   virtual AuxStore& aux() = 0;
   virtual AnalysisStore& analyses() = 0;
   virtual LogStore& log() = 0;
+  virtual FeedModelStore& feeds() = 0;
 
   virtual Status Begin() = 0;
   virtual Status Commit() = 0;

@@ -7,6 +7,7 @@
 #include "storage/sqlite/aux_store.h"
 #include "storage/sqlite/check_store.h"
 #include "storage/sqlite/database.h"
+#include "storage/sqlite/feed_model_store.h"
 #include "storage/sqlite/log_store.h"
 #include "storage/sqlite/machine_store.h"
 #include "storage/sqlite/model_store.h"
@@ -30,6 +31,7 @@ class SqliteSession final : public Session {
   AuxStore& aux() override { return aux_; }
   AnalysisStore& analyses() override { return analyses_; }
   LogStore& log() override { return log_; }
+  FeedModelStore& feeds() override { return feeds_; }
 
   Status Begin() override { return db_.Begin(); }
   Status Commit() override { return db_.Commit(); }
@@ -48,6 +50,7 @@ class SqliteSession final : public Session {
   SqliteAuxStore aux_;
   SqliteAnalysisStore analyses_;
   SqliteLogStore log_;
+  SqliteFeedModelStore feeds_;
 };
 
 }  // namespace thermocomp

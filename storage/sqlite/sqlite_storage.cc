@@ -13,7 +13,8 @@ SqliteSession::SqliteSession(Database& db)
       checks_(db),
       aux_(db),
       analyses_(db),
-      log_(db) {
+      log_(db),
+      feeds_(db) {
   Resume();
 }
 
