@@ -22,6 +22,7 @@
 #include "reports/analysis_report_text.h"
 #include "reports/fit_report_codec.h"
 #include "server/command_util.h"
+#include "server/demo_feed_axis.h"
 #include "server/live_simulation.h"
 #include "server/open_app.h"
 #include "sim/virtual_machine.h"
@@ -259,6 +260,9 @@ int Demo(const Args& a) {
   if (Status s = DemoChecks(app_ref, names.front()); !s.ok()) return Fail(s.message());
   std::printf("demo: synthetic column checks (4 weekly) and a positioning check of %s/Y\n",
               names.front().c_str());
+  std::string feed;
+  if (Status s = DemoFeedAxis(app_ref, names.front(), &feed); !s.ok()) return Fail(s.message());
+  std::printf("demo: %s\n", feed.c_str());
   if (in_memory) {
     if (Status s = app_ref.storage().Backup(config->db_path); !s.ok()) return Fail(s.message());
     std::printf("demo: wrote %s\n", config->db_path.c_str());
