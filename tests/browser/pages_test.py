@@ -20,6 +20,7 @@ import tempfile
 import time
 import urllib.request
 
+import feed_axis_pages
 import headless_chromium
 import outcome_pages
 from headless_chromium import free_port
@@ -174,6 +175,7 @@ def open_access(d, s):
     check(drawn == len(served["probe_points"]) and drawn > 0,
           f"drift chart draws the {len(served['probe_points'])} points the API returns ({drawn})")
     outcome_pages.machine_outcome(d, s, check)
+    feed_axis_pages.machine_feed(d, s, check, OUT)
     outcome = d.find_element(By.ID, "outcome")
     d.execute_script("arguments[0].scrollIntoView()", outcome)
     outcome.screenshot(os.path.join(OUT, "machine-outcome.png"))

@@ -1,7 +1,8 @@
 // A machine: drift at the datum (measured, predicted by the active model,
 // residual, and the offset served) and every sensor's temperature, on one
 // time range. Zooming asks the server again for the range, thinned to the
-// chart's width; the CSV holds everything in the range, unthinned.
+// chart's width; the CSV holds everything in the range, unthinned. Below,
+// each feed axis' thermal error (machine_feed.js).
 "use strict";
 
 (async () => {
@@ -38,6 +39,7 @@
   const temps = Charts.box("temperatures", "Temperatures (°C); grey lines: start of a run, red: events (labelled with their kind)");
   let driftChart = null, tempChart = null;
   const outcome = el("section", { id: "outcome" });
+  const feed = el("section", { id: "feed-axes" });  // filled by machine_feed.js
   let bucket = null;  // day or week as chosen; until then by the range's span
 
   for (const [label, span] of Object.entries(spans)) {
@@ -406,10 +408,16 @@
 
   TC.main(el("h1", {}, info.name && info.name !== machine ? info.name + " (" + machine + ")" : machine,
     el("span", { class: "muted" }, " · " + (info.controller || "control unknown"))),
-  cards, axisTabs, links, rangeBar, note, drift.node, temps.node, outcome, events);
+  cards, axisTabs, links, rangeBar, note, drift.node, temps.node, outcome, feed, events);
   renderAxisTabs();
   if (!axes.length) {
     note.textContent = "This machine has no axes defined, so there is no drift to show.";
   }
   await load();
+  // Feed axes (ball screws) with their thermal error table, once the
+  // charts above are drawn.
+  await MachineFeed.load(machine, axes, feed).catch((err) => {
+    feed.replaceChildren(el("div", { class: "error" }, TC.problemText(err)));
+    feed.dataset.ready = "1";
+  });
 })();
