@@ -1,6 +1,11 @@
 #include "service/refit_scheduler.h"
 
+#include <algorithm>
+
+#include <nlohmann/json.hpp>
+
 #include "core/log.h"
+#include "storage/feed_model_store.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"
 #include "storage/probe_store.h"
@@ -71,6 +76,81 @@ int RefitScheduler::Tick() {
     } else {
       log::Warn("scheduled fit failed", "machine=" + d.machine + " axis=" + d.axis + " error=\"" +
                                             report.status().message() + "\"");
+    }
+  }
+  return fitted + TickFeedAxes();
+}
+
+namespace {
+
+// The largest check id a stored feed fit report names (reference, training,
+// held out, skipped); 0 when it names none.
+int64_t LargestCheckSeen(const std::string& report_json) {
+  const nlohmann::json j = nlohmann::json::parse(report_json, nullptr, false);
+  if (!j.is_object() || !j.contains("checks") || !j["checks"].is_object()) return 0;
+  const nlohmann::json& c = j["checks"];
+  int64_t largest = c.value("reference_id", int64_t{0});
+  for (const char* key : {"training_ids", "held_out_ids"}) {
+    if (!c.contains(key) || !c[key].is_array()) continue;
+    for (const auto& id : c[key]) {
+      if (id.is_number_integer()) largest = std::max(largest, id.get<int64_t>());
+    }
+  }
+  if (c.contains("skipped") && c["skipped"].is_array()) {
+    for (const auto& s : c["skipped"]) {
+      if (s.is_object()) largest = std::max(largest, s.value("check_id", int64_t{0}));
+    }
+  }
+  return largest;
+}
+
+}  // namespace
+
+int RefitScheduler::TickFeedAxes() {
+  if (!feed_fits_) return 0;
+  struct Due {
+    std::string machine, axis;
+    int64_t newest_check = 0;
+  };
+  std::vector<Due> due;
+  {
+    const std::unique_ptr<Session> session = storage_.Open();
+    FeedModelStore& feeds = session->feeds();
+    for (const MachineRecord& m : session->machines().List()) {
+      const std::vector<FeedAxisConfigRecord> configs = feeds.Configs(m.id);
+      if (configs.empty()) continue;
+      const std::vector<PositioningCheckRecord> checks = session->checks().PositioningChecks(m.id);
+      for (const FeedAxisConfigRecord& config : configs) {
+        const AxisRecord* axis = m.FindAxis(config.axis);
+        if (!axis) continue;
+        int64_t newest_check = 0;
+        for (const auto& c : checks) {
+          if (c.axis == config.axis) newest_check = std::max(newest_check, c.id);
+        }
+        if (newest_check == 0) continue;
+        const std::vector<FeedModelRecord> models = feeds.List(axis->id);
+        if (!models.empty() && LargestCheckSeen(models.front().report_json) >= newest_check) {
+          continue;  // nothing new since the last feed fit
+        }
+        if (auto failed = feed_failed_at_.find(m.name + "/" + config.axis);
+            failed != feed_failed_at_.end() && failed->second >= newest_check) {
+          continue;  // failed with these checks already
+        }
+        due.push_back({m.name, config.axis, newest_check});
+      }
+    }
+  }
+  int fitted = 0;
+  for (const Due& d : due) {
+    auto report = feed_fits_->Fit(d.machine, d.axis, "scheduler", "schedule: new positioning check");
+    if (report.ok()) {
+      ++fitted;
+      feed_failed_at_.erase(d.machine + "/" + d.axis);
+    } else {
+      feed_failed_at_[d.machine + "/" + d.axis] = d.newest_check;
+      log::Warn("scheduled feed-axis fit failed", "machine=" + d.machine + " axis=" + d.axis +
+                                                      " error=\"" + report.status().message() +
+                                                      "\"");
     }
   }
   return fitted;
