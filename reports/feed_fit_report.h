@@ -41,12 +41,12 @@ struct FeedHeldOut {
 
 // What a type identified; fields a type does not have stay empty.
 struct FeedTypeParameters {
-  std::optional<double> alpha_um_per_m_k, alpha_se;              // screw
-  std::optional<double> stiffness_ratio, stiffness_ratio_se;     // screw, preloaded
-  std::optional<int> hidden_units, weights;                      // neural
-  std::optional<double> effective_parameters;                    // neural: γ
-  std::optional<int> coefficients;                               // regression
-  std::vector<std::string> inputs;                               // neural, regression
+  std::optional<double> alpha_um_per_m_k, alpha_se;           // screw
+  std::optional<double> stiffness_ratio, stiffness_ratio_se;  // screw, preloaded
+  std::optional<int> hidden_units, weights;                   // neural
+  std::optional<double> effective_parameters;                 // neural: γ
+  std::optional<int> coefficients;                            // regression
+  std::vector<std::string> inputs;                            // neural, regression
 };
 
 // One model type's fit.

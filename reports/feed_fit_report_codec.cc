@@ -214,8 +214,8 @@ StatusOr<FeedFitReport> FeedFitReportFromJson(const json& j) {
           {b.at("check_id").get<int64_t>(), GetOptional<double>(b, "bound_um")});
     }
     for (const json& d : s.at("dropped")) {
-      r.sensors.dropped.push_back(
-          {d.at("name").get<std::string>(), d.at("screw").get<bool>(), d.at("why").get<std::string>()});
+      r.sensors.dropped.push_back({d.at("name").get<std::string>(), d.at("screw").get<bool>(),
+                                   d.at("why").get<std::string>()});
     }
     r.sensors.held_out_max_with_um = GetOptional<double>(s, "held_out_max_with_um");
     r.sensors.held_out_max_without_um = GetOptional<double>(s, "held_out_max_without_um");

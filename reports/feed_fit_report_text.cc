@@ -56,9 +56,8 @@ std::string FeedFitReportMarkdown(const FeedFitReport& r, const PlantTime& time)
   std::string md = "# Feed-axis fit " + Text(r.machine) + " axis " + Text(r.axis) + "\n\n";
   md += "**" + std::string(r.accepted ? "Accepted" : "Not accepted") + "**: " + Text(r.decision) +
         ". Served version after the fit: " +
-        (r.active_version ? std::to_string(r.active_version) : std::string("none")) +
-        ". Created " + time.Format(r.created_ms) + " by " + Text(r.actor) + " (" +
-        Text(r.trigger) + ").\n\n";
+        (r.active_version ? std::to_string(r.active_version) : std::string("none")) + ". Created " +
+        time.Format(r.created_ms) + " by " + Text(r.actor) + " (" + Text(r.trigger) + ").\n\n";
   md += "## Checks\n\nReference (cold): " + std::to_string(r.reference_check_id) +
         ". Training: " + Ids(r.training_check_ids) + ". Held out: " + Ids(r.held_out_check_ids) +
         ".\n\n";
@@ -69,8 +68,9 @@ std::string FeedFitReportMarkdown(const FeedFitReport& r, const PlantTime& time)
     }
     md += "\n";
   }
-  md += "## Types\n\n| type | version | status | parameters | training RMSE | held-out max "
-        "before → after |\n|---|---|---|---|---|---|\n";
+  md +=
+      "## Types\n\n| type | version | status | parameters | training RMSE | held-out max "
+      "before → after |\n|---|---|---|---|---|---|\n";
   for (const FeedTypeResult& t : r.types) {
     if (!t.fitted) {
       md += "| " + Code(t.type) + " | — | not fitted | " + Text(t.error) + " | | |\n";
@@ -84,7 +84,8 @@ std::string FeedFitReportMarkdown(const FeedFitReport& r, const PlantTime& time)
   md += "\n";
   for (const FeedTypeResult& t : r.types) {
     if (!t.fitted) continue;
-    md += "### " + Code(t.type) + "\n\n" + Text(t.reason) + ".\n\n" + HeldOutTable(t.held_out, time);
+    md +=
+        "### " + Code(t.type) + "\n\n" + Text(t.reason) + ".\n\n" + HeldOutTable(t.held_out, time);
   }
   md += "## Champion\n\n";
   if (!r.champion) {
@@ -111,8 +112,8 @@ std::string FeedFitReportMarkdown(const FeedFitReport& r, const PlantTime& time)
   } else {
     md += "| dropped sensor | kind | why |\n|---|---|---|\n";
     for (const FeedDroppedSensor& d : r.sensors.dropped) {
-      md += "| " + Code(d.name) + " | " + (d.screw ? "screw" : "body") + " | " + Text(d.why) +
-            " |\n";
+      md +=
+          "| " + Code(d.name) + " | " + (d.screw ? "screw" : "body") + " | " + Text(d.why) + " |\n";
     }
     md += "\n" + Text(r.sensors.cost) + ".\n";
   }

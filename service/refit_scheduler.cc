@@ -142,7 +142,8 @@ int RefitScheduler::TickFeedAxes() {
   }
   int fitted = 0;
   for (const Due& d : due) {
-    auto report = feed_fits_->Fit(d.machine, d.axis, "scheduler", "schedule: new positioning check");
+    auto report =
+        feed_fits_->Fit(d.machine, d.axis, "scheduler", "schedule: new positioning check");
     if (report.ok()) {
       ++fitted;
       feed_failed_at_.erase(d.machine + "/" + d.axis);

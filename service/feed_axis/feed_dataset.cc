@@ -13,8 +13,8 @@
 namespace thermocomp {
 namespace {
 
-constexpr double kStuckSpreadK = 0.01;   // a sensor that moves less is stuck...
-constexpr double kWarmSpreadK = 1.0;     // ...while another moves more than this
+constexpr double kStuckSpreadK = 0.01;  // a sensor that moves less is stuck...
+constexpr double kWarmSpreadK = 1.0;    // ...while another moves more than this
 constexpr double kTargetToleranceMm = 1e-6;
 
 struct Candidate {
@@ -170,8 +170,8 @@ StatusOr<FeedDataset> BuildFeedDataset(Session& session, const MachineRecord& ma
       why = "out of range: " + Fixed(lo < options.plausible_min_c ? lo : hi) + " degC at a check";
       has_values = present == static_cast<int>(used.size());
     } else if (used.size() >= 2 && hi - lo <= kStuckSpreadK && warmest_spread > kWarmSpreadK) {
-      why = "stuck at " + Fixed(lo) + " degC while the screw warmed by " +
-            Fixed(warmest_spread) + " K";
+      why = "stuck at " + Fixed(lo) + " degC while the screw warmed by " + Fixed(warmest_spread) +
+            " K";
       has_values = present == static_cast<int>(used.size());
     }
     if (why.empty()) {
@@ -201,11 +201,10 @@ StatusOr<FeedDataset> BuildFeedDataset(Session& session, const MachineRecord& ma
   };
   out.axis = with_sensors(is_kept);
   if (out.axis.sensors.empty()) {
-    return Status::Unprocessable("no screw sensor of axis " + axis_name +
-                                 " has data at its checks: " +
-                                 (out.dropped.empty() ? std::string("none configured")
-                                                      : out.dropped.front().name + " " +
-                                                            out.dropped.front().why));
+    return Status::Unprocessable(
+        "no screw sensor of axis " + axis_name + " has data at its checks: " +
+        (out.dropped.empty() ? std::string("none configured")
+                             : out.dropped.front().name + " " + out.dropped.front().why));
   }
   for (const std::string& b : spec.body_sensors) {
     if (is_kept(b)) out.body_sensors.push_back(b);

@@ -143,9 +143,8 @@ StatusOr<FeedFitReport> FeedFitService::Fit(const std::string& machine_name,
   FeedModelStore& feeds = session->feeds();
   auto stored_config = feeds.Config(axis.id);
   if (!stored_config) {
-    return Status::Unprocessable("axis " + axis_name +
-                                 " has no screw configuration (PUT .../axes/" + axis_name +
-                                 "/screw)");
+    return Status::Unprocessable(
+        "axis " + axis_name + " has no screw configuration (PUT .../axes/" + axis_name + "/screw)");
   }
   FieldErrors errors;
   StatusOr<FeedAxisConfig> config = Status::Internal("stored screw configuration is unreadable");
@@ -159,9 +158,9 @@ StatusOr<FeedFitReport> FeedFitService::Fit(const std::string& machine_name,
   options.stale_after_ms = int64_t{config_.stale_after_s} * 1000;
   options.plausible_min_c = config_.plausible_min_c;
   options.plausible_max_c = config_.plausible_max_c;
-  auto data = BuildFeedDataset(
-      *session, found->machine, axis_name,
-      {config->screw, config->body_sensors, config->reference_check_id}, options);
+  auto data =
+      BuildFeedDataset(*session, found->machine, axis_name,
+                       {config->screw, config->body_sensors, config->reference_check_id}, options);
   if (!data.ok()) return data.status();
 
   FeedFitReport report;
@@ -176,8 +175,8 @@ StatusOr<FeedFitReport> FeedFitService::Fit(const std::string& machine_name,
 
   const Split split = SplitByTime(data->checks);
   if (split.training.size() < 2) {
-    std::string why = "too few positioning checks of axis " + axis_name + " to fit and hold out: " +
-                      std::to_string(data->checks.size()) +
+    std::string why = "too few positioning checks of axis " + axis_name +
+                      " to fit and hold out: " + std::to_string(data->checks.size()) +
                       " usable besides the reference (at least 3: 2 to train on, 1 held out)";
     if (!data->skipped.empty()) {
       why += "; " + std::to_string(data->skipped.size()) + " skipped, e.g. check " +
@@ -207,9 +206,8 @@ StatusOr<FeedFitReport> FeedFitService::Fit(const std::string& machine_name,
     StatusOr<std::shared_ptr<const FeedModel>> model =
         !type ? StatusOr<std::shared_ptr<const FeedModel>>(
                     Status::InvalidArgument("unknown model type"))
-        : type == screw_type
-            ? physical_fit
-            : type->Fit(data->axis, data->body_sensors, split.training, physical);
+        : type == screw_type ? physical_fit
+                             : type->Fit(data->axis, data->body_sensors, split.training, physical);
     if (!model.ok()) {
       r.error = model.status().message();
       models.push_back(nullptr);
@@ -237,7 +235,8 @@ StatusOr<FeedFitReport> FeedFitService::Fit(const std::string& machine_name,
     StatusOr<std::shared_ptr<const FeedModel>> model =
         Status::InvalidArgument("unknown model type " + active->type);
     try {
-      if (type) model = type->FromJson(data->axis, nlohmann::json::parse(active->model_json), physical);
+      if (type)
+        model = type->FromJson(data->axis, nlohmann::json::parse(active->model_json), physical);
     } catch (const nlohmann::json::exception&) {
       model = Status::InvalidArgument("stored model is not JSON");
     }
@@ -254,8 +253,8 @@ StatusOr<FeedFitReport> FeedFitService::Fit(const std::string& machine_name,
   int best = -1;
   for (size_t i = 0; i < report.types.size(); ++i) {
     if (!report.types[i].fitted) continue;
-    if (best < 0 || report.types[i].held_out.max_after_um <
-                        report.types[best].held_out.max_after_um) {
+    if (best < 0 ||
+        report.types[i].held_out.max_after_um < report.types[best].held_out.max_after_um) {
       best = static_cast<int>(i);
     }
   }
@@ -267,15 +266,15 @@ StatusOr<FeedFitReport> FeedFitService::Fit(const std::string& machine_name,
   FeedTypeResult& challenger = report.types[best];
   report.challenger = challenger.type;
   const double reduction = challenger.held_out.reduction;
-  const std::string removes = challenger.type + " removes " + Percent(reduction) +
-                              " of the held-out max error (" + Um(challenger.held_out.max_before_um) +
-                              " -> " + Um(challenger.held_out.max_after_um) + ")";
+  const std::string removes =
+      challenger.type + " removes " + Percent(reduction) + " of the held-out max error (" +
+      Um(challenger.held_out.max_before_um) + " -> " + Um(challenger.held_out.max_after_um) + ")";
   if (reduction < kMinReduction) {
     report.decision = removes + ", less than the " + Percent(kMinReduction) + " required";
   } else if (champion_max && challenger.held_out.max_after_um > *champion_max + 1e-9) {
     report.decision = removes + " but leaves more than the active version " +
-                      std::to_string(report.champion->version) + " (" +
-                      report.champion->type + ", " + Um(*champion_max) + ") on the same checks";
+                      std::to_string(report.champion->version) + " (" + report.champion->type +
+                      ", " + Um(*champion_max) + ") on the same checks";
   } else {
     report.accepted = true;
     report.decision = removes;
@@ -292,8 +291,8 @@ StatusOr<FeedFitReport> FeedFitService::Fit(const std::string& machine_name,
       r.reason = report.decision;
     } else if (r.held_out.reduction < kMinReduction) {
       r.status = "rejected";
-      r.reason = "removes " + Percent(r.held_out.reduction) + " of the held-out max error, less than " +
-                 Percent(kMinReduction);
+      r.reason = "removes " + Percent(r.held_out.reduction) +
+                 " of the held-out max error, less than " + Percent(kMinReduction);
     } else {
       r.status = "candidate";
       r.reason = "leaves " + Um(r.held_out.max_after_um) + " of the held-out max error where " +
@@ -328,8 +327,8 @@ StatusOr<FeedFitReport> FeedFitService::Fit(const std::string& machine_name,
       report.sensors.held_out_max_without_um = ScoreOn(*physical, split.held_out).max_after_um;
     }
     if (physical && data->axis_with_dropped) {
-      auto with = screw_type->Fit(*data->axis_with_dropped, data->body_sensors, split.training,
-                                  nullptr);
+      auto with =
+          screw_type->Fit(*data->axis_with_dropped, data->body_sensors, split.training, nullptr);
       if (with.ok()) {
         report.sensors.held_out_max_with_um = ScoreOn(**with, split.held_out).max_after_um;
       }
@@ -371,9 +370,10 @@ StatusOr<FeedFitReport> FeedFitService::Fit(const std::string& machine_name,
   }
   if (Status s = session->log().Audit(
           report.created_ms, actor, "feed-fit", machine_name, training_targets,
-          axis_name + " " + (report.accepted ? challenger.type + " v" +
-                                                   std::to_string(report.active_version) + " active"
-                                             : "kept v" + std::to_string(report.active_version)));
+          axis_name + " " +
+              (report.accepted
+                   ? challenger.type + " v" + std::to_string(report.active_version) + " active"
+                   : "kept v" + std::to_string(report.active_version)));
       !s.ok()) {
     return s;
   }

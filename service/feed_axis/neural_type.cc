@@ -159,7 +159,8 @@ StatusOr<std::shared_ptr<const FeedModel>> NeuralFeedType::Fit(
     std::string message = net.status().message();
     for (size_t i = 0; i < inputs.size(); ++i) {
       const std::string index = "input " + std::to_string(i) + " ";
-      if (message.rfind(index, 0) == 0) message = "input " + inputs[i] + message.substr(index.size() - 1);
+      if (message.rfind(index, 0) == 0)
+        message = "input " + inputs[i] + message.substr(index.size() - 1);
     }
     return Status::Unprocessable(message);
   }

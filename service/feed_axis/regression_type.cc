@@ -117,8 +117,7 @@ StatusOr<std::shared_ptr<const FeedModel>> RegressionFeedType::Fit(
     scale(j) = norm > 0 ? norm : 1.0;
   }
   const Eigen::MatrixXd xs = x * scale.cwiseInverse().asDiagonal();
-  const Eigen::VectorXd beta =
-      xs.completeOrthogonalDecomposition().solve(y).cwiseQuotient(scale);
+  const Eigen::VectorXd beta = xs.completeOrthogonalDecomposition().solve(y).cwiseQuotient(scale);
   if (!beta.allFinite()) return Status::Unprocessable("the regression is not finite");
   const double rmse = std::sqrt((x * beta - y).squaredNorm() / n);
   Coefficients k;

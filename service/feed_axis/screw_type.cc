@@ -115,8 +115,8 @@ StatusOr<ScrewAxis> ScrewAxisFromJson(const nlohmann::json& j) {
     if (!s.is_object() || !s.contains("name") || !s["name"].is_string()) {
       return Status::InvalidArgument("screw axis: a sensor without a name");
     }
-    a.sensors.push_back({s["name"].get<std::string>(), Num(s, "x_mm", NAN),
-                         Num(s, "reference_c", NAN)});
+    a.sensors.push_back(
+        {s["name"].get<std::string>(), Num(s, "x_mm", NAN), Num(s, "reference_c", NAN)});
   }
   if (FieldErrors errors = ValidateScrewAxis(a); !errors.empty()) {
     return Status::InvalidArgument("screw axis: " + errors.front().field + " " +

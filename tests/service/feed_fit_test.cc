@@ -22,7 +22,9 @@ namespace {
 
 // What the laser reads besides the thermal error: the screw's cold pitch
 // error, the same in every check (the reference check takes it out).
-double PitchErrorUm(double position_mm) { return 4.0 * std::sin(position_mm / 170.0); }
+double PitchErrorUm(double position_mm) {
+  return 4.0 * std::sin(position_mm / 170.0);
+}
 
 class FeedFitTest : public testing::AppFixture {
  protected:
@@ -204,8 +206,8 @@ TEST_F(FeedFitTest, GarbageHeldOutChecksDoNotReplaceTheActiveModel) {
     const ScrewCheck& like = rec.checks[5 + i];
     std::vector<double> error;
     for (size_t k = 0; k < like.position_mm.size(); ++k) error.push_back(garbage(rng));
-    AddCheck(rec.axis, clock_.NowMs() - 3600000LL * (12 - i), like.temperature_c,
-             like.position_mm, error);
+    AddCheck(rec.axis, clock_.NowMs() - 3600000LL * (12 - i), like.temperature_c, like.position_mm,
+             error);
   }
   auto second = Service().Fit("m1", "X", "test");
   ASSERT_TRUE(second.ok()) << second.status().message();
@@ -265,8 +267,8 @@ TEST_F(FeedFitTest, ANeuralModelNeverServesAnInputOutsideItsRangeUnguarded) {
     std::vector<double> x;
     std::string names;
   };
-  for (const Case& c : {Case{&hot, positions, rec.axis.sensors[0].name},
-                        Case{&usual, {5000.0}, "position_mm"}}) {
+  for (const Case& c :
+       {Case{&hot, positions, rec.axis.sensors[0].name}, Case{&usual, {5000.0}, "position_mm"}}) {
     for (const FeedPrediction& p : (*with_fallback)->Predict(*c.t, c.x)) {
       EXPECT_TRUE(p.valid) << p.reason;
       EXPECT_EQ(p.fallback, "screw");
