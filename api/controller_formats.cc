@@ -144,3 +144,53 @@ std::string RenderForController(const MachineCompensation& c, const std::string&
 }
 
 }  // namespace thermocomp::api
+
+namespace thermocomp::api {
+
+std::string RenderThermalErrorLine(const ThermalErrorTable& t, const std::string& format) {
+  const bool sinumerik = format == "sinumerik";
+  const std::string ax = CommentText(t.axis, format);
+  const long long computed = t.computed_at_ms / 1000;
+  std::string out = sinumerik ? Printf("TC_COMPUTED=%lld\n", computed)
+                              : Printf("tc_computed=%lld\n", computed);
+  if (!t.valid) {
+    out += Printf("; %s not valid, %s: %s\n", ax.c_str(), ServedStateName(t.state),
+                  CommentText(t.reason, format).c_str());
+  } else if (!t.fallback.empty()) {
+    out += Printf("; %s fallback %s: %s\n", ax.c_str(), CommentText(t.fallback, format).c_str(),
+                  CommentText(t.reason, format).c_str());
+  }
+  out += Printf("; %s line max residual %.3f um, rms %.3f um over %.3f..%.3f mm\n", ax.c_str(),
+                t.line.max_residual_um, t.line.rms_residual_um, t.travel.min_mm, t.travel.max_mm);
+  const double offset_mm = t.line.offset_um * 1e-3;
+  if (sinumerik) {
+    out += Printf(
+        "$SA_TEMP_COMP_ABS_VALUE[%s]=%.6f\n$SA_TEMP_COMP_SLOPE[%s]=%.12f\n"
+        "$SA_TEMP_COMP_REF_POSITION[%s]=%.3f\n",
+        ax.c_str(), offset_mm, ax.c_str(), SinumerikSlope(t.line.slope_um_per_m), ax.c_str(),
+        t.line.reference_position_mm);
+  } else {
+    out += Printf(
+        "%s.temp_comp_offset_0=%ld\n%s.temp_comp_position_0=%ld\n"
+        "%s.temp_comp_coefficient=%.3f\n",
+        ax.c_str(), TenthsOfMicron(offset_mm), ax.c_str(),
+        TenthsOfMicron(t.line.reference_position_mm), ax.c_str(), t.line.slope_um_per_m);
+  }
+  const long age = t.input_age_s ? static_cast<long>(std::floor(*t.input_age_s)) : -1L;
+  out += sinumerik ? Printf("TC_STATUS_%s=%d\nTC_AGE_%s=%ld\n", ax.c_str(), t.StatusWord(),
+                            ax.c_str(), age)
+                   : Printf("%s.tc_status=%d\n%s.tc_input_age_s=%ld\n", ax.c_str(),
+                            t.StatusWord(), ax.c_str(), age);
+  return out;
+}
+
+std::string ThermalErrorCsv(const ThermalErrorTable& t) {
+  std::string out = "position_mm,error_um,correction_um,valid\n";
+  for (const ThermalErrorPoint& p : t.points) {
+    out += Printf("%.3f,%.3f,%.3f,%d\n", p.position_mm, p.error_um, p.correction_um,
+                  p.valid ? 1 : 0);
+  }
+  return out;
+}
+
+}  // namespace thermocomp::api

@@ -30,6 +30,7 @@
 #include <string>
 
 #include "service/compensation_service.h"
+#include "service/feed_axis/thermal_error_table.h"
 
 namespace thermocomp::api {
 
@@ -41,5 +42,15 @@ std::string RenderForController(const MachineCompensation& c, const std::string&
 // line breaks, and for FANUC no parentheses (a comment there is "(...)",
 // and one cannot nest); at most 160 characters.
 std::string CommentText(const std::string& text, const std::string& format);
+
+// A feed axis' thermal error table (docs/api.md, "Thermal error table"):
+// its straight line for `format` sinumerik or beckhoff, in the units and
+// with the status lines of RenderForController, preceded by a comment line
+// stating the line's residual against the table (and, when not valid, the
+// comment line with the reason).
+std::string RenderThermalErrorLine(const ThermalErrorTable& t, const std::string& format);
+// The table as CSV: header position_mm,error_um,correction_um,valid, one
+// row per point, valid as 1 or 0; nothing else (flags travel in headers).
+std::string ThermalErrorCsv(const ThermalErrorTable& t);
 
 }  // namespace thermocomp::api

@@ -19,6 +19,7 @@
 #include "service/outcome/outcome_service.h"
 #include "service/probe_temperature_cache.h"
 #include "service/refit_scheduler.h"
+#include "service/feed_axis/thermal_error_table.h"
 #include "storage/storage.h"
 
 namespace thermocomp {
@@ -44,6 +45,7 @@ class App {
   HistoryService& history() { return *history_; }
   OutcomeService& outcomes() { return *outcomes_; }
   RefitScheduler& scheduler() { return *scheduler_; }
+  ThermalErrorTableService& thermal_errors() { return *thermal_errors_; }
   Metrics& metrics() { return metrics_; }
   // /metrics lines the services own: fits stored, model age per axis.
   std::string ModelGauges();
@@ -63,6 +65,7 @@ class App {
   PlantTime plant_time_;
   std::unique_ptr<OutcomeService> outcomes_;
   std::unique_ptr<RefitScheduler> scheduler_;
+  std::unique_ptr<ThermalErrorTableService> thermal_errors_;
   Metrics metrics_;
   ProbeTemperatureCache probe_temperatures_;
 };

@@ -64,7 +64,7 @@ struct DdsBridge::Entities {
   dds_entity_t participant = 0;
   dds_entity_t temperature_reader = 0, probe_reader = 0;
   dds_entity_t compensation_writer = 0, rejection_writer = 0, receipt_writer = 0;
-  dds_entity_t check_request_writer = 0;
+  dds_entity_t check_request_writer = 0, thermal_error_writer = 0;
   dds_entity_t waitset = 0;
   // Pending batch: samples per machine, and when the oldest arrived.
   std::map<std::string, std::vector<TemperatureInput>> temperatures;
@@ -102,18 +102,22 @@ Status DdsBridge::Start() {
       topic(&thermocomp_IngestRejection_desc, "thermocomp/IngestRejection", events);
   dds_entity_t t_rec = topic(&thermocomp_IngestReceipt_desc, "thermocomp/IngestReceipt", events);
   dds_entity_t t_req = topic(&thermocomp_CheckRequest_desc, "thermocomp/CheckRequest", state);
+  dds_entity_t t_table =
+      topic(&thermocomp_ThermalErrorTable_desc, "thermocomp/ThermalErrorTable", state);
   e.temperature_reader = dds_create_reader(e.participant, t_temp, ingest, nullptr);
   e.probe_reader = dds_create_reader(e.participant, t_probe, ingest, nullptr);
   e.compensation_writer = dds_create_writer(e.participant, t_comp, state, nullptr);
   e.rejection_writer = dds_create_writer(e.participant, t_rej, events, nullptr);
   e.receipt_writer = dds_create_writer(e.participant, t_rec, events, nullptr);
   e.check_request_writer = dds_create_writer(e.participant, t_req, state, nullptr);
+  e.thermal_error_writer = dds_create_writer(e.participant, t_table, state, nullptr);
   dds_delete_qos(ingest);
   dds_delete_qos(state);
   dds_delete_qos(events);
   for (dds_entity_t x :
-       {t_temp, t_probe, t_comp, t_rej, t_rec, t_req, e.temperature_reader, e.probe_reader,
-        e.compensation_writer, e.rejection_writer, e.receipt_writer, e.check_request_writer}) {
+       {t_temp, t_probe, t_comp, t_rej, t_rec, t_req, t_table, e.temperature_reader,
+        e.probe_reader, e.compensation_writer, e.rejection_writer, e.receipt_writer,
+        e.check_request_writer, e.thermal_error_writer}) {
     if (x < 0) return Status::Unavailable(std::string("DDS entity: ") + dds_strretcode(x));
   }
   e.waitset = dds_create_waitset(e.participant);
@@ -128,6 +132,7 @@ Status DdsBridge::Start() {
     if (auto c = app_.compensation().Get(m.name); c.ok()) PublishCompensation(**c, true);
   }
   PublishCheckRequests();
+  PublishThermalErrors(true);
   thread_ = std::thread([this] { Run(); });
   log::Info("dds bridge started", "uri=" + std::string(std::getenv("CYCLONEDDS_URI")));
   return Status::Ok();
@@ -193,6 +198,7 @@ void DdsBridge::Run() {
         if (auto c = app_.compensation().Get(m.name); c.ok()) PublishCompensation(**c, false);
       }
       PublishCheckRequests();
+      PublishThermalErrors(false);
     }
   }
   Flush();
@@ -374,6 +380,60 @@ void DdsBridge::PublishCheckRequests() {
         if (dds_write(e_->check_request_writer, &msg) == DDS_RETCODE_OK) {
           requests_published_[key] = r.state;
         }
+      }
+    }
+  }
+}
+
+void DdsBridge::PublishThermalErrors(bool force) {
+  std::lock_guard<std::mutex> lock(publish_mutex_);
+  if (!e_ || e_->thermal_error_writer <= 0) return;
+  const int64_t now = NowUnixMs();
+  const double step_um = options_.publish_step_mm * 1000.0;
+  for (const auto& m : app_.machines().List()) {
+    for (const std::string& axis : app_.thermal_errors().ConfiguredAxes(m.name)) {
+      auto t = app_.thermal_errors().Table(m.name, axis);
+      if (!t.ok()) continue;
+      PublishedTable& last = tables_published_[m.name + "/" + axis];
+      bool changed = t->StatusWord() != last.status || t->points.size() != last.correction_um.size();
+      for (size_t i = 0; !changed && i < t->points.size(); ++i) {
+        changed = std::fabs(t->points[i].correction_um - last.correction_um[i]) > step_um;
+      }
+      if (!force && !changed && now - last.at_ms < options_.publish_every_ms) continue;
+      std::vector<thermocomp_ThermalErrorPoint> points;
+      points.reserve(t->points.size());
+      for (const ThermalErrorPoint& p : t->points) {
+        points.push_back({p.position_mm, p.error_um, p.correction_um, p.valid});
+      }
+      thermocomp_ThermalErrorTable msg{};
+      msg.machine = Str(t->machine);
+      msg.axis = Str(t->axis);
+      msg.computed_ms = t->computed_at_ms;
+      msg.model_version = t->model_version.value_or(-1);
+      msg.model_type = Str(t->model_type);
+      msg.fallback = Str(t->fallback);
+      msg.valid = t->valid;
+      msg.stale = t->stale;
+      msg.clamped = t->clamped;
+      msg.status = t->StatusWord();
+      msg.state = const_cast<char*>(ServedStateName(t->state));
+      msg.reason = Str(t->reason);
+      msg.input_age_s = t->input_age_s.value_or(-1.0);
+      msg.travel_min_mm = t->travel.min_mm;
+      msg.travel_max_mm = t->travel.max_mm;
+      msg.max_abs_error_um = t->max_abs_error_um;
+      msg.line_offset_um = t->line.offset_um;
+      msg.line_slope_um_per_m = t->line.slope_um_per_m;
+      msg.line_reference_position_mm = t->line.reference_position_mm;
+      msg.line_max_residual_um = t->line.max_residual_um;
+      msg.points._buffer = points.data();
+      msg.points._length = msg.points._maximum = static_cast<uint32_t>(points.size());
+      msg.points._release = false;
+      if (dds_write(e_->thermal_error_writer, &msg) == DDS_RETCODE_OK) {
+        last.status = t->StatusWord();
+        last.at_ms = now;
+        last.correction_um.clear();
+        for (const ThermalErrorPoint& p : t->points) last.correction_um.push_back(p.correction_um);
       }
     }
   }

@@ -6,7 +6,10 @@
 // CompensationParameters
 // (reliable, transient-local, keep-last 1 per machine and axis) when a
 // served value changes by more than a step, changes validity, or a minute
-// passed; at start it publishes the current values from SQLite.
+// passed; at start it publishes the current values from SQLite. Each
+// configured feed axis' ThermalErrorTable (same QoS) is computed once a
+// second and published when a served point moves by more than the step,
+// its status word or grid changes, or a minute passed.
 // Participants use the file in CYCLONEDDS_URI; if unset, the configured
 // loopback file (deploy/cyclonedds.xml).
 #pragma once
@@ -17,6 +20,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "service/app.h"
 
@@ -45,6 +49,7 @@ class DdsBridge {
   void Run();
   void Flush();
   void PublishCompensation(const MachineCompensation& c, bool force);
+  void PublishThermalErrors(bool force);
   // Pending and overdue column-check requests; answered ones are disposed.
   void PublishCheckRequests();
   void PublishRejection(const std::string& machine, const char* topic, const std::string& item,
@@ -67,6 +72,12 @@ class DdsBridge {
     int64_t at_ms = 0;
   };
   std::map<std::string, Published> published_;  // by "machine/axis"
+  struct PublishedTable {
+    std::vector<double> correction_um;
+    int status = -1;
+    int64_t at_ms = 0;
+  };
+  std::map<std::string, PublishedTable> tables_published_;  // by "machine/axis"
   // Open column-check requests on the CheckRequest topic, by "machine/id":
   // the state written (pending or overdue).
   std::map<std::string, std::string> requests_published_;
