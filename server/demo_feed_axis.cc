@@ -6,6 +6,8 @@
 #include <random>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "core/time_format.h"
 #include "sim/screw_axis.h"
 
@@ -103,6 +105,42 @@ PositioningInput LaserCheck(const ScrewSimRecording& rec, size_t i, int64_t ts_m
   return p;
 }
 
+// The screw as a user configures it (PUT .../axes/X/screw): the sensors
+// where they sit, read at the cold reference check, and alpha as first
+// guessed (the fit identifies it).
+nlohmann::json ScrewConfig(const ScrewSimRecording& rec, int64_t reference_check_id) {
+  nlohmann::json sensors = nlohmann::json::array();
+  for (size_t k = 0; k < rec.axis.sensors.size(); ++k) {
+    sensors.push_back({{"name", rec.axis.sensors[k].name},
+                       {"x_mm", rec.axis.sensors[k].x_mm},
+                       {"reference_c", std::round(rec.checks[0].temperature_c[k] * 100) / 100}});
+  }
+  return {{"arrangement", BearingArrangementName(rec.axis.arrangement)},
+          {"bearing_distance_mm", rec.axis.bearing_distance_mm},
+          {"zero_mm", 0.0},
+          {"direction", 1},
+          {"alpha_um_per_m_k", rec.axis.alpha_um_per_m_k},
+          {"sensors", sensors},
+          {"reference_check_id", reference_check_id}};
+}
+
+// " screw v1 active (held-out max 68.8 -> 2.4 um); neural v2 candidate (...); <decision>"
+std::string FitSummary(const StatusOr<FeedFitReport>& report) {
+  if (!report.ok()) return "feed-model fit: " + report.status().message();
+  std::string out = "feed models:";
+  for (const FeedTypeResult& t : report->types) {
+    char buf[200];
+    if (!t.fitted) {
+      std::snprintf(buf, sizeof buf, " %s not fitted (%s);", t.type.c_str(), t.error.c_str());
+    } else {
+      std::snprintf(buf, sizeof buf, " %s v%d %s (held-out max %.1f -> %.1f um);", t.type.c_str(),
+                    t.version, t.status.c_str(), t.held_out.max_before_um, t.held_out.max_after_um);
+    }
+    out += buf;
+  }
+  return out + " " + report->decision;
+}
+
 }  // namespace
 
 Status DemoFeedAxis(App& app, const std::string& machine, std::string* summary) {
@@ -121,6 +159,7 @@ Status DemoFeedAxis(App& app, const std::string& machine, std::string* summary) 
   std::mt19937_64 rng(kSeed);
   double largest = 0;
   int checks = 0;
+  int64_t reference_id = 0;
   for (double hour : kCheckHours) {
     const auto i = static_cast<size_t>(std::lround(hour * 60));
     for (double e : rec.true_error_um[i]) largest = std::max(largest, std::fabs(e));
@@ -129,17 +168,27 @@ Status DemoFeedAxis(App& app, const std::string& machine, std::string* summary) 
     bool created = false;
     auto r = app.checks().AddPositioningCheck(machine, p, "demo", &created);
     if (!r.ok()) return r.status();
-    ++checks;
+    if (checks++ == 0) reference_id = r->id;
   }
+
+  FieldErrors errors;
+  auto put =
+      app.feed_axes().PutConfig(machine, kAxis, ScrewConfig(rec, reference_id), "demo", &errors);
+  if (!put.ok()) {
+    std::string why = put.status().message();
+    for (const auto& e : errors) why += "; " + e.field + ": " + e.message;
+    return Status::InvalidArgument("screw configuration of X: " + why);
+  }
+  const std::string fit = FitSummary(app.feed_fit().Fit(machine, kAxis, "demo"));
 
   if (summary) {
     char buf[240];
     std::snprintf(buf, sizeof buf,
                   "ball-screw axis %s/%s: %zu sensors, %zu samples over %.0f h from %s, %d "
-                  "positioning checks (thermal error up to %.1f um)",
+                  "positioning checks (thermal error up to %.1f um); ",
                   machine.c_str(), kAxis, rec.axis.sensors.size(), samples, kHours,
                   FormatRfc3339(start_ms).c_str(), checks, largest);
-    *summary = buf;
+    *summary = buf + fit;
   }
   return Status::Ok();
 }
