@@ -151,8 +151,8 @@ std::string RenderThermalErrorLine(const ThermalErrorTable& t, const std::string
   const bool sinumerik = format == "sinumerik";
   const std::string ax = CommentText(t.axis, format);
   const long long computed = t.computed_at_ms / 1000;
-  std::string out = sinumerik ? Printf("TC_COMPUTED=%lld\n", computed)
-                              : Printf("tc_computed=%lld\n", computed);
+  std::string out =
+      sinumerik ? Printf("TC_COMPUTED=%lld\n", computed) : Printf("tc_computed=%lld\n", computed);
   if (!t.valid) {
     out += Printf("; %s not valid, %s: %s\n", ax.c_str(), ServedStateName(t.state),
                   CommentText(t.reason, format).c_str());
@@ -179,16 +179,16 @@ std::string RenderThermalErrorLine(const ThermalErrorTable& t, const std::string
   const long age = t.input_age_s ? static_cast<long>(std::floor(*t.input_age_s)) : -1L;
   out += sinumerik ? Printf("TC_STATUS_%s=%d\nTC_AGE_%s=%ld\n", ax.c_str(), t.StatusWord(),
                             ax.c_str(), age)
-                   : Printf("%s.tc_status=%d\n%s.tc_input_age_s=%ld\n", ax.c_str(),
-                            t.StatusWord(), ax.c_str(), age);
+                   : Printf("%s.tc_status=%d\n%s.tc_input_age_s=%ld\n", ax.c_str(), t.StatusWord(),
+                            ax.c_str(), age);
   return out;
 }
 
 std::string ThermalErrorCsv(const ThermalErrorTable& t) {
   std::string out = "position_mm,error_um,correction_um,valid\n";
   for (const ThermalErrorPoint& p : t.points) {
-    out += Printf("%.3f,%.3f,%.3f,%d\n", p.position_mm, p.error_um, p.correction_um,
-                  p.valid ? 1 : 0);
+    out +=
+        Printf("%.3f,%.3f,%.3f,%d\n", p.position_mm, p.error_um, p.correction_um, p.valid ? 1 : 0);
   }
   return out;
 }

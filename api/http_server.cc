@@ -117,6 +117,9 @@ const std::vector<std::pair<std::regex, std::set<std::string>>>& RouteParams() {
       {std::regex(m + "/positioning-checks/[0-9]+"), {"format"}},
       {std::regex(m + "/positioning-checks/[0-9]+/pitch-table"), {"format", "per_direction"}},
       {std::regex(m + "/positioning-checks"), PositioningQueryParameters()},
+      {std::regex(m + "/axes/[^/]+/thermal-error"), {"format", "spacing_mm"}},
+      {std::regex(m + "/axes/[^/]+/thermal-error/history"),
+       {"from", "to", "positions", "max_points"}},
   };
   return table;
 }

@@ -115,9 +115,9 @@ Status DdsBridge::Start() {
   dds_delete_qos(state);
   dds_delete_qos(events);
   for (dds_entity_t x :
-       {t_temp, t_probe, t_comp, t_rej, t_rec, t_req, t_table, e.temperature_reader,
-        e.probe_reader, e.compensation_writer, e.rejection_writer, e.receipt_writer,
-        e.check_request_writer, e.thermal_error_writer}) {
+       {t_temp, t_probe, t_comp, t_rej, t_rec, t_req, t_table, e.temperature_reader, e.probe_reader,
+        e.compensation_writer, e.rejection_writer, e.receipt_writer, e.check_request_writer,
+        e.thermal_error_writer}) {
     if (x < 0) return Status::Unavailable(std::string("DDS entity: ") + dds_strretcode(x));
   }
   e.waitset = dds_create_waitset(e.participant);
@@ -395,7 +395,8 @@ void DdsBridge::PublishThermalErrors(bool force) {
       auto t = app_.thermal_errors().Table(m.name, axis);
       if (!t.ok()) continue;
       PublishedTable& last = tables_published_[m.name + "/" + axis];
-      bool changed = t->StatusWord() != last.status || t->points.size() != last.correction_um.size();
+      bool changed =
+          t->StatusWord() != last.status || t->points.size() != last.correction_um.size();
       for (size_t i = 0; !changed && i < t->points.size(); ++i) {
         changed = std::fabs(t->points[i].correction_um - last.correction_um[i]) > step_um;
       }

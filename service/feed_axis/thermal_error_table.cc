@@ -19,7 +19,8 @@ namespace {
 Travel TravelOf(const AxisRecord& axis, const ScrewAxis* screw) {
   if (axis.travel_min_mm && axis.travel_max_mm) return {*axis.travel_min_mm, *axis.travel_max_mm};
   if (screw && screw->bearing_distance_mm > 0) {
-    const double a = screw->zero_mm, b = screw->zero_mm + screw->direction * screw->bearing_distance_mm;
+    const double a = screw->zero_mm,
+                 b = screw->zero_mm + screw->direction * screw->bearing_distance_mm;
     return {std::min(a, b), std::max(a, b)};
   }
   return {axis.reference_position_mm - 1000.0, axis.reference_position_mm + 1000.0};
@@ -137,7 +138,7 @@ struct ThermalErrorTableService::AxisModel {
   std::shared_ptr<const FeedModel> model;
   std::optional<int> version;
   std::string type;
-  std::string reason;  // why there is no model to evaluate
+  std::string reason;                // why there is no model to evaluate
   std::vector<std::string> sensors;  // screw sensors, then body sensors
 };
 
@@ -152,8 +153,8 @@ StatusOr<ThermalErrorTableService::AxisModel> ThermalErrorTableService::Load(
   auto record = feeds.Config(m.axis->id);
   if (record) {
     FieldErrors errors;
-    auto config = FeedAxisConfigFromJson(nlohmann::json::parse(record->config_json, nullptr, false),
-                                         &errors);
+    auto config =
+        FeedAxisConfigFromJson(nlohmann::json::parse(record->config_json, nullptr, false), &errors);
     if (config.ok()) {
       m.config = std::move(config).value();
     } else {
@@ -246,7 +247,8 @@ StatusOr<ThermalErrorTable> ThermalErrorTableService::Table(const std::string& m
     }
   }
   if (own.empty()) {
-    own_spacing = std::max(own_spacing, (t.travel.max_mm - t.travel.min_mm) / double(kMaxPoints - 2));
+    own_spacing =
+        std::max(own_spacing, (t.travel.max_mm - t.travel.min_mm) / double(kMaxPoints - 2));
     own = SpacedGrid(t.travel, own_spacing);
   }
   std::vector<double> grid = own;
@@ -271,7 +273,8 @@ StatusOr<ThermalErrorTable> ThermalErrorTableService::Table(const std::string& m
     ThermalErrorSensor s;
     s.name = name;
     const SensorRecord* rec = m.machine->FindSensor(name);
-    std::optional<FilterState> fs = rec ? session->samples().LoadFilterState(rec->id) : std::nullopt;
+    std::optional<FilterState> fs =
+        rec ? session->samples().LoadFilterState(rec->id) : std::nullopt;
     if (!fs) {
       unusable.push_back("no samples from sensor " + name);
       t.sensors.push_back(s);
@@ -293,7 +296,8 @@ StatusOr<ThermalErrorTable> ThermalErrorTableService::Table(const std::string& m
                fs->last_value > config_.plausible_max_c || !std::isfinite(fs->state)) {
       unusable.push_back("sensor " + name + " implausible: raw value outside plausible range");
     } else if (std::fabs(fs->last_value - fs->state) > config_.max_step_c) {
-      unusable.push_back("sensor " + name + " implausible: raw value jumps away from filtered value");
+      unusable.push_back("sensor " + name +
+                         " implausible: raw value jumps away from filtered value");
     } else {
       temperatures[name] = fs->state;
     }
@@ -453,8 +457,8 @@ ThermalErrorTableService::Serving ThermalErrorTableService::ServeGrid(
     } else if (now_ms < hold_end) {
       out.state = ServedState::kHolding;
     } else {
-      out.state = move(zero, {}, std::max(r.at_ms, hold_end)) ? ServedState::kOff
-                                                              : ServedState::kRamping;
+      out.state =
+          move(zero, {}, std::max(r.at_ms, hold_end)) ? ServedState::kOff : ServedState::kRamping;
     }
   }
   // The clamp in force now bounds what is served at once.
@@ -470,9 +474,11 @@ ThermalErrorTableService::Serving ThermalErrorTableService::ServeGrid(
   return out;
 }
 
-StatusOr<ThermalErrorHistory> ThermalErrorTableService::History(
-    const std::string& machine, const std::string& axis, int64_t from_ms, int64_t to_ms,
-    std::vector<double> positions_mm, size_t max_points) {
+StatusOr<ThermalErrorHistory> ThermalErrorTableService::History(const std::string& machine,
+                                                                const std::string& axis,
+                                                                int64_t from_ms, int64_t to_ms,
+                                                                std::vector<double> positions_mm,
+                                                                size_t max_points) {
   if (from_ms > to_ms) return Status::InvalidArgument("from: must not be after to");
   if (max_points < 2 || max_points > kMaxHistoryPoints) {
     return Status::InvalidArgument("max_points: must be from 2 to 2000");
@@ -494,8 +500,8 @@ StatusOr<ThermalErrorHistory> ThermalErrorTableService::History(
   if (positions_mm.empty()) positions_mm = {m.travel.min_mm, m.travel.max_mm};
   for (double p : positions_mm) {
     if (!std::isfinite(p) || p < m.travel.min_mm || p > m.travel.max_mm) {
-      return Status::InvalidArgument("positions: each must be within the travel " + Mm(m.travel.min_mm) +
-                                     ".." + Mm(m.travel.max_mm) + " mm");
+      return Status::InvalidArgument("positions: each must be within the travel " +
+                                     Mm(m.travel.min_mm) + ".." + Mm(m.travel.max_mm) + " mm");
     }
   }
   h.positions_mm = positions_mm;
@@ -516,13 +522,13 @@ StatusOr<ThermalErrorHistory> ThermalErrorTableService::History(
   for (size_t k = 0; k < n; ++k) {
     ThermalErrorHistoryPoint hp;
     hp.ts_ms = n == 1 ? from_ms
-                      : from_ms + static_cast<int64_t>(std::llround(
-                                      double(to_ms - from_ms) * double(k) / double(n - 1)));
+                      : from_ms + static_cast<int64_t>(std::llround(double(to_ms - from_ms) *
+                                                                    double(k) / double(n - 1)));
     FeedTemperatures temperatures;
     std::string missing;
     for (size_t i = 0; i < m.sensors.size(); ++i) {
-      auto row = sensor_ids[i] < 0 ? std::nullopt
-                                   : session->samples().AtOrBefore(sensor_ids[i], hp.ts_ms);
+      auto row =
+          sensor_ids[i] < 0 ? std::nullopt : session->samples().AtOrBefore(sensor_ids[i], hp.ts_ms);
       if (row && hp.ts_ms - row->ts_ms <= stale_ms) {
         temperatures[m.sensors[i]] = row->filtered;
       } else if (missing.empty()) {

@@ -78,7 +78,7 @@ struct ThermalErrorTable {
   std::vector<ThermalErrorSensor> sensors;
   std::vector<ThermalErrorPoint> points;
   ThermalErrorLine line;
-  double max_abs_error_um = 0;  // of the model's valid values over the grid
+  double max_abs_error_um = 0;                   // of the model's valid values over the grid
   std::optional<double> interpolation_bound_um;  // unknown with < 2 screw sensors
   bool valid = false, stale = false, clamped = false;
   ServedState state = ServedState::kOff;
