@@ -22,6 +22,7 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
   app->fits_ = std::make_unique<FitService>(d, clock, c, cache);
   app->analyses_ = std::make_unique<AnalysisService>(d, clock, c, cache);
   app->checks_ = std::make_unique<CheckService>(d, clock, c);
+  app->feed_axes_ = std::make_unique<FeedAxisService>(d, clock, c);
   app->compensation_ = std::make_unique<CompensationService>(d, clock, c);
   app->history_ = std::make_unique<HistoryService>(d, c, cache);
   app->outcomes_ = std::make_unique<OutcomeService>(d, clock, *app->history_, *app->compensation_,

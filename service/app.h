@@ -11,6 +11,7 @@
 #include "service/check_service.h"
 #include "service/compensation_service.h"
 #include "service/config.h"
+#include "service/feed_axis/feed_axis_service.h"
 #include "service/fit_service.h"
 #include "service/history_service.h"
 #include "service/ingest_service.h"
@@ -41,6 +42,7 @@ class App {
   FitService& fits() { return *fits_; }
   AnalysisService& analyses() { return *analyses_; }
   CheckService& checks() { return *checks_; }
+  FeedAxisService& feed_axes() { return *feed_axes_; }
   CompensationService& compensation() { return *compensation_; }
   HistoryService& history() { return *history_; }
   OutcomeService& outcomes() { return *outcomes_; }
@@ -60,6 +62,7 @@ class App {
   std::unique_ptr<FitService> fits_;
   std::unique_ptr<AnalysisService> analyses_;
   std::unique_ptr<CheckService> checks_;
+  std::unique_ptr<FeedAxisService> feed_axes_;
   std::unique_ptr<CompensationService> compensation_;
   std::unique_ptr<HistoryService> history_;
   PlantTime plant_time_;
