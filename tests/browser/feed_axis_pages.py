@@ -100,8 +100,9 @@ def history(d, s, axis, check):
         check(False, f"{axis}: the history the page asked for ({url}): {e}")
         return
     rows = drawn(d, axis, "history") or []
+    first = next((i for i, p in enumerate(h["points"]) if p["valid"]), 0)  # drawn from the first valid time
     want = [[p["ts"]] + [e if p["valid"] else None for e in p["error_um"]] +
-            [p["max_abs_error_um"] if p["valid"] else None] for p in h["points"]]
+            [p["max_abs_error_um"] if p["valid"] else None] for p in h["points"][first:]]
     same = len(rows) == len(want) and all(
         r[0][:19] == w[0][:19] and all(close(a, b) for a, b in zip(r[1:], w[1:])) for r, w in zip(rows, want))
     valid = sum(1 for p in h["points"] if p["valid"])
@@ -150,4 +151,7 @@ def machine_feed(d, s, check, out, machine="sim-1"):
         latest_fit(d, s, machine, axis, check)
         d.execute_script("arguments[0].scrollIntoView()", section)
         section.screenshot(os.path.join(out, f"machine-feed-{axis}.png"))
+        later = d.find_element(By.ID, f"feed-{axis}-history")
+        d.execute_script("arguments[0].scrollIntoView()", later)
+        d.save_screenshot(os.path.join(out, f"machine-feed-{axis}-history.png"))
     d.execute_script("window.scrollTo(0, 0)")

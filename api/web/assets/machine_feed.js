@@ -109,7 +109,10 @@ const MachineFeed = (() => {
       now.plot.dataset.points = rows.length;
       drawnCharts[axis] = { now: g, history: null };
       const pos = history.positions_mm || [];
-      const hrows = history.points.map((p) => [new Date(p.ts), ...pos.map((_, k) => (p.valid ? p.error_um[k] : null)),
+      // From the first valid time: the week's days before the sensors' first
+      // samples are not drawn as an empty stretch.
+      const first = history.points.findIndex((p) => p.valid);
+      const hrows = history.points.slice(Math.max(0, first)).map((p) => [new Date(p.ts), ...pos.map((_, k) => (p.valid ? p.error_um[k] : null)),
         p.valid ? p.max_abs_error_um : null]);
       const labels = ["time", ...pos.map((x) => "error at " + f1(x) + " mm"), "max |error|"];
       if (hrows.length) {
