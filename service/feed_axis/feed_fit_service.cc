@@ -235,8 +235,9 @@ StatusOr<FeedFitReport> FeedFitService::Fit(const std::string& machine_name,
     StatusOr<std::shared_ptr<const FeedModel>> model =
         Status::InvalidArgument("unknown model type " + active->type);
     try {
+      // As it was stored: a guarded champion with the fallback it was fitted with.
       if (type)
-        model = type->FromJson(data->axis, nlohmann::json::parse(active->model_json), physical);
+        model = type->FromJson(data->axis, nlohmann::json::parse(active->model_json), nullptr);
     } catch (const nlohmann::json::exception&) {
       model = Status::InvalidArgument("stored model is not JSON");
     }
