@@ -30,6 +30,8 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
   app->scheduler_ = std::make_unique<RefitScheduler>(d, *app->fits_, clock, c, app->analyses_.get(),
                                                      app->checks_.get());
   app->thermal_errors_ = std::make_unique<ThermalErrorTableService>(d, clock, c);
+  app->feed_fit_ = std::make_unique<FeedFitService>(d, clock, c);
+  app->scheduler_->SetFeedFits(app->feed_fit_.get());
   CompensationService* compensation = app->compensation_.get();
   auto changed = [compensation](const std::string& machine) { compensation->MarkChanged(machine); };
   app->ingest_->SetListener(changed);

@@ -21,6 +21,7 @@
 #include "service/probe_temperature_cache.h"
 #include "service/refit_scheduler.h"
 #include "service/feed_axis/thermal_error_table.h"
+#include "service/feed_axis/feed_fit_service.h"
 #include "storage/storage.h"
 
 namespace thermocomp {
@@ -48,6 +49,7 @@ class App {
   OutcomeService& outcomes() { return *outcomes_; }
   RefitScheduler& scheduler() { return *scheduler_; }
   ThermalErrorTableService& thermal_errors() { return *thermal_errors_; }
+  FeedFitService& feed_fit() { return *feed_fit_; }
   Metrics& metrics() { return metrics_; }
   // /metrics lines the services own: fits stored, model age per axis.
   std::string ModelGauges();
@@ -69,6 +71,7 @@ class App {
   std::unique_ptr<OutcomeService> outcomes_;
   std::unique_ptr<RefitScheduler> scheduler_;
   std::unique_ptr<ThermalErrorTableService> thermal_errors_;
+  std::unique_ptr<FeedFitService> feed_fit_;
   Metrics metrics_;
   ProbeTemperatureCache probe_temperatures_;
 };
