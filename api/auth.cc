@@ -17,6 +17,15 @@ std::pair<std::string, std::string> MachineOf(const std::string& path) {
   return {tail.substr(0, slash), tail.substr(slash + 1)};
 }
 
+// "axes/{axis}/thermal-error": the feed axis' table a control reads like
+// its compensation (not its history, which is for people).
+bool IsThermalErrorTable(const std::string& rest) {
+  const std::string prefix = "axes/", suffix = "/thermal-error";
+  return rest.size() > prefix.size() + suffix.size() && rest.rfind(prefix, 0) == 0 &&
+         rest.compare(rest.size() - suffix.size(), suffix.size(), suffix) == 0 &&
+         rest.find('/', prefix.size()) == rest.size() - suffix.size();
+}
+
 bool Permitted(const AccessToken& t, const std::string& method, const std::string& path) {
   if (t.role == "admin") return true;
   const bool read = method == "GET" || method == "HEAD";
@@ -31,7 +40,8 @@ bool Permitted(const AccessToken& t, const std::string& method, const std::strin
   if (t.role == "machine") {
     auto [machine, rest] = MachineOf(path);
     if (machine.empty() || machine != t.machine) return false;
-    if (read) return rest.empty() || rest == "compensation" || rest == "column-checks/requests";
+    if (read) return rest.empty() || rest == "compensation" || rest == "column-checks/requests" ||
+                     IsThermalErrorTable(rest);
     return method == "POST" && (rest == "temperatures" || rest == "probe-points" ||
                                 rest == "signals" || rest == "events" || rest == "column-checks");
   }

@@ -66,8 +66,14 @@ TEST(AuthorizerTest, TheRolesTableOfTheDocsIsWhatIsEnforced) {
        {"/temperatures", "/probe-points", "/signals", "/events", "/column-checks"}) {
     EXPECT_EQ(as(kCell, "POST", m1 + rest), 200) << rest;
   }
-  for (const char* rest : {"", "/compensation", "/column-checks/requests"}) {
+  for (const char* rest :
+       {"", "/compensation", "/column-checks/requests", "/axes/X/thermal-error"}) {
     EXPECT_EQ(as(kCell, "GET", m1 + rest), 200) << rest;
+  }
+  // The table a control reads, not its history or a path merely ending so.
+  for (const char* rest : {"/axes/X/thermal-error/history", "/axes/X/Y/thermal-error",
+                           "/axes//thermal-error", "/axes/X/screw"}) {
+    EXPECT_EQ(as(kCell, "GET", m1 + rest), 403) << rest;
   }
   for (const char* rest : {"/positioning-checks", "/column-checks/requests", "/axes/Y/fit"}) {
     EXPECT_EQ(as(kCell, "POST", m1 + rest), 403) << rest;
