@@ -8,6 +8,7 @@
 #include "api/http_util.h"
 #include "api/problem.h"
 #include "core/time_format.h"
+#include "reports/feed_fit_report_codec.h"
 
 namespace thermocomp::api {
 using nlohmann::json;
@@ -81,6 +82,11 @@ void HttpServer::FeedAxisRoutes() {
     WriteJson(res, FeedAxisConfigToJson(*config));
   });
 
+  s.Post(axis + "/feed-models/fit", [this](const Req& req, Res& res) {
+    auto report = app_.feed_fit().Fit(req.matches[1], req.matches[2], Actor(req));
+    if (!report.ok()) return WriteProblem(res, report.status());
+    WriteJson(res, FeedFitReportToJson(*report), 201);
+  });
   s.Get(axis + "/feed-models", [this](const Req& req, Res& res) {
     auto list = app_.feed_axes().Models(req.matches[1], req.matches[2]);
     if (!list.ok()) return WriteProblem(res, list.status());
