@@ -124,7 +124,7 @@ Trained TrainFrom(Regularised& f, Eigen::VectorXd w, int rounds) {
 
 }  // namespace
 
-int InputRange::Outside(const Eigen::Ref<const Eigen::VectorXd>& input) const {
+int NetworkRange::Outside(const Eigen::Ref<const Eigen::VectorXd>& input) const {
   for (int i = 0; i < static_cast<int>(low.size()); ++i) {
     if (i >= input.size() || !std::isfinite(input(i)) || input(i) < low[i] || input(i) > high[i])
       return i;

@@ -13,7 +13,7 @@
 // with libeigen3-dev, MINPACK's algorithm) on the residuals
 // [√β·e; √α·w], whose squared norm is F.
 //
-// A network does not extrapolate: InputRange is the box of the training
+// A network does not extrapolate: NetworkRange is the box of the training
 // inputs widened by a margin, and a prediction outside it must not be
 // served (the caller falls back or marks the value invalid).
 #pragma once
@@ -37,7 +37,7 @@ struct NetworkOptions {
 };
 
 // Per input: the training range widened by the margin.
-struct InputRange {
+struct NetworkRange {
   std::vector<double> low, high;
   // The first input outside the range, or −1 when all are inside.
   int Outside(const Eigen::Ref<const Eigen::VectorXd>& input) const;
@@ -51,7 +51,7 @@ struct NetworkParameters {
   std::vector<double> weights;        // hidden × (inputs + 2) + 1, see thermal_network.cc
   std::vector<double> center, scale;  // per input: x_scaled = (x − center) / scale
   double y_center = 0, y_scale = 1;
-  InputRange range;
+  NetworkRange range;
   double effective_parameters = 0, training_rmse = 0;
 };
 
@@ -74,7 +74,7 @@ class ThermalNetwork {
   // caller checks range().Outside(input) first.
   double Predict(const Eigen::Ref<const Eigen::VectorXd>& input) const;
 
-  const InputRange& range() const { return range_; }
+  const NetworkRange& range() const { return range_; }
   int inputs() const { return static_cast<int>(scale_.size()); }
   int weights() const { return static_cast<int>(w_.size()); }
   double effective_parameters() const { return gamma_; }  // γ
@@ -85,7 +85,7 @@ class ThermalNetwork {
   Eigen::VectorXd center_, scale_;
   double y_center_ = 0, y_scale_ = 1;
   int hidden_ = 0;
-  InputRange range_;
+  NetworkRange range_;
   double gamma_ = 0, rmse_ = 0;
 };
 

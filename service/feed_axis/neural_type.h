@@ -2,7 +2,7 @@
 // the machine position, the screw sensors' and the body sensors'
 // temperatures in and the thermal error out, one row per target of each
 // training check. Guarded: a prediction whose input lies outside the
-// network's InputRange (or whose sensor is missing) is never served from
+// network's NetworkRange (or whose sensor is missing) is never served from
 // the network. With a fallback (the physical model) the fallback's value is
 // served, marked fallback = "screw" with the reason naming the input;
 // without one the value is invalid with that reason.
