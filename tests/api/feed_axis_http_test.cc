@@ -272,6 +272,15 @@ TEST_F(FeedAxisHttpTest, ModelsAreListedNewestFirstReadAndActivated) {
   EXPECT_EQ(client_->Post(kModels + "/9/activate", "", "application/json")->status, 404);
   EXPECT_EQ(app_->feed_axes().Model("m1", "X", 2)->status, "active");
   EXPECT_EQ(client_->Get("/api/v1/machines/m1/axes/Q/feed-models")->status, 404);
+
+  // A refit of an axis without a screw configuration: 422, nothing stored.
+  r = client_->Post(kModels + "/fit", "", "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 422) << r->body;
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM feed_models"), 2);
+  EXPECT_EQ(
+      client_->Post("/api/v1/machines/m9/axes/X/feed-models/fit", "", "application/json")->status,
+      404);
 }
 
 const std::string kAdmin = "admin-token-0123456789";
