@@ -287,6 +287,29 @@ def exercise(base):
     call(base, "GET", f"{m}/positioning-checks?axis=Y", expect=200)
     call(base, "GET", f"{m}/positioning-checks?axis=Q", expect=404)
     call(base, "GET", f"{m}/positioning-checks?format=html", expect=400)
+    # The demo's ball-screw axis (sim-1/X): configuration, models, table.
+    fx = m + "/axes/X"
+    call(base, "GET", fx + "/screw", expect=200)
+    call(base, "GET", ax + "/screw", expect=404)
+    screw = {"arrangement": "fixed_floating", "bearing_distance_mm": 800,
+             "sensors": [{"name": "Tscrew1", "x_mm": 0}, {"name": "Tscrew2", "x_mm": 400}]}
+    call(base, "PUT", ax + "/screw", screw, expect=201)
+    call(base, "PUT", ax + "/screw", screw, expect=200)
+    call(base, "PUT", ax + "/screw", dict(screw, bearing_distance_mm=-1), expect=400)
+    call(base, "POST", fx + "/feed-models/fit", "", expect=201)
+    call(base, "POST", "/api/v1/machines/c1/axes/Y/feed-models/fit", "", expect=422)
+    call(base, "GET", fx + "/feed-models", expect=200)
+    call(base, "GET", fx + "/feed-models/1", expect=200)
+    call(base, "GET", fx + "/feed-models/99", expect=404)
+    call(base, "POST", fx + "/feed-models/1/activate", "", expect=200)
+    for fmt in ("json", "csv", "sinumerik", "beckhoff"):
+        call(base, "GET", f"{fx}/thermal-error?format={fmt}", expect=200)
+    call(base, "GET", f"{fx}/thermal-error?spacing_mm=25", expect=200)
+    call(base, "GET", f"{fx}/thermal-error?format=pdf", expect=400)
+    call(base, "GET", f"{fx}/thermal-error?spacing_mm=0", expect=400)
+    call(base, "GET", "/api/v1/machines/nope/axes/X/thermal-error", expect=404)
+    call(base, "GET", f"{fx}/thermal-error/history?max_points=5", expect=200)
+    call(base, "GET", f"{fx}/thermal-error/history?positions=abc", expect=400)
 
 
 def exercise_sign_in(base):
