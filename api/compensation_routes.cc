@@ -11,7 +11,7 @@
 #include "core/time_format.h"
 #include "reports/drift_history_codec.h"
 #include "reports/json_fields.h"
-#include "service/outcome/outcome_codec.h"
+#include "reports/outcome_codec.h"
 
 namespace thermocomp::api {
 using nlohmann::json;

@@ -14,7 +14,7 @@
 #include "reports/fit_report_codec.h"
 #include "reports/fit_report_text.h"
 #include "reports/json_fields.h"
-#include "service/outcome/outcome_codec.h"
+#include "reports/outcome_codec.h"
 
 namespace thermocomp::api {
 using nlohmann::json;

@@ -8,7 +8,7 @@
 #include "api/http_util.h"
 #include "api/json_mapping.h"
 #include "api/problem.h"
-#include "service/outcome/outcome_codec.h"
+#include "reports/outcome_codec.h"
 
 namespace thermocomp::api {
 using nlohmann::json;

@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "service/outcome/outcome_service.h"
+#include "reports/outcome_report.h"
 
 namespace thermocomp {
 

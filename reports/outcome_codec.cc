@@ -1,4 +1,4 @@
-#include "service/outcome/outcome_codec.h"
+#include "reports/outcome_codec.h"
 
 #include "core/time_format.h"
 
