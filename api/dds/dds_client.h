@@ -1,7 +1,7 @@
 // DdsClient: the server's topics seen from a machine or line software: its
 // own participant (on the file in CYCLONEDDS_URI), publishing temperatures,
-// reading receipts, rejections and compensation. Used by the simulator,
-// the tests and the benchmarks.
+// reading receipts, rejections, compensation and thermal error tables. Used
+// by the simulator, the tests and the benchmarks.
 #pragma once
 
 #include <algorithm>
@@ -29,6 +29,56 @@ struct CompensationSeen {
   int status = 0;  // AxisCompensation::StatusWord()
 };
 
+struct ThermalErrorPointSeen {
+  double position_mm = 0, error_um = 0, correction_um = 0;
+  bool valid = false;
+};
+
+// One ThermalErrorTable sample (api/dds/thermocomp.idl).
+struct ThermalErrorTableSeen {
+  std::string machine, axis;
+  int64_t computed_ms = 0;
+  int model_version = -1;
+  std::string model_type, fallback;
+  bool valid = false, stale = false, clamped = false;
+  int status = 0;  // ThermalErrorTable::StatusWord()
+  std::string state, reason;
+  double input_age_s = -1;
+  double travel_min_mm = 0, travel_max_mm = 0, max_abs_error_um = 0;
+  double line_offset_um = 0, line_slope_um_per_m = 0, line_reference_position_mm = 0;
+  double line_max_residual_um = 0;
+  std::vector<ThermalErrorPointSeen> points;
+
+  static ThermalErrorTableSeen From(const thermocomp_ThermalErrorTable& t) {
+    ThermalErrorTableSeen s;
+    s.machine = t.machine;
+    s.axis = t.axis;
+    s.computed_ms = t.computed_ms;
+    s.model_version = t.model_version;
+    s.model_type = t.model_type;
+    s.fallback = t.fallback;
+    s.valid = t.valid;
+    s.stale = t.stale;
+    s.clamped = t.clamped;
+    s.status = t.status;
+    s.state = t.state;
+    s.reason = t.reason;
+    s.input_age_s = t.input_age_s;
+    s.travel_min_mm = t.travel_min_mm;
+    s.travel_max_mm = t.travel_max_mm;
+    s.max_abs_error_um = t.max_abs_error_um;
+    s.line_offset_um = t.line_offset_um;
+    s.line_slope_um_per_m = t.line_slope_um_per_m;
+    s.line_reference_position_mm = t.line_reference_position_mm;
+    s.line_max_residual_um = t.line_max_residual_um;
+    for (uint32_t i = 0; i < t.points._length; ++i) {
+      const thermocomp_ThermalErrorPoint& p = t.points._buffer[i];
+      s.points.push_back({p.position_mm, p.error_um, p.correction_um, p.valid});
+    }
+    return s;
+  }
+};
+
 class DdsClient {
  public:
   explicit DdsClient(uint32_t domain = 0) {
@@ -52,6 +102,8 @@ class DdsClient {
                                           "thermocomp/IngestRejection", events, nullptr);
     t_comp_ = dds_create_topic(participant_, &thermocomp_CompensationParameters_desc,
                                "thermocomp/CompensationParameters", state, nullptr);
+    t_table_ = dds_create_topic(participant_, &thermocomp_ThermalErrorTable_desc,
+                                "thermocomp/ThermalErrorTable", state, nullptr);
     t_request_ = dds_create_topic(participant_, &thermocomp_CheckRequest_desc,
                                   "thermocomp/CheckRequest", state, nullptr);
     temperature_writer_ = dds_create_writer(participant_, t_temp, reliable, nullptr);
@@ -215,6 +267,52 @@ class DdsClient {
     return seen;
   }
 
+  // Thermal error tables of every machine and axis that arrived since the
+  // last call (a reader that stays subscribed; taking consumes them all).
+  std::vector<ThermalErrorTableSeen> TakeThermalErrorTables() {
+    if (table_reader_ == 0) {
+      table_reader_ = dds_create_reader(participant_, t_table_, state_qos_, nullptr);
+    }
+    std::vector<ThermalErrorTableSeen> out;
+    void* buf[16] = {nullptr};
+    dds_sample_info_t info[16];
+    int n;
+    while ((n = dds_take(table_reader_, buf, info, 16, 16)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (info[i].valid_data) {
+          out.push_back(
+              ThermalErrorTableSeen::From(*static_cast<thermocomp_ThermalErrorTable*>(buf[i])));
+        }
+      }
+      dds_return_loan(table_reader_, buf, n);
+      std::fill(std::begin(buf), std::end(buf), nullptr);
+    }
+    return out;
+  }
+
+  // Joins late: a new transient-local reader gets the current table at once.
+  std::optional<ThermalErrorTableSeen> ReadThermalErrorTable(const std::string& machine,
+                                                             const std::string& axis,
+                                                             int timeout_ms = 10000) {
+    dds_entity_t reader = dds_create_reader(participant_, t_table_, state_qos_, nullptr);
+    std::optional<ThermalErrorTableSeen> seen;
+    for (int waited = 0; waited < timeout_ms && !seen; waited += 20) {
+      void* buf[16] = {nullptr};
+      dds_sample_info_t info[16];
+      int n = dds_take(reader, buf, info, 16, 16);
+      for (int i = 0; i < n; ++i) {
+        auto* t = static_cast<thermocomp_ThermalErrorTable*>(buf[i]);
+        if (info[i].valid_data && machine == t->machine && axis == t->axis) {
+          seen = ThermalErrorTableSeen::From(*t);
+        }
+      }
+      if (n > 0) dds_return_loan(reader, buf, n);
+      if (!seen) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    dds_delete(reader);
+    return seen;
+  }
+
   struct CheckRequestSeen {
     std::string machine, kind, reason;
     int64_t request_id = 0, due_ms = 0;
@@ -249,6 +347,7 @@ class DdsClient {
   dds_entity_t t_request_ = 0;
   dds_entity_t participant_ = 0, temperature_writer_ = 0, rejection_reader_ = 0, t_comp_ = 0;
   dds_entity_t receipt_reader_ = 0, compensation_reader_ = 0, probe_writer_ = 0;
+  dds_entity_t t_table_ = 0, table_reader_ = 0;
   dds_qos_t* state_qos_ = nullptr;
 };
 

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "core/time_format.h"
 #include "reports/check_codec.h"
@@ -27,22 +26,6 @@ Travel TravelOf(const AxisRecord& axis, const ScrewAxis* screw) {
 }
 
 constexpr double kDefaultSpacingMm = 10.0;
-
-std::string Mm(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3f", v);
-  return buf;
-}
-
-// min, min + s, ..., max (the last step may be shorter).
-std::vector<double> SpacedGrid(const Travel& t, double spacing_mm) {
-  std::vector<double> out;
-  const double span = t.max_mm - t.min_mm;
-  const auto steps = static_cast<size_t>(std::floor(span / spacing_mm + 1e-9));
-  for (size_t i = 0; i <= steps; ++i) out.push_back(t.min_mm + static_cast<double>(i) * spacing_mm);
-  if (out.back() < t.max_mm - 1e-9) out.push_back(t.max_mm);
-  return out;
-}
 
 size_t SpacedCount(const Travel& t, double spacing_mm) {
   return static_cast<size_t>(std::floor((t.max_mm - t.min_mm) / spacing_mm + 1e-9)) + 2;
@@ -129,18 +112,14 @@ int64_t ThermalErrorTableService::ArrivalOf(const std::string& key, int64_t last
   return arrival_mono_[key];
 }
 
-// The model of one axis as the table and the history evaluate it.
-struct ThermalErrorTableService::AxisModel {
-  std::optional<MachineRecord> machine;
-  const AxisRecord* axis = nullptr;
-  std::optional<FeedAxisConfig> config;
-  Travel travel;
-  std::shared_ptr<const FeedModel> model;
-  std::optional<int> version;
-  std::string type;
-  std::string reason;                // why there is no model to evaluate
-  std::vector<std::string> sensors;  // screw sensors, then body sensors
-};
+std::vector<double> ThermalErrorTableService::SpacedGrid(const Travel& t, double spacing_mm) {
+  std::vector<double> out;
+  const double span = t.max_mm - t.min_mm;
+  const auto steps = static_cast<size_t>(std::floor(span / spacing_mm + 1e-9));
+  for (size_t i = 0; i <= steps; ++i) out.push_back(t.min_mm + static_cast<double>(i) * spacing_mm);
+  if (out.back() < t.max_mm - 1e-9) out.push_back(t.max_mm);
+  return out;
+}
 
 StatusOr<ThermalErrorTableService::AxisModel> ThermalErrorTableService::Load(
     Session& session, const std::string& machine, const std::string& axis) {
@@ -156,7 +135,7 @@ StatusOr<ThermalErrorTableService::AxisModel> ThermalErrorTableService::Load(
     auto config =
         FeedAxisConfigFromJson(nlohmann::json::parse(record->config_json, nullptr, false), &errors);
     if (config.ok()) {
-      m.config = std::move(config).value();
+      m.config = std::make_shared<const FeedAxisConfig>(std::move(config).value());
     } else {
       m.reason = "the screw configuration cannot be read" +
                  (errors.empty() ? "" : ": " + errors[0].field + " " + errors[0].message);
@@ -472,93 +451,6 @@ ThermalErrorTableService::Serving ThermalErrorTableService::ServeGrid(
   out.correction_um = r.correction_um;
   out.line = r.line;
   return out;
-}
-
-StatusOr<ThermalErrorHistory> ThermalErrorTableService::History(const std::string& machine,
-                                                                const std::string& axis,
-                                                                int64_t from_ms, int64_t to_ms,
-                                                                std::vector<double> positions_mm,
-                                                                size_t max_points) {
-  if (from_ms > to_ms) return Status::InvalidArgument("from: must not be after to");
-  if (max_points < 2 || max_points > kMaxHistoryPoints) {
-    return Status::InvalidArgument("max_points: must be from 2 to 2000");
-  }
-  if (positions_mm.size() > kMaxHistoryPositions) {
-    return Status::InvalidArgument("positions: at most 20");
-  }
-  const std::unique_ptr<Session> session = storage_.Open();
-  auto loaded = Load(*session, machine, axis);
-  if (!loaded.ok()) return loaded.status();
-  const AxisModel& m = *loaded;
-  ThermalErrorHistory h;
-  h.machine = machine;
-  h.axis = axis;
-  h.model_version = m.version;
-  h.model_type = m.type;
-  h.from_ms = from_ms;
-  h.to_ms = to_ms;
-  if (positions_mm.empty()) positions_mm = {m.travel.min_mm, m.travel.max_mm};
-  for (double p : positions_mm) {
-    if (!std::isfinite(p) || p < m.travel.min_mm || p > m.travel.max_mm) {
-      return Status::InvalidArgument("positions: each must be within the travel " +
-                                     Mm(m.travel.min_mm) + ".." + Mm(m.travel.max_mm) + " mm");
-    }
-  }
-  h.positions_mm = positions_mm;
-  if (!m.model) {
-    h.reason = m.reason;
-    return h;
-  }
-  // max |error| on a grid of at most 201 points: the history is a trend.
-  const double span = m.travel.max_mm - m.travel.min_mm;
-  const std::vector<double> grid = SpacedGrid(m.travel, std::max(span / 200.0, 1e-6));
-  std::vector<int64_t> sensor_ids;
-  for (const auto& name : m.sensors) {
-    const SensorRecord* rec = m.machine->FindSensor(name);
-    sensor_ids.push_back(rec ? rec->id : -1);
-  }
-  const int64_t stale_ms = int64_t{config_.stale_after_s} * 1000;
-  const size_t n = from_ms == to_ms ? 1 : max_points;
-  for (size_t k = 0; k < n; ++k) {
-    ThermalErrorHistoryPoint hp;
-    hp.ts_ms = n == 1 ? from_ms
-                      : from_ms + static_cast<int64_t>(std::llround(double(to_ms - from_ms) *
-                                                                    double(k) / double(n - 1)));
-    FeedTemperatures temperatures;
-    std::string missing;
-    for (size_t i = 0; i < m.sensors.size(); ++i) {
-      auto row =
-          sensor_ids[i] < 0 ? std::nullopt : session->samples().AtOrBefore(sensor_ids[i], hp.ts_ms);
-      if (row && hp.ts_ms - row->ts_ms <= stale_ms) {
-        temperatures[m.sensors[i]] = row->filtered;
-      } else if (missing.empty()) {
-        missing = "no temperature of " + m.sensors[i] + " within " +
-                  std::to_string(config_.stale_after_s) + " s before";
-      }
-    }
-    std::vector<double> at = positions_mm;
-    at.insert(at.end(), grid.begin(), grid.end());
-    const std::vector<FeedPrediction> p = m.model->Predict(temperatures, at);
-    hp.valid = p.size() == at.size();
-    for (size_t i = 0; hp.valid && i < p.size(); ++i) {
-      if (!p[i].valid || !std::isfinite(p[i].error_um)) {
-        hp.valid = false;
-        hp.reason = missing.empty() ? (p[i].reason.empty() ? "not valid" : p[i].reason) : missing;
-      }
-      if (hp.fallback.empty()) hp.fallback = p[i].fallback;
-    }
-    hp.error_um.assign(positions_mm.size(), 0.0);
-    if (hp.valid) {
-      for (size_t i = 0; i < positions_mm.size(); ++i) hp.error_um[i] = p[i].error_um;
-      for (size_t i = positions_mm.size(); i < p.size(); ++i) {
-        hp.max_abs_error_um = std::max(hp.max_abs_error_um, std::fabs(p[i].error_um));
-      }
-    } else {
-      hp.fallback.clear();
-    }
-    h.points.push_back(std::move(hp));
-  }
-  return h;
 }
 
 std::vector<std::string> ThermalErrorTableService::ConfiguredAxes(const std::string& machine) {

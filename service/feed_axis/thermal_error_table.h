@@ -37,6 +37,9 @@
 
 namespace thermocomp {
 
+struct FeedAxisConfig;  // service/feed_axis/feed_axis_config.h
+class FeedModel;        // service/feed_axis/feed_model.h
+
 struct ThermalErrorPoint {
   double position_mm = 0;
   // The model's thermal error here (µm, the axis is off by this; 0 where
@@ -138,8 +141,22 @@ class ThermalErrorTableService {
   std::vector<std::string> ConfiguredAxes(const std::string& machine);
 
  private:
-  struct AxisModel;
+  // The model of one axis as the table and the history evaluate it
+  // (thermal_error_table.cc, thermal_error_history.cc).
+  struct AxisModel {
+    std::optional<MachineRecord> machine;
+    const AxisRecord* axis = nullptr;
+    std::shared_ptr<const FeedAxisConfig> config;  // none when missing or unreadable
+    Travel travel;
+    std::shared_ptr<const FeedModel> model;
+    std::optional<int> version;
+    std::string type;
+    std::string reason;                // why there is no model to evaluate
+    std::vector<std::string> sensors;  // screw sensors, then body sensors
+  };
   StatusOr<AxisModel> Load(Session& session, const std::string& machine, const std::string& axis);
+  // min, min + s, ..., max (the last step may be shorter).
+  static std::vector<double> SpacedGrid(const Travel& t, double spacing_mm);
   struct Rated {  // what was served last on the axis' own grid, and its line
     std::vector<double> position_mm, correction_um;
     CorrectionLine line;
