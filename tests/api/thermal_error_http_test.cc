@@ -96,7 +96,7 @@ class ThermalErrorHttpTest : public AppFixture {
     return s->machines().Find("tm-1")->FindAxis(axis)->id;
   }
 
-  void Configure(const std::string& axis, const json& config) {
+  void PutScrewConfig(const std::string& axis, const json& config) {
     const int64_t id = AxisId(axis);  // before: one session at a time
     const std::unique_ptr<Session> s = app_->storage().Open();
     Transaction tx(*s);
@@ -159,8 +159,8 @@ class ThermalErrorHttpTest : public AppFixture {
     EXPECT_EQ(p["errors"][0]["field"], field) << path << ": " << r->body;
   }
   void ScrewAxisServed() {
-    Configure("X", ScrewConfig());
-    Configure("Y", ScrewConfig());
+    PutScrewConfig("X", ScrewConfig());
+    PutScrewConfig("Y", ScrewConfig());
     auto screw = Fit("screw");
     ASSERT_TRUE(screw);
     Insert("X", *screw, "active");
@@ -303,7 +303,7 @@ TEST_F(ThermalErrorHttpTest, AnAxisWithoutConfigurationOrModelIsServedNotValid) 
   EXPECT_EQ(z["status"], 0);
   EXPECT_NE(z["reason"].get<std::string>().find("no screw configuration"), std::string::npos);
   for (const json& p : z["points"]) EXPECT_EQ(p["correction_um"], 0.0);
-  Configure("Z", ScrewConfig());
+  PutScrewConfig("Z", ScrewConfig());
   const json z2 = GetJson("Z/thermal-error");
   EXPECT_EQ(z2["valid"], false);
   EXPECT_NE(z2["reason"].get<std::string>().find("no active feed model"), std::string::npos);
@@ -333,7 +333,7 @@ TEST_F(ThermalErrorHttpTest, BadParametersAreNamed) {
 }
 
 TEST_F(ThermalErrorHttpTest, HistoryFollowsTheArchivedTemperatures) {
-  Configure("X", ScrewConfig());
+  PutScrewConfig("X", ScrewConfig());
   auto screw = Fit("screw");
   ASSERT_TRUE(screw);
   Insert("X", *screw, "active");
@@ -366,7 +366,7 @@ TEST_F(ThermalErrorHttpTest, HistoryFollowsTheArchivedTemperatures) {
 // The guard over HTTP: a neural model outside its training range never
 // serves its own value, the physical model answers (named) or nothing.
 TEST_F(ThermalErrorHttpTest, NeuralOutsideItsTrainingRangeIsGuarded) {
-  Configure("X", ScrewConfig());
+  PutScrewConfig("X", ScrewConfig());
   auto screw = Fit("screw");
   ASSERT_TRUE(screw);
   auto neural = Fit("neural", screw);

@@ -40,7 +40,7 @@ class FeedFitTest : public testing::AppFixture {
     axis_id_ = app_->machines().Find("m1")->axes[0].id;
   }
 
-  void Configure(const ScrewAxis& axis, const std::string& extra = "") {
+  void ConfigureScrew(const ScrewAxis& axis, const std::string& extra = "") {
     nlohmann::json sensors = nlohmann::json::array();
     for (const ScrewSensor& s : axis.sensors) {
       sensors.push_back({{"name", s.name}, {"x_mm", s.x_mm}, {"reference_c", s.reference_c}});
@@ -119,7 +119,7 @@ TEST_F(FeedFitTest, ThePhysicalModelIsIdentifiedAndRemovesTheHeldOutErrorOfTheSi
   o.seed = 1;
   const ScrewSimRecording rec = SimulateScrewAxis(o);
   Register(rec.axis);
-  Configure(rec.axis);
+  ConfigureScrew(rec.axis);
   FeedSimulation(rec);
 
   auto report = Service().Fit("m1", "X", "test");
@@ -191,7 +191,7 @@ TEST_F(FeedFitTest, GarbageHeldOutChecksDoNotReplaceTheActiveModel) {
   o.seed = 2;
   const ScrewSimRecording rec = SimulateScrewAxis(o);
   Register(rec.axis);
-  Configure(rec.axis);
+  ConfigureScrew(rec.axis);
   FeedSimulation(rec);
   auto first = Service().Fit("m1", "X", "test");
   ASSERT_TRUE(first.ok()) << first.status().message();
@@ -232,7 +232,7 @@ TEST_F(FeedFitTest, ANeuralModelNeverServesAnInputOutsideItsRangeUnguarded) {
   o.seed = 5;
   const ScrewSimRecording rec = SimulateScrewAxis(o);
   Register(rec.axis);
-  Configure(rec.axis);
+  ConfigureScrew(rec.axis);
   FeedSimulation(rec);
   auto report = Service().Fit("m1", "X", "test");
   ASSERT_TRUE(report.ok()) << report.status().message();
@@ -305,7 +305,7 @@ TEST_F(FeedFitTest, NoiseFreeChecksGiveAlphaAndTheStiffnessRatioExactly) {
   truth.stiffness_ratio = 1.0 / 6.0;
   for (int i = 0; i < 5; ++i) truth.sensors.push_back({"S" + std::to_string(i), 250.0 * i, 20.0});
   Register(truth);
-  Configure(truth);
+  ConfigureScrew(truth);
   std::vector<double> targets;
   for (double x = 0; x <= 1000; x += 50) targets.push_back(x);
   const int64_t start = clock_.NowMs() - 2 * 86400000LL;
@@ -340,7 +340,7 @@ TEST_F(FeedFitTest, AStuckSensorIsDroppedAndItsCostStated) {
   ScrewSimRecording rec = SimulateScrewAxis(o);
   for (auto& c : rec.checks) c.temperature_c[4] = 21.3;  // the middle sensor stuck
   Register(rec.axis);
-  Configure(rec.axis);
+  ConfigureScrew(rec.axis);
   FeedSimulation(rec);
   auto report = Service().Fit("m1", "X", "test");
   ASSERT_TRUE(report.ok()) << report.status().message();
@@ -360,7 +360,7 @@ TEST_F(FeedFitTest, TheSchedulerRefitsWhenANewPositioningCheckArrives) {
   o.seed = 3;
   const ScrewSimRecording rec = SimulateScrewAxis(o);
   Register(rec.axis);
-  Configure(rec.axis, R"({"types": ["screw", "regression"]})");
+  ConfigureScrew(rec.axis, R"({"types": ["screw", "regression"]})");
   FeedSimulation(rec);
   EXPECT_EQ(app_->scheduler().Tick(), 1);
   EXPECT_EQ(Models().size(), 2u);
@@ -378,7 +378,7 @@ TEST_F(FeedFitTest, TooFewChecksAreA422AndStoreNothing) {
   o.hours = 6;  // the cold check and two more
   const ScrewSimRecording rec = SimulateScrewAxis(o);
   Register(rec.axis);
-  Configure(rec.axis);
+  ConfigureScrew(rec.axis);
   FeedSimulation(rec);
   auto report = Service().Fit("m1", "X", "test");
   EXPECT_EQ(report.status().code(), Status::Code::kUnprocessable);
