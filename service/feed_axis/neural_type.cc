@@ -169,13 +169,13 @@ StatusOr<std::shared_ptr<const FeedModel>> NeuralFeedType::Fit(
 }
 
 StatusOr<std::shared_ptr<const FeedModel>> NeuralFeedType::FromJson(
-    const ScrewAxis& axis, const nlohmann::json& j,
+    const ScrewAxis& axis, const nlohmann::json& model_json,
     std::shared_ptr<const FeedModel> fallback) const {
-  if (!j.is_object()) return Status::InvalidArgument("neural model: not an object");
-  auto net = NetworkFromJson(j);
+  if (!model_json.is_object()) return Status::InvalidArgument("neural model: not an object");
+  auto net = NetworkFromJson(model_json);
   if (!net.ok()) return net.status();
   std::vector<std::string> inputs;
-  if (auto it = j.find("inputs"); it != j.end() && it->is_array()) {
+  if (auto it = model_json.find("inputs"); it != model_json.end() && it->is_array()) {
     for (const auto& v : *it) {
       if (!v.is_string()) return Status::InvalidArgument("neural model: inputs");
       inputs.push_back(v.get<std::string>());
@@ -186,14 +186,15 @@ StatusOr<std::shared_ptr<const FeedModel>> NeuralFeedType::FromJson(
     return Status::InvalidArgument("neural model: inputs do not match the network");
   }
   if (!fallback) {
-    if (auto it = j.find("fallback"); it != j.end() && it->is_object()) {
+    if (auto it = model_json.find("fallback"); it != model_json.end() && it->is_object()) {
       auto stored = ScrewFeedType().FromJson(axis, *it, nullptr);
       if (!stored.ok()) return stored.status();
       fallback = *stored;
     }
   }
   return std::shared_ptr<const FeedModel>(std::make_shared<NeuralFeedModel>(
-      inputs, std::move(net).value(), j.value("training_targets", 0), std::move(fallback)));
+      inputs, std::move(net).value(), model_json.value("training_targets", 0),
+      std::move(fallback)));
 }
 
 }  // namespace thermocomp

@@ -132,14 +132,15 @@ StatusOr<std::shared_ptr<const FeedModel>> RegressionFeedType::Fit(
 }
 
 StatusOr<std::shared_ptr<const FeedModel>> RegressionFeedType::FromJson(
-    const ScrewAxis& /*axis*/, const nlohmann::json& j,
+    const ScrewAxis& /*axis*/, const nlohmann::json& model_json,
     std::shared_ptr<const FeedModel> /*fallback*/) const {
   auto bad = [](const std::string& what) {
     return Status::InvalidArgument("regression model: " + what);
   };
-  if (!j.is_object() || !j.contains("inputs") || !j["inputs"].is_array()) return bad("inputs");
+  if (!model_json.is_object() || !model_json.contains("inputs") || !model_json["inputs"].is_array())
+    return bad("inputs");
   std::vector<Input> inputs;
-  for (const auto& in : j["inputs"]) {
+  for (const auto& in : model_json["inputs"]) {
     if (!in.is_object() || !in.value("name", nlohmann::json()).is_string() ||
         !in.value("reference_c", nlohmann::json()).is_number()) {
       return bad("inputs");
@@ -148,14 +149,15 @@ StatusOr<std::shared_ptr<const FeedModel>> RegressionFeedType::FromJson(
   }
   Coefficients k;
   auto number = [&](const char* key, double* out) {
-    auto it = j.find(key);
-    if (it == j.end() || !it->is_number() || !std::isfinite(it->get<double>())) return false;
+    auto it = model_json.find(key);
+    if (it == model_json.end() || !it->is_number() || !std::isfinite(it->get<double>()))
+      return false;
     *out = it->get<double>();
     return true;
   };
   auto numbers = [&](const char* key, std::vector<double>* out) {
-    auto it = j.find(key);
-    if (it == j.end() || !it->is_array() || it->size() != inputs.size()) return false;
+    auto it = model_json.find(key);
+    if (it == model_json.end() || !it->is_array() || it->size() != inputs.size()) return false;
     for (const auto& v : *it) {
       if (!v.is_number() || !std::isfinite(v.get<double>())) return false;
       out->push_back(v.get<double>());
@@ -167,8 +169,8 @@ StatusOr<std::shared_ptr<const FeedModel>> RegressionFeedType::FromJson(
   if (!numbers("b_um_per_k", &k.b)) return bad("b_um_per_k");
   if (!numbers("c_um_per_k_mm", &k.c)) return bad("c_um_per_k_mm");
   return std::shared_ptr<const FeedModel>(std::make_shared<RegressionFeedModel>(
-      std::move(inputs), std::move(k), j.value("training_rmse_um", 0.0),
-      j.value("training_targets", 0)));
+      std::move(inputs), std::move(k), model_json.value("training_rmse_um", 0.0),
+      model_json.value("training_targets", 0)));
 }
 
 }  // namespace thermocomp

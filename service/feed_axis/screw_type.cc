@@ -154,23 +154,23 @@ StatusOr<std::shared_ptr<const FeedModel>> ScrewFeedType::Fit(
 }
 
 StatusOr<std::shared_ptr<const FeedModel>> ScrewFeedType::FromJson(
-    const ScrewAxis& axis, const nlohmann::json& j,
+    const ScrewAxis& axis, const nlohmann::json& model_json,
     std::shared_ptr<const FeedModel> /*fallback*/) const {
-  if (!j.is_object()) return Status::InvalidArgument("screw model: not an object");
+  if (!model_json.is_object()) return Status::InvalidArgument("screw model: not an object");
   ScrewAxis a = axis;
-  if (auto stored = j.find("axis"); stored != j.end()) {
+  if (auto stored = model_json.find("axis"); stored != model_json.end()) {
     auto parsed = ScrewAxisFromJson(*stored);
     if (!parsed.ok()) return parsed.status();
     a = *parsed;
   }
   ScrewIdentification id;
-  id.alpha_um_per_m_k = Num(j, "alpha_um_per_m_k", NAN);
-  id.alpha_se = Num(j, "alpha_se", 0);
-  id.stiffness_ratio = Num(j, "stiffness_ratio", 0);
-  id.stiffness_ratio_se = Num(j, "stiffness_ratio_se", 0);
-  id.rmse_um = Num(j, "training_rmse_um", 0);
-  id.n = static_cast<int>(Num(j, "training_targets", 0));
-  id.checks = static_cast<int>(Num(j, "training_checks", 0));
+  id.alpha_um_per_m_k = Num(model_json, "alpha_um_per_m_k", NAN);
+  id.alpha_se = Num(model_json, "alpha_se", 0);
+  id.stiffness_ratio = Num(model_json, "stiffness_ratio", 0);
+  id.stiffness_ratio_se = Num(model_json, "stiffness_ratio_se", 0);
+  id.rmse_um = Num(model_json, "training_rmse_um", 0);
+  id.n = static_cast<int>(Num(model_json, "training_targets", 0));
+  id.checks = static_cast<int>(Num(model_json, "training_checks", 0));
   if (!std::isfinite(id.alpha_um_per_m_k)) {
     return Status::InvalidArgument("screw model: alpha_um_per_m_k");
   }
