@@ -7,6 +7,15 @@
 namespace thermocomp {
 namespace {
 
+// "list[i]", as the API names an element of a list.
+std::string Indexed(const char* list, size_t i) {
+  return std::string(list).append("[").append(std::to_string(i)).append("]");
+}
+
+std::string Quoted(const std::string& text) {
+  return std::string("'").append(text).append("'");
+}
+
 // Sensors the configuration names that the machine does not have, each
 // named by its place in the request.
 void CheckSensorsExist(const MachineRecord& machine, const FeedAxisConfig& c, FieldErrors& errors) {
@@ -17,13 +26,13 @@ void CheckSensorsExist(const MachineRecord& machine, const FeedAxisConfig& c, Fi
     const std::string& name = c.screw.sensors[i].name;
     if (!known.count(name)) {
       errors.push_back(
-          {0, "screw.sensors[" + std::to_string(i) + "].name", "'" + name + "'" + unknown});
+          {0, Indexed("screw.sensors", i).append(".name"), Quoted(name).append(unknown)});
     }
   }
   for (size_t i = 0; i < c.body_sensors.size(); ++i) {
     if (!known.count(c.body_sensors[i])) {
-      errors.push_back({0, "screw.body_sensors[" + std::to_string(i) + "]",
-                        "'" + c.body_sensors[i] + "'" + unknown});
+      errors.push_back(
+          {0, Indexed("screw.body_sensors", i), Quoted(c.body_sensors[i]).append(unknown)});
     }
   }
 }

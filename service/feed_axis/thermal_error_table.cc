@@ -261,7 +261,8 @@ StatusOr<ThermalErrorTable> ThermalErrorTableService::Table(const std::string& m
     }
     s.temperature_c = fs->state;
     s.ts_ms = fs->last_ts_ms;
-    const int64_t arrived = ArrivalOf(machine + "/" + name, fs->last_ts_ms, now_mono);
+    const int64_t arrived =
+        ArrivalOf(std::string(machine).append("/").append(name), fs->last_ts_ms, now_mono);
     oldest_ts = std::min(oldest_ts.value_or(fs->last_ts_ms), fs->last_ts_ms);
     oldest_arrival = std::min(oldest_arrival.value_or(arrived), arrived);
     const int64_t by_ts = t.computed_at_ms - fs->last_ts_ms, by_arrival = now_mono - arrived;

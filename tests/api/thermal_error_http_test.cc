@@ -106,7 +106,7 @@ class ThermalErrorHttpTest : public AppFixture {
 
   std::shared_ptr<const FeedModel> Fit(const std::string& type,
                                        std::shared_ptr<const FeedModel> fallback = nullptr) {
-    auto m = FindFeedModelType(type)->Fit(Screw(), {}, Checks(), fallback);
+    auto m = FindFeedModelType(type)->Fit(Screw(), {}, Checks(), std::move(fallback));
     EXPECT_TRUE(m.ok()) << m.status().ToString();
     return m.ok() ? *m : nullptr;
   }
