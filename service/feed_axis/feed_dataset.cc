@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 
 #include <nlohmann/json.hpp>
@@ -133,8 +134,8 @@ StatusOr<FeedDataset> BuildFeedDataset(Session& session, const MachineRecord& ma
   // Sensors judged over those checks.
   double warmest_spread = 0;
   auto spread = [&](const std::string& name, double* lo, double* hi, int* present) {
-    *lo = INFINITY;
-    *hi = -INFINITY;
+    *lo = std::numeric_limits<double>::infinity();
+    *hi = -std::numeric_limits<double>::infinity();
     *present = 0;
     for (const Candidate* c : used) {
       auto it = c->temperature_c.find(name);
