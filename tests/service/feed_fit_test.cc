@@ -320,6 +320,7 @@ TEST_F(FeedFitTest, NoiseFreeChecksGiveAlphaAndTheStiffnessRatioExactly) {
     auto rise = ScrewRise(truth, t);
     ASSERT_TRUE(rise.ok());
     std::vector<double> error;
+    error.reserve(targets.size());
     for (double x : targets) error.push_back(ScrewErrorUm(truth, *rise, x));
     AddCheck(truth, start + state * 3600000LL, t, targets, error);
   }
