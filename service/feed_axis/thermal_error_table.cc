@@ -358,7 +358,9 @@ StatusOr<ThermalErrorTable> ThermalErrorTableService::Table(const std::string& m
     double c = !spacing_mm ? s.correction_um[i]
                : valid     ? shown_target[i] + Interpolate(own, lag, grid[i])
                            : Interpolate(own, s.correction_um, grid[i]);
-    p.correction_um = std::clamp(c, -clamp_um, clamp_um);
+    // + 0.0: no correction reads 0, not -0 (the negated error of 0), in
+    // every format a control parses.
+    p.correction_um = std::clamp(c, -clamp_um, clamp_um) + 0.0;
     if (p.valid) t.max_abs_error_um = std::max(t.max_abs_error_um, std::fabs(p.error_um));
   }
   t.line.reference_position_mm = t.reference_position_mm;

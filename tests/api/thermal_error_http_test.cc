@@ -222,6 +222,8 @@ TEST_F(ThermalErrorHttpTest, CsvAndTheControlsLines) {
   std::getline(lines, header);
   EXPECT_EQ(header, "position_mm,error_um,correction_um,valid");
   EXPECT_NE(csv->body.find("\n800.000,40.000,-40.000,1\n"), std::string::npos) << csv->body;
+  // At the locating bearing nothing moves: the correction reads 0, not -0.
+  EXPECT_NE(csv->body.find("\n0.000,0.000,0.000,1\n"), std::string::npos) << csv->body;
 
   // SD43900 −25 um in mm, SD43910 tan β = −50e-6, SD43920 500 mm.
   auto sin = Get("X/thermal-error?format=sinumerik");
