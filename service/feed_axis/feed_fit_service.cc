@@ -162,6 +162,9 @@ StatusOr<FeedFitReport> FeedFitService::Fit(const std::string& machine_name,
       BuildFeedDataset(*session, found->machine, axis_name,
                        {config->screw, config->body_sensors, config->reference_check_id}, options);
   if (!data.ok()) return data.status();
+  // Fitting every type (a network's training takes a second or more) needs
+  // no archive: ingest and the machines' reads go on meanwhile.
+  session->Pause();
 
   FeedFitReport report;
   report.machine = machine_name;
@@ -225,6 +228,7 @@ StatusOr<FeedFitReport> FeedFitService::Fit(const std::string& machine_name,
   }
 
   // The champion on the same held-out checks.
+  session->Resume();
   std::optional<FeedModelRecord> active = feeds.Active(axis.id);
   std::optional<double> champion_max;
   if (active) {
