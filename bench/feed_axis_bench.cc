@@ -191,6 +191,7 @@ bool TableBenchmark() {
       Report("table 3 axes x 1000 points (ScrewErrorUm)", screw, line, screw.p99, 1e-3, "us", 1e6);
 
   std::vector<std::shared_ptr<const FeedModel>> models;
+  models.reserve(axes.size());
   for (const auto& rec : axes) models.push_back(ScrewFeedModel(rec));
   if (std::any_of(models.begin(), models.end(), [](const auto& m) { return m == nullptr; })) {
     std::printf("table through FeedModel::Predict: no screw model from the type, not timed\n");
