@@ -26,10 +26,23 @@ bool IsThermalErrorTable(const std::string& rest) {
          rest.find('/', prefix.size()) == rest.size() - suffix.size();
 }
 
+// The part tests quality staff record and evaluate (docs/api.md, Parts):
+// "plates...", "turned-parts...", "process-records...", "part-models...",
+// "surfaces..." under a machine.
+bool IsPartPath(const std::string& rest) {
+  for (const char* prefix : {"plates", "turned-parts", "process-records", "part-models", "surfaces"}) {
+    const size_t n = std::char_traits<char>::length(prefix);
+    if (rest.compare(0, n, prefix) == 0 && (rest.size() == n || rest[n] == '/')) return true;
+  }
+  return false;
+}
+
 bool Permitted(const AccessToken& t, const std::string& method, const std::string& path) {
   if (t.role == "admin") return true;
   const bool read = method == "GET" || method == "HEAD";
   if (t.role == "reader") return read;
+  // Quality staff judge parts: they record and evaluate part tests.
+  if (t.role == "quality") return read || IsPartPath(MachineOf(path).second);
   if (t.role == "maintenance") {
     // Maintenance logs what it did to a machine, requests and enters checks.
     const std::string rest = MachineOf(path).second;

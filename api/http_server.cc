@@ -416,6 +416,10 @@ void HttpServer::Routes() {
   CheckRoutes();
   FeedAxisRoutes();
   ThermalErrorRoutes();
+  PlateRoutes();
+  TurningRoutes();
+  PartModelRoutes();
+  SurfaceRoutes();
   OverviewRoutes();
   SessionRoutes();
   PageRoutes();

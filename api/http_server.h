@@ -57,6 +57,10 @@ class HttpServer {
   void CheckRoutes();         // check_routes.cc: column and positioning checks
   void FeedAxisRoutes();      // feed_axis_routes.cc: screw configuration, feed-axis models
   void ThermalErrorRoutes();  // thermal_error_routes.cc: the thermal error table, its history
+  void PlateRoutes();         // parts/plate_routes.cc: compensation on/off plates
+  void TurningRoutes();       // parts/turning_routes.cc: four-diameter decomposition
+  void PartModelRoutes();     // parts/part_model_routes.cc: part-error models from the process
+  void SurfaceRoutes();       // parts/surface_routes.cc: CMM mirror correction
   void OverviewRoutes();      // overview_routes.cc: the line at a glance, temperatures
   void SessionRoutes();       // web/session_routes.cc: signing in to the pages
   void PageRoutes();          // web/page_routes.cc: the pages and their assets

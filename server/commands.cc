@@ -23,6 +23,7 @@
 #include "reports/fit_report_codec.h"
 #include "server/command_util.h"
 #include "server/demo_feed_axis.h"
+#include "server/parts_demo.h"
 #include "server/live_simulation.h"
 #include "server/open_app.h"
 #include "sim/virtual_machine.h"
@@ -263,6 +264,11 @@ int Demo(const Args& a) {
   std::string feed;
   if (Status s = DemoFeedAxis(app_ref, names.front(), &feed); !s.ok()) return Fail(s.message());
   std::printf("demo: %s\n", feed.c_str());
+  for (auto* part_demo : {&DemoPlates, &DemoTurning, &DemoPartModels, &DemoSurfaces}) {
+    std::string summary;
+    if (Status s = part_demo(app_ref, names.front(), &summary); !s.ok()) return Fail(s.message());
+    if (!summary.empty()) std::printf("demo: %s\n", summary.c_str());
+  }
   if (in_memory) {
     if (Status s = app_ref.storage().Backup(config->db_path); !s.ok()) return Fail(s.message());
     std::printf("demo: wrote %s\n", config->db_path.c_str());

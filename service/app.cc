@@ -32,6 +32,10 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
   app->thermal_errors_ = std::make_unique<ThermalErrorTableService>(d, clock, c);
   app->feed_fit_ = std::make_unique<FeedFitService>(d, clock, c);
   app->scheduler_->SetFeedFits(app->feed_fit_.get());
+  app->plates_ = std::make_unique<PlateService>(d, clock, c);
+  app->turning_ = std::make_unique<TurningService>(d, clock, c);
+  app->part_models_ = std::make_unique<PartModelService>(d, clock, c);
+  app->surfaces_ = std::make_unique<SurfaceService>(d, clock, c);
   CompensationService* compensation = app->compensation_.get();
   auto changed = [compensation](const std::string& machine) { compensation->MarkChanged(machine); };
   app->ingest_->SetListener(changed);

@@ -18,6 +18,10 @@
 #include "service/machine_service.h"
 #include "service/metrics.h"
 #include "service/outcome/outcome_service.h"
+#include "service/parts/plates/plate_service.h"
+#include "service/parts/process/part_model_service.h"
+#include "service/parts/surfaces/surface_service.h"
+#include "service/parts/turning/turning_service.h"
 #include "service/probe_temperature_cache.h"
 #include "service/refit_scheduler.h"
 #include "service/feed_axis/thermal_error_table.h"
@@ -50,6 +54,11 @@ class App {
   RefitScheduler& scheduler() { return *scheduler_; }
   ThermalErrorTableService& thermal_errors() { return *thermal_errors_; }
   FeedFitService& feed_fit() { return *feed_fit_; }
+  // Parts (docs/model.md §15).
+  PlateService& plates() { return *plates_; }
+  TurningService& turning() { return *turning_; }
+  PartModelService& part_models() { return *part_models_; }
+  SurfaceService& surfaces() { return *surfaces_; }
   Metrics& metrics() { return metrics_; }
   // /metrics lines the services own: fits stored, model age per axis.
   std::string ModelGauges();
@@ -72,6 +81,10 @@ class App {
   std::unique_ptr<RefitScheduler> scheduler_;
   std::unique_ptr<ThermalErrorTableService> thermal_errors_;
   std::unique_ptr<FeedFitService> feed_fit_;
+  std::unique_ptr<PlateService> plates_;
+  std::unique_ptr<TurningService> turning_;
+  std::unique_ptr<PartModelService> part_models_;
+  std::unique_ptr<SurfaceService> surfaces_;
   Metrics metrics_;
   ProbeTemperatureCache probe_temperatures_;
 };

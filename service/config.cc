@@ -165,8 +165,9 @@ std::string ReadTokens(const toml::node& n, Config& c) {
     if (a.name.empty() || a.token.size() < 16) {
       return "each needs a name and a token of 16 characters or more";
     }
-    if (a.role != "machine" && a.role != "reader" && a.role != "maintenance" && a.role != "admin") {
-      return a.name + ": role must be machine, reader, maintenance or admin";
+    if (a.role != "machine" && a.role != "reader" && a.role != "maintenance" && a.role != "quality" &&
+        a.role != "admin") {
+      return a.name + ": role must be machine, reader, maintenance, quality or admin";
     }
     if (a.role == "machine" && a.machine.empty()) {
       return a.name + ": role machine needs machine = \"...\"";

@@ -13,6 +13,10 @@
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"
+#include "storage/parts/part_model_store.h"
+#include "storage/parts/plate_store.h"
+#include "storage/parts/surface_store.h"
+#include "storage/parts/turning_store.h"
 #include "storage/probe_store.h"
 #include "storage/sample_store.h"
 
@@ -31,6 +35,11 @@ class Session {
   virtual AnalysisStore& analyses() = 0;
   virtual LogStore& log() = 0;
   virtual FeedModelStore& feeds() = 0;
+  // Parts (docs/model.md §15).
+  virtual PlateStore& plates() = 0;
+  virtual TurningStore& turned_parts() = 0;
+  virtual PartModelStore& part_models() = 0;
+  virtual SurfaceStore& surfaces() = 0;
 
   virtual Status Begin() = 0;
   virtual Status Commit() = 0;

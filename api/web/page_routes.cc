@@ -146,6 +146,12 @@ void HttpServer::PageRoutes() {
       {a + "/models/([0-9]{1,9})", "model", "Model report"},
       {a + "/analysis", "analyses", "Effect analyses"},
       {a + "/analysis/([0-9]{1,18})", "analysis", "Effect analysis"},
+      {m + "/plates", "plates", "Test plates"},
+      {m + "/plates/([A-Za-z0-9_.-]{1,64})", "plates", "Test plate"},
+      {m + "/turned-parts", "turned_parts", "Turned parts"},
+      {m + "/part-models", "part_models", "Part-error models"},
+      {m + "/surfaces", "surfaces", "Surfaces"},
+      {m + "/surfaces/([A-Za-z0-9_.-]{1,64})", "surfaces", "Surface corrections"},
   };
   for (const auto& [pattern, page, title] : pages) {
     const std::string shell = Shell(page, title, app_.config().web_time_zone);

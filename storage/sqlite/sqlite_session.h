@@ -11,6 +11,10 @@
 #include "storage/sqlite/log_store.h"
 #include "storage/sqlite/machine_store.h"
 #include "storage/sqlite/model_store.h"
+#include "storage/sqlite/parts/part_model_store.h"
+#include "storage/sqlite/parts/plate_store.h"
+#include "storage/sqlite/parts/surface_store.h"
+#include "storage/sqlite/parts/turning_store.h"
 #include "storage/sqlite/probe_store.h"
 #include "storage/sqlite/sample_store.h"
 
@@ -32,6 +36,10 @@ class SqliteSession final : public Session {
   AnalysisStore& analyses() override { return analyses_; }
   LogStore& log() override { return log_; }
   FeedModelStore& feeds() override { return feeds_; }
+  PlateStore& plates() override { return plates_; }
+  TurningStore& turned_parts() override { return turned_parts_; }
+  PartModelStore& part_models() override { return part_models_; }
+  SurfaceStore& surfaces() override { return surfaces_; }
 
   Status Begin() override { return db_.Begin(); }
   Status Commit() override { return db_.Commit(); }
@@ -51,6 +59,10 @@ class SqliteSession final : public Session {
   SqliteAnalysisStore analyses_;
   SqliteLogStore log_;
   SqliteFeedModelStore feeds_;
+  SqlitePlateStore plates_;
+  SqliteTurningStore turned_parts_;
+  SqlitePartModelStore part_models_;
+  SqliteSurfaceStore surfaces_;
 };
 
 }  // namespace thermocomp

@@ -14,7 +14,11 @@ SqliteSession::SqliteSession(Database& db)
       aux_(db),
       analyses_(db),
       log_(db),
-      feeds_(db) {
+      feeds_(db),
+      plates_(db),
+      turned_parts_(db),
+      part_models_(db),
+      surfaces_(db) {
   Resume();
 }
 

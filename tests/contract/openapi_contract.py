@@ -323,6 +323,16 @@ def exercise_sign_in(base):
          expect=403, headers={"Authorization": "Bearer reader-token-0123456789"})
 
 
+def exercise_parts(base):
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import parts_plates_calls
+    import parts_process_calls
+    import parts_surfaces_calls
+    import parts_turning_calls
+    for module in (parts_plates_calls, parts_turning_calls, parts_process_calls, parts_surfaces_calls):
+        module.exercise(base, call)
+
+
 def with_server(command, env, fn):
     """Runs fn(base URL) against `command --listen 127.0.0.1:<free port>`."""
     port = free_port()
@@ -351,6 +361,8 @@ def main():
                         "--study", os.path.join(SRC, "deploy/demo/fms_datum_drift.csv")],
                        check=True, capture_output=True, env=env)
         with_server([BIN, "serve", "--db", db], env, exercise)
+        # The part tests' operations (tests/contract/parts_*_calls.py).
+        with_server([BIN, "serve", "--db", db], env, exercise_parts)
         # Signing in needs configured tokens: a second server with one.
         config = os.path.join(d, "tokens.toml")
         with open(config, "w") as f:

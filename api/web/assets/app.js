@@ -178,6 +178,7 @@ const TC = (() => {
   function can(action) {
     const role = session ? session.role : "";
     if (role === "admin") return true;
+    if (role === "quality") return action === "record_part";
     if (role === "maintenance") return ["request_check", "record_check", "record_event"].includes(action);
     return false;
   }

@@ -1,0 +1,1 @@
+// part-error models from the process: the page (placeholder).

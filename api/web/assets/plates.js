@@ -1,0 +1,1 @@
+// plates: the compensation on/off plate test: the page (placeholder).

@@ -1,0 +1,1 @@
+// surfaces: the CMM mirror correction: the page (placeholder).

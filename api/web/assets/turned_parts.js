@@ -1,0 +1,1 @@
+// turned parts: the four-diameter decomposition: the page (placeholder).

@@ -1,0 +1,2 @@
+// Plate report benchmark (placeholder).
+int main() { return 0; }

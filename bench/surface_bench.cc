@@ -1,0 +1,2 @@
+// CMM import, mirror and report benchmark (placeholder).
+int main() { return 0; }

@@ -1,0 +1,4 @@
+#include <gtest/gtest.h>
+
+// Replaced by the plates tests.
+TEST(PartsPlaceholder, Plates) {}

@@ -1,0 +1,4 @@
+#include <gtest/gtest.h>
+
+// Replaced by the surfaces tests.
+TEST(PartsPlaceholder, Surfaces) {}

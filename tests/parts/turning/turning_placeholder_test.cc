@@ -1,0 +1,4 @@
+#include <gtest/gtest.h>
+
+// Replaced by the turning tests.
+TEST(PartsPlaceholder, Turning) {}
