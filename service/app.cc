@@ -1,8 +1,16 @@
 #include "service/app.h"
 
 #include "core/log.h"
+#include "service/parts/plates/plate_service.h"
+#include "service/parts/process/part_model_service.h"
+#include "service/parts/surfaces/surface_service.h"
+#include "service/parts/turning/turning_service.h"
 
 namespace thermocomp {
+
+App::App(const Config& config, const Clock& clock) : config_(config), clock_(clock) {}
+
+App::~App() = default;
 
 StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& clock,
                                          std::unique_ptr<Storage> storage) {

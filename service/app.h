@@ -18,10 +18,6 @@
 #include "service/machine_service.h"
 #include "service/metrics.h"
 #include "service/outcome/outcome_service.h"
-#include "service/parts/plates/plate_service.h"
-#include "service/parts/process/part_model_service.h"
-#include "service/parts/surfaces/surface_service.h"
-#include "service/parts/turning/turning_service.h"
 #include "service/probe_temperature_cache.h"
 #include "service/refit_scheduler.h"
 #include "service/feed_axis/thermal_error_table.h"
@@ -30,12 +26,23 @@
 
 namespace thermocomp {
 
+// The parts' services (service/parts/*/), declared only: a face includes the
+// one it calls, so a change to one part test rebuilds its own callers.
+class PlateService;
+class TurningService;
+class PartModelService;
+class SurfaceService;
+
 class App {
  public:
   // The services over `storage` (the backend is chosen by the caller:
   // server/open_app.h).
   static StatusOr<std::unique_ptr<App>> Open(const Config& config, const Clock& clock,
                                              std::unique_ptr<Storage> storage);
+
+  ~App();  // in app.cc, where the parts' services are complete
+  App(const App&) = delete;
+  App& operator=(const App&) = delete;
 
   const Config& config() const { return config_; }
   const Clock& clock() const { return clock_; }
@@ -64,7 +71,7 @@ class App {
   std::string ModelGauges();
 
  private:
-  App(const Config& config, const Clock& clock) : config_(config), clock_(clock) {}
+  App(const Config& config, const Clock& clock);
   Config config_;
   const Clock& clock_;
   std::unique_ptr<Storage> storage_;

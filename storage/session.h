@@ -13,14 +13,18 @@
 #include "storage/log_store.h"
 #include "storage/machine_store.h"
 #include "storage/model_store.h"
-#include "storage/parts/part_model_store.h"
-#include "storage/parts/plate_store.h"
-#include "storage/parts/surface_store.h"
-#include "storage/parts/turning_store.h"
 #include "storage/probe_store.h"
 #include "storage/sample_store.h"
 
 namespace thermocomp {
+
+// The parts' stores (storage/parts/*.h), declared only: a caller includes
+// the one it uses, so a change to one part test's store rebuilds its own
+// callers, not every user of a session.
+class PlateStore;
+class TurningStore;
+class PartModelStore;
+class SurfaceStore;
 
 class Session {
  public:
