@@ -41,11 +41,12 @@ class SurfaceStore {
   virtual ~SurfaceStore() = default;
 
   // A new part with its original nominal (unit normals), in file order.
-  virtual StatusOr<int64_t> CreatePart(int64_t machine_id, const std::string& name,
-                                       int64_t now_ms, const std::vector<SurfaceNominalRecord>& nominal) = 0;
-  virtual std::optional<SurfacePartRecord> FindPart(int64_t machine_id, const std::string& name) = 0;
-  virtual std::vector<SurfacePartRecord> Parts(int64_t machine_id) = 0;  // by name
-  virtual std::vector<SurfaceNominalRecord> Nominal(int64_t part_id) = 0;          // file order
+  virtual StatusOr<int64_t> CreatePart(int64_t machine_id, const std::string& name, int64_t now_ms,
+                                       const std::vector<SurfaceNominalRecord>& nominal) = 0;
+  virtual std::optional<SurfacePartRecord> FindPart(int64_t machine_id,
+                                                    const std::string& name) = 0;
+  virtual std::vector<SurfacePartRecord> Parts(int64_t machine_id) = 0;    // by name
+  virtual std::vector<SurfaceNominalRecord> Nominal(int64_t part_id) = 0;  // file order
   virtual Status AddIteration(int64_t part_id, int iteration, int64_t created_ms,
                               double mean_abs_mm, bool flagged, const std::string& report_json) = 0;
   virtual std::vector<SurfaceIterationRecord> Iterations(int64_t part_id) = 0;  // ascending

@@ -1,4 +1,5 @@
 #include "service/parts/surfaces/surface_service.h"
+#include "storage/parts/surface_store.h"
 
 #include <algorithm>
 #include <cmath>
@@ -25,21 +26,21 @@ double MaxOff(const std::vector<SurfacePoint>& file, const std::vector<size_t>& 
   for (size_t r = 0; r < file.size(); ++r) {
     const SurfacePoint& a = file[r];
     const SurfacePoint& b = program[index[r]];
-    off = std::max({off, std::abs(a.x_mm - b.x_mm), std::abs(a.y_mm - b.y_mm),
-                    std::abs(a.z_mm - b.z_mm)});
+    off = std::max(
+        {off, std::abs(a.x_mm - b.x_mm), std::abs(a.y_mm - b.y_mm), std::abs(a.z_mm - b.z_mm)});
   }
   return off;
 }
 
-struct Part {
+struct StoredPart {
   int64_t id = 0;
   std::vector<SurfacePoint> nominal;
   std::vector<SurfaceIteration> iterations;
 };
 
 // The stored part in full; Internal when a stored report no longer reads.
-StatusOr<Part> LoadPart(Session& session, const SurfacePartRecord& record) {
-  Part part;
+StatusOr<StoredPart> LoadPart(Session& session, const SurfacePartRecord& record) {
+  StoredPart part;
   part.id = record.id;
   for (const SurfaceNominalRecord& r : session.surfaces().Nominal(record.id)) {
     part.nominal.push_back(FromRecord(r));
@@ -52,8 +53,8 @@ StatusOr<Part> LoadPart(Session& session, const SurfacePartRecord& record) {
   return part;
 }
 
-StatusOr<Part> FindPart(Session& session, int64_t machine_id, const std::string& machine,
-                        const std::string& name) {
+StatusOr<StoredPart> FindPart(Session& session, int64_t machine_id, const std::string& machine,
+                              const std::string& name) {
   auto record = session.surfaces().FindPart(machine_id, name);
   if (!record) return Status::NotFound("no surface part '" + name + "' on " + machine);
   return LoadPart(session, *record);
@@ -106,7 +107,7 @@ StatusOr<SurfaceIteration> SurfaceService::AddMeasurement(const std::string& mac
   }
   if (!e.empty()) return refuse(Status::InvalidArgument("invalid measurement"));
 
-  std::optional<Part> part;
+  std::optional<StoredPart> part;
   if (auto record = session->surfaces().FindPart(machine->id, part_name)) {
     auto loaded = LoadPart(*session, *record);
     if (!loaded.ok()) return loaded.status();
@@ -152,26 +153,27 @@ StatusOr<SurfaceIteration> SurfaceService::AddMeasurement(const std::string& mac
     it.d_mm[index[r]] = DeviationAlongNormal(points[r], file[r], original[index[r]]);
     allowance[index[r]] = points[r].allowance_mm;
   }
-  for (size_t p = 0; p < it.d_mm.size(); ++p) {
-    if (!std::isfinite(it.d_mm[p])) {
-      e.push_back({points[p].row, "point", "the deviation is not finite"});
-      return refuse(Status::Unprocessable("invalid measurement"));
+  for (size_t r = 0; r < points.size(); ++r) {
+    if (!std::isfinite(it.d_mm[index[r]])) {
+      e.push_back({points[r].row, "point", "the deviation overflows (coordinates too large)"});
     }
   }
+  if (!e.empty()) return refuse(Status::Unprocessable("invalid measurement"));
   it.stats = Summarise(it.d_mm);
   it.allowance = SummariseAllowance(allowance);
   if (it.allowance && !it.allowance->uniform) {
     it.allowance_not_uniform = true;
-    it.flags.push_back("allowance_mm spreads by " +
-                       std::to_string(static_cast<int>(std::lround(100 * it.allowance->spread_share))) +
-                       " % of its mean");
+    it.flags.push_back(
+        "allowance_mm spreads by " +
+        std::to_string(static_cast<int>(std::lround(100 * it.allowance->spread_share))) +
+        " % of its mean");
   }
   it.nominal_columns = "original";
   if (part) {
     const auto programs = SurfacePrograms(part->nominal, part->iterations);
     if (MaxOff(file, index, original) > kNominalMatchMm) {
-      it.nominal_columns = MaxOff(file, index, programs.back()) <= kNominalMatchMm ? "program"
-                                                                                    : "other";
+      it.nominal_columns =
+          MaxOff(file, index, programs.back()) <= kNominalMatchMm ? "program" : "other";
     }
     const SurfaceIteration& previous = part->iterations.back();
     it.before = previous.stats;
@@ -202,9 +204,9 @@ StatusOr<SurfaceIteration> SurfaceService::AddMeasurement(const std::string& mac
     part_id = *created;
   }
   const std::string text = SurfaceIterationToJson(it, true).dump();
-  if (Status s = session->surfaces().AddIteration(part_id, it.iteration, it.measured_ms,
-                                                  it.stats.mean_abs_mm, it.allowance_not_uniform,
-                                                  text);
+  if (Status s =
+          session->surfaces().AddIteration(part_id, it.iteration, it.measured_ms,
+                                           it.stats.mean_abs_mm, it.allowance_not_uniform, text);
       !s.ok()) {
     return s;
   }
@@ -241,9 +243,9 @@ StatusOr<SurfacePartReport> SurfaceService::Part(const std::string& machine_name
                            std::move(part->iterations)};
 }
 
-StatusOr<std::vector<SurfacePoint>> SurfaceService::Corrected(const std::string& machine_name,
-                                                              const std::string& part_name,
-                                                              std::optional<int> iteration) {
+StatusOr<SurfaceProgram> SurfaceService::Corrected(const std::string& machine_name,
+                                                   const std::string& part_name,
+                                                   std::optional<int> iteration) {
   auto report = Part(machine_name, part_name);
   if (!report.ok()) return report.status();
   const int last = static_cast<int>(report->iterations.size()) - 1;
@@ -253,7 +255,7 @@ StatusOr<std::vector<SurfacePoint>> SurfaceService::Corrected(const std::string&
                             " (measured: 0.." + std::to_string(last) + ")");
   }
   report->iterations.resize(static_cast<size_t>(n) + 1);
-  return SurfacePrograms(report->nominal, report->iterations).back();
+  return SurfaceProgram{n, SurfacePrograms(report->nominal, report->iterations).back()};
 }
 
 }  // namespace thermocomp

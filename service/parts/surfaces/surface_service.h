@@ -26,6 +26,12 @@ namespace thermocomp {
 inline constexpr double kNominalMatchMm = 0.002;
 inline constexpr int kMaxSurfaceIterations = 100;
 
+// A program to generate: the points after `after_iteration` was measured.
+struct SurfaceProgram {
+  int after_iteration = 0;
+  std::vector<SurfacePoint> points;
+};
+
 class SurfaceService {
  public:
   SurfaceService(Storage& storage, const Clock& clock, const Config& config);
@@ -42,9 +48,8 @@ class SurfaceService {
   // The program to make the next part from once `iteration` (default: the
   // latest) was measured: corrected(N+1) = corrected(N) − d(N)·n, the
   // original's ids and normals. NotFound for an iteration not measured.
-  StatusOr<std::vector<SurfacePoint>> Corrected(const std::string& machine,
-                                                const std::string& part,
-                                                std::optional<int> iteration);
+  StatusOr<SurfaceProgram> Corrected(const std::string& machine, const std::string& part,
+                                     std::optional<int> iteration);
 
  private:
   Storage& storage_;

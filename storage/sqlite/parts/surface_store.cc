@@ -35,8 +35,10 @@ StatusOr<int64_t> SqliteSurfaceStore::CreatePart(int64_t machine_id, const std::
   Statement part(db_,
                  "INSERT INTO surface_parts(machine_id, name, created_ms, points)"
                  " VALUES (?, ?, ?, ?)");
-  part.Bind(1, machine_id).Bind(2, name).Bind(3, now_ms).Bind(4,
-                                                               static_cast<int64_t>(nominal.size()));
+  part.Bind(1, machine_id)
+      .Bind(2, name)
+      .Bind(3, now_ms)
+      .Bind(4, static_cast<int64_t>(nominal.size()));
   if (Status s = part.Run(); !s.ok()) return s;
   const int64_t id = db_.LastInsertId();
   Statement q(db_,
@@ -82,8 +84,8 @@ std::vector<SurfaceNominalRecord> SqliteSurfaceStore::Nominal(int64_t part_id) {
   q.Bind(1, part_id);
   std::vector<SurfaceNominalRecord> out;
   while (q.Step()) {
-    out.push_back({q.Text(0), q.Double(1), q.Double(2), q.Double(3), q.Double(4), q.Double(5),
-                   q.Double(6)});
+    out.push_back(
+        {q.Text(0), q.Double(1), q.Double(2), q.Double(3), q.Double(4), q.Double(5), q.Double(6)});
   }
   return out;
 }
