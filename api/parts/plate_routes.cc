@@ -2,6 +2,7 @@
 // list a machine's plates, a plate's report (JSON, Markdown, HTML) and its
 // holes as CSV. Parse, call PlateService, map.
 #include "api/http_server.h"  // first: Eigen before httplib.h
+#include "service/parts/plates/plate_service.h"
 
 #include <cstdio>
 
@@ -51,19 +52,18 @@ std::string HolesCsv(const PlateReport& r) {
     std::string id = "\"";
     for (char c : h.hole) id += c == '"' ? std::string("\"\"") : std::string(1, c);
     id += "\"";
-    std::snprintf(buf, sizeof buf, "%s,%d,%.4f,%.4f,%.6f,%.6f,%s,%s,%s,%s,%s\n", id.c_str(),
-                  h.pair, h.nominal_x_mm, h.nominal_y_mm, h.dev_x_um / 1000.0,
-                  h.dev_y_um / 1000.0, h.compensated ? "on" : "off",
-                  FormatRfc3339(h.bored_ms).c_str(),
-                  Optional(h.served_offset_um ? std::optional(*h.served_offset_um / 1000.0)
-                                              : std::nullopt,
-                           "%.6f")
-                      .c_str(),
-                  Optional(h.predicted_drift_um ? std::optional(*h.predicted_drift_um / 1000.0)
-                                                : std::nullopt,
-                           "%.6f")
-                      .c_str(),
-                  h.model_version ? std::to_string(*h.model_version).c_str() : "");
+    std::snprintf(
+        buf, sizeof buf, "%s,%d,%.4f,%.4f,%.6f,%.6f,%s,%s,%s,%s,%s\n", id.c_str(), h.pair,
+        h.nominal_x_mm, h.nominal_y_mm, h.dev_x_um / 1000.0, h.dev_y_um / 1000.0,
+        h.compensated ? "on" : "off", FormatRfc3339(h.bored_ms).c_str(),
+        Optional(h.served_offset_um ? std::optional(*h.served_offset_um / 1000.0) : std::nullopt,
+                 "%.6f")
+            .c_str(),
+        Optional(
+            h.predicted_drift_um ? std::optional(*h.predicted_drift_um / 1000.0) : std::nullopt,
+            "%.6f")
+            .c_str(),
+        h.model_version ? std::to_string(*h.model_version).c_str() : "");
     csv += buf;
   }
   return csv;
@@ -79,9 +79,9 @@ void HttpServer::PlateRoutes() {
   // (Y when absent).
   auto import = [this](const Req& req, Res& res, const std::string& name) {
     if (!IsCsv(req)) {
-      return WriteProblem(res, 415,
-                          "Content-Type must be text/csv, got '" +
-                              req.get_header_value("Content-Type") + "'");
+      return WriteProblem(
+          res, 415,
+          "Content-Type must be text/csv, got '" + req.get_header_value("Content-Type") + "'");
     }
     PlateImport in;
     in.machine = req.matches[1];

@@ -33,7 +33,7 @@ struct PlateRecord {
   std::string name, axis;
   int64_t created_ms = 0;
   std::string actor;
-  std::string summary_json;  // the one-line summary made at import
+  std::string summary_json;            // the one-line summary made at import
   std::vector<PlateHoleRecord> holes;  // by Find only; in bore order
 };
 

@@ -1,4 +1,5 @@
 #include "service/parts/plates/plate_service.h"
+#include "storage/parts/plate_store.h"
 
 #include <cmath>
 #include <map>
@@ -35,17 +36,17 @@ void CheckHoles(const std::vector<PlateHoleInput>& holes, int64_t now_ms, FieldE
     if (h.hole.empty() || h.hole.size() > 64 || !ValidUtf8(h.hole)) {
       errors.push_back({row, "hole", "must be 1-64 bytes of UTF-8"});
     } else if (auto [it, added] = seen.emplace(h.hole, row); !added) {
-      errors.push_back({row, "hole",
-                        "duplicate hole '" + h.hole + "' (row " + std::to_string(it->second) + ")"});
+      errors.push_back(
+          {row, "hole",
+           "duplicate hole '" + h.hole + "' (row " + std::to_string(it->second) + ")"});
     }
     if (h.pair < 1) errors.push_back({row, "pair", "must be 1 or more"});
-    for (auto [field, v] : {std::pair{"nominal_x_mm", h.nominal_x_mm},
-                            std::pair{"nominal_y_mm", h.nominal_y_mm}}) {
+    for (auto [field, v] :
+         {std::pair{"nominal_x_mm", h.nominal_x_mm}, std::pair{"nominal_y_mm", h.nominal_y_mm}}) {
       if (!std::isfinite(v) || std::abs(v) > kMaxPlateNominalMm)
         errors.push_back({row, field, "must be finite, within +-10000 mm"});
     }
-    for (auto [field, v] :
-         {std::pair{"dev_x_mm", h.dev_x_mm}, std::pair{"dev_y_mm", h.dev_y_mm}}) {
+    for (auto [field, v] : {std::pair{"dev_x_mm", h.dev_x_mm}, std::pair{"dev_y_mm", h.dev_y_mm}}) {
       if (!std::isfinite(v) || std::abs(v) > kMaxPlateDeviationMm)
         errors.push_back({row, field, "must be finite, within +-1 mm (deviations are in mm)"});
     }
@@ -117,7 +118,8 @@ StatusOr<PlateReport> PlateService::ReportOf(const std::string& machine, const P
   r.actor = p.actor;
   r.stats = std::move(stats).value();
   const int64_t t0 = r.stats.first_bored_ms;
-  if (r.stats.pay_off_ms) r.pay_off_minutes = static_cast<double>(*r.stats.pay_off_ms - t0) / 60000.0;
+  if (r.stats.pay_off_ms)
+    r.pay_off_minutes = static_cast<double>(*r.stats.pay_off_ms - t0) / 60000.0;
   r.holes.reserve(p.holes.size());
   for (const auto& h : p.holes) {
     PlateReportHole o;
@@ -228,7 +230,8 @@ StatusOr<std::vector<PlateSummary>> PlateService::List(const std::string& machin
   for (const auto& p : plates) {
     auto parsed = nlohmann::json::parse(p.summary_json, nullptr, false);
     auto summary = PlateSummaryFromJson(parsed);
-    if (!summary.ok()) return Status::Internal("plate '" + p.name + "': " + summary.status().message());
+    if (!summary.ok())
+      return Status::Internal("plate '" + p.name + "': " + summary.status().message());
     out.push_back(std::move(summary).value());
   }
   return out;

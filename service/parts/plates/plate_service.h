@@ -17,6 +17,7 @@
 #include "core/field_errors.h"
 #include "reports/parts/plate_report.h"
 #include "service/config.h"
+#include "storage/parts/plate_store.h"
 #include "storage/storage.h"
 
 namespace thermocomp {

@@ -113,7 +113,8 @@ std::vector<PlateRecord> SqlitePlateStore::List(int64_t machine_id) {
               " WHERE machine_id = ? ORDER BY created_ms DESC, id DESC");
   q.Bind(1, machine_id);
   std::vector<PlateRecord> out;
-  while (q.Step()) out.push_back({q.Int(0), q.Text(1), q.Text(2), q.Int(3), q.Text(4), q.Text(5), {}});
+  while (q.Step())
+    out.push_back({q.Int(0), q.Text(1), q.Text(2), q.Int(3), q.Text(4), q.Text(5), {}});
   return out;
 }
 

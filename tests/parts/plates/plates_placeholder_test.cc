@@ -1,4 +1,0 @@
-#include <gtest/gtest.h>
-
-// Replaced by the plates tests.
-TEST(PartsPlaceholder, Plates) {}
