@@ -18,8 +18,8 @@ namespace thermocomp {
 // are required, the rest may be absent (not logged, not measured).
 inline const std::vector<std::string>& ProcessRecordFields() {
   static const std::vector<std::string> fields = {
-      "ap_mm",         "f_mm_rev",      "vc_m_min",        "fc_n",         "ff_n",
-      "fp_n",          "displacement_um", "temperature_c", "size_error_um", "cylindricity_um",
+      "ap_mm",       "f_mm_rev",        "vc_m_min",      "fc_n",          "ff_n",
+      "fp_n",        "displacement_um", "temperature_c", "size_error_um", "cylindricity_um",
       "roundness_um"};
   return fields;
 }

@@ -80,9 +80,8 @@ PartModelService::PartModelService(Storage& storage, const Clock& clock, const C
     : storage_(storage), clock_(clock), config_(config) {}
 
 const std::vector<std::string>& PartModelService::Inputs() {
-  static const std::vector<std::string> inputs = {"ap_mm", "f_mm_rev",        "vc_m_min",
-                                                  "fc_n",  "ff_n",            "fp_n",
-                                                  "displacement_um", "temperature_c"};
+  static const std::vector<std::string> inputs = {
+      "ap_mm", "f_mm_rev", "vc_m_min", "fc_n", "ff_n", "fp_n", "displacement_um", "temperature_c"};
   return inputs;
 }
 
@@ -108,8 +107,9 @@ StatusOr<size_t> PartModelService::AddRecords(const std::string& machine,
     if (!ValidName(r.part)) errors->push_back({i, "part", "1 to 64 of A-Z a-z 0-9 _ . -"});
     if (!ValidName(r.feature)) errors->push_back({i, "feature", "1 to 64 of A-Z a-z 0-9 _ . -"});
     if (!seen.insert({r.part, r.feature}).second) {
-      errors->push_back({i, "feature", "part " + r.part + " feature " + r.feature +
-                                           " appears twice in the request"});
+      errors->push_back(
+          {i, "feature",
+           "part " + r.part + " feature " + r.feature + " appears twice in the request"});
     }
     if (r.cut_ms < kEarliestTsMs || r.cut_ms >= kLatestTsMs) {
       errors->push_back({i, "cut_at", "outside the accepted time range"});
@@ -135,8 +135,9 @@ StatusOr<size_t> PartModelService::AddRecords(const std::string& machine,
       if (!r.values.count(required)) errors->push_back({i, required, "required"});
     }
     if (!has_target) {
-      errors->push_back({i, "size_error_um", "a record needs a measured error (size_error_um, "
-                                             "cylindricity_um or roundness_um)"});
+      errors->push_back({i, "size_error_um",
+                         "a record needs a measured error (size_error_um, "
+                         "cylindricity_um or roundness_um)"});
     }
   }
   if (!errors->empty()) return Status::InvalidArgument("invalid process records");
@@ -145,7 +146,8 @@ StatusOr<size_t> PartModelService::AddRecords(const std::string& machine,
   if (!found.ok()) return found.status();
   std::vector<ProcessRecordRow> rows;
   rows.reserve(records.size());
-  for (const ProcessRecordInput& r : records) rows.push_back({0, r.part, r.feature, r.cut_ms, r.values});
+  for (const ProcessRecordInput& r : records)
+    rows.push_back({0, r.part, r.feature, r.cut_ms, r.values});
   const int64_t now = clock_.NowMs();
   Transaction tx(*session);
   if (!tx.status().ok()) return tx.status();
@@ -180,8 +182,7 @@ StatusOr<PartModelRecord> PartModelService::Model(const std::string& machine, in
   if (!found.ok()) return found.status();
   auto m = session->part_models().Get(found->id, version);
   if (!m) {
-    return Status::NotFound("no part model version " + std::to_string(version) + " for " +
-                            machine);
+    return Status::NotFound("no part model version " + std::to_string(version) + " for " + machine);
   }
   return *m;
 }
@@ -193,11 +194,11 @@ StatusOr<AuditEntry> PartModelService::Activate(const std::string& machine, int 
   if (!found.ok()) return found.status();
   auto m = session->part_models().Get(found->id, version);
   if (!m) {
-    return Status::NotFound("no part model version " + std::to_string(version) + " for " +
-                            machine);
+    return Status::NotFound("no part model version " + std::to_string(version) + " for " + machine);
   }
-  AuditEntry entry{clock_.NowMs(), actor, "activate-part-model", machine, 1,
-                   m->target + " v" + std::to_string(version) + " (" + m->type + ")"};
+  AuditEntry entry{
+      clock_.NowMs(), actor, "activate-part-model",
+      machine,        1,     m->target + " v" + std::to_string(version) + " (" + m->type + ")"};
   Transaction tx(*session);
   if (!tx.status().ok()) return tx.status();
   if (Status s = session->part_models().Activate(found->id, version); !s.ok()) return s;
@@ -223,8 +224,9 @@ StatusOr<PartPredictionResult> PartModelService::Predict(const std::string& mach
     if (std::find(names.begin(), names.end(), name) == names.end()) {
       std::string known;
       for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
-      errors->push_back({0, "inputs." + name, "not an input of this model (its inputs: " +
-                                                  (known.empty() ? "none" : known) + ")"});
+      errors->push_back(
+          {0, "inputs." + name,
+           "not an input of this model (its inputs: " + (known.empty() ? "none" : known) + ")"});
     } else if (!std::isfinite(value)) {
       errors->push_back({0, "inputs." + name, "must be a finite number"});
     }
@@ -295,8 +297,8 @@ StatusOr<PartFitReport> PartModelService::Fit(const std::string& machine,
   const size_t needed = std::max<size_t>(12, 4 * (d + 1));
   if (rows.size() < needed) {
     return Status::Unprocessable(
-        "too few records for " + request.target + ": " + std::to_string(rows.size()) +
-        " have it" + (request.inputs.empty() ? "" : " and every input asked for") + ", at least " +
+        "too few records for " + request.target + ": " + std::to_string(rows.size()) + " have it" +
+        (request.inputs.empty() ? "" : " and every input asked for") + ", at least " +
         std::to_string(needed) + " needed for " + std::to_string(d) +
         " inputs (a linear model in every input with two records per term, and a held-out part)");
   }
@@ -353,7 +355,8 @@ StatusOr<PartFitReport> PartModelService::Fit(const std::string& machine,
     std::string message = ranking.status().message();
     for (size_t k = 0; k < d; ++k) {
       const std::string index = "input " + std::to_string(k) + " ";
-      if (message.rfind(index, 0) == 0) message = "input " + candidates[k] + message.substr(index.size() - 1);
+      if (message.rfind(index, 0) == 0)
+        message = "input " + candidates[k] + message.substr(index.size() - 1);
     }
     return Status::Unprocessable("the input ranking failed: " + message);
   }
@@ -376,7 +379,10 @@ StatusOr<PartFitReport> PartModelService::Fit(const std::string& machine,
   if (kept_columns.empty()) {
     report.decision = "no input removes 5 % or more of the cross-validated error: nothing to model";
     for (const std::string& t : type_names) {
-      report.types.push_back({t, false, "no input kept by the sensitivity ranking"});
+      PartTypeResult r;
+      r.type = t;
+      r.error = "no input kept by the sensitivity ranking";
+      report.types.push_back(std::move(r));
     }
     session->Resume();
     return report;
@@ -433,8 +439,10 @@ StatusOr<PartFitReport> PartModelService::Fit(const std::string& machine,
         PartInputs in;
         for (const std::string& n : (*model)->inputs()) {
           auto it = rows[i]->values.find(n);
-          if (it == rows[i]->values.end()) complete = false;
-          else in[n] = it->second;
+          if (it == rows[i]->values.end())
+            complete = false;
+          else
+            in[n] = it->second;
         }
         inputs.push_back(std::move(in));
       }
@@ -451,7 +459,8 @@ StatusOr<PartFitReport> PartModelService::Fit(const std::string& machine,
   int best = -1;
   for (size_t i = 0; i < report.types.size(); ++i) {
     if (!report.types[i].fitted) continue;
-    if (best < 0 || report.types[i].held_out.rmse < report.types[static_cast<size_t>(best)].held_out.rmse) {
+    if (best < 0 ||
+        report.types[i].held_out.rmse < report.types[static_cast<size_t>(best)].held_out.rmse) {
       best = static_cast<int>(i);
     }
   }
@@ -514,11 +523,10 @@ StatusOr<PartFitReport> PartModelService::Fit(const std::string& machine,
           report.created_ms, actor, "part-model-fit", machine,
           static_cast<int64_t>(report.training_rows),
           request.target + " " +
-              (report.accepted ? challenger.type + " v" + std::to_string(report.active_version) +
-                                     " active"
-                               : "kept " + (report.active_version
-                                                ? "v" + std::to_string(report.active_version)
-                                                : std::string("none"))));
+              (report.accepted
+                   ? challenger.type + " v" + std::to_string(report.active_version) + " active"
+                   : "kept " + (report.active_version ? "v" + std::to_string(report.active_version)
+                                                      : std::string("none"))));
       !s.ok()) {
     return s;
   }

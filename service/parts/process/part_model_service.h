@@ -28,6 +28,7 @@
 #include "reports/parts/part_model_report.h"
 #include "service/config.h"
 #include "service/parts/process/part_model.h"
+#include "storage/parts/part_model_store.h"
 #include "storage/storage.h"
 
 namespace thermocomp {
@@ -59,7 +60,7 @@ class PartModelService {
  public:
   PartModelService(Storage& storage, const Clock& clock, const Config& config);
 
-  static constexpr size_t kMaxRecords = 100000;  // per request
+  static constexpr size_t kMaxRecords = 100000;    // per request
   static constexpr size_t kMaxFitRecords = 20000;  // the newest, per fit
   static constexpr double kSensitivityThreshold = 1.05;
   static constexpr int kSensitivityFolds = 5;

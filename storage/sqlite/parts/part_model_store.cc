@@ -10,8 +10,14 @@ constexpr const char* kModelColumns =
     " FROM part_models ";
 
 PartModelRecord ReadModel(const Statement& q) {
-  return {static_cast<int>(q.Int(0)), q.Text(1), q.Text(2), q.Text(3),
-          q.Text(4),                  q.Int(5),  q.Text(6), q.Text(7)};
+  return {static_cast<int>(q.Int(0)),
+          q.Text(1),
+          q.Text(2),
+          q.Text(3),
+          q.Text(4),
+          q.Int(5),
+          q.Text(6),
+          q.Text(7)};
 }
 
 std::string FieldList() {
@@ -33,8 +39,7 @@ Status RetireActive(Database& db, int64_t machine_id, const std::string& target)
 SqlitePartModelStore::SqlitePartModelStore(Database& db) : db_(db) {}
 
 Status SqlitePartModelStore::AddRecords(int64_t machine_id,
-                                        const std::vector<ProcessRecordRow>& rows,
-                                        int64_t now_ms) {
+                                        const std::vector<ProcessRecordRow>& rows, int64_t now_ms) {
   const std::vector<std::string>& fields = ProcessRecordFields();
   std::string sql = "INSERT INTO process_records(machine_id, part, feature, cut_ms, created_ms" +
                     FieldList() + ") VALUES (?, ?, ?, ?, ?";
@@ -88,8 +93,7 @@ int64_t SqlitePartModelStore::CountRecords(int64_t machine_id) {
 StatusOr<int> SqlitePartModelStore::Insert(int64_t machine_id, const PartModelRecord& r) {
   int version = 1;
   {
-    Statement q(db_,
-                "SELECT COALESCE(MAX(version), 0) + 1 FROM part_models WHERE machine_id = ?");
+    Statement q(db_, "SELECT COALESCE(MAX(version), 0) + 1 FROM part_models WHERE machine_id = ?");
     q.Bind(1, machine_id);
     if (q.Step()) version = static_cast<int>(q.Int(0));
     if (!q.status().ok()) return q.status();
@@ -139,7 +143,8 @@ std::optional<PartModelRecord> SqlitePartModelStore::Active(int64_t machine_id,
 
 Status SqlitePartModelStore::Activate(int64_t machine_id, int version) {
   std::optional<PartModelRecord> m = Get(machine_id, version);
-  if (!m) return Status::NotFound("part model version " + std::to_string(version) + " does not exist");
+  if (!m)
+    return Status::NotFound("part model version " + std::to_string(version) + " does not exist");
   if (Status s = RetireActive(db_, machine_id, m->target); !s.ok()) return s;
   Statement act(db_,
                 "UPDATE part_models SET status = 'active' WHERE machine_id = ? AND version = ?");
@@ -149,8 +154,7 @@ Status SqlitePartModelStore::Activate(int64_t machine_id, int version) {
 
 Status SqlitePartModelStore::SetReport(int64_t machine_id, int version,
                                        const std::string& report_json) {
-  Statement q(db_,
-              "UPDATE part_models SET report_json = ? WHERE machine_id = ? AND version = ?");
+  Statement q(db_, "UPDATE part_models SET report_json = ? WHERE machine_id = ? AND version = ?");
   q.Bind(1, report_json).Bind(2, machine_id).Bind(3, int64_t{version});
   return q.Run();
 }
