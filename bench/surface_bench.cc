@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -153,6 +154,11 @@ int Run(int repetitions) {
 }  // namespace thermocomp
 
 int main(int argc, char** argv) {
-  const int repetitions = argc > 1 ? std::max(1, std::atoi(argv[1])) : 10;
-  return thermocomp::Run(repetitions);
+  try {
+    const int repetitions = argc > 1 ? std::max(1, std::atoi(argv[1])) : 10;
+    return thermocomp::Run(repetitions);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "surface_bench: %s\n", e.what());
+    return 2;
+  }
 }
