@@ -59,11 +59,10 @@ std::string Trimmed(const std::string& s) {
 
 std::optional<double> FiniteNumber(const std::string& s) {
   if (s.empty() || s.size() > 64) return std::nullopt;
-  const std::string text(s);
   char* end = nullptr;
   errno = 0;
-  const double v = std::strtod(text.c_str(), &end);
-  if (end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(v)) {
+  const double v = std::strtod(s.c_str(), &end);
+  if (end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(v)) {
     return std::nullopt;
   }
   return v;
@@ -119,7 +118,11 @@ Status ParsePlateCsv(std::string_view body, std::vector<PlateHoleInput>& out, Fi
       else
         index[k] = static_cast<int>(c);
     }
-    if (!known) errors.push_back({0, "header", "unknown column '" + name + "': " + header_help});
+    if (!known) {
+      std::string message = "unknown column '" + name + "': ";
+      message += header_help;
+      errors.push_back({0, "header", std::move(message)});
+    }
   }
   for (size_t k = 0; k < kColumns.size(); ++k) {
     if (index[k] < 0) errors.push_back({0, kColumns[k], "missing column: " + header_help});
