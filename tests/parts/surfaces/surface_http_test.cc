@@ -216,6 +216,46 @@ TEST_F(SurfaceHttpTest, ReportFormatsAndDownloadsPerIteration) {
   EXPECT_EQ(client_->Get(kPart + "?format=pdf")->status, 400);
 }
 
+// Two corrections: the third part is made from corrected(2) = nominal −
+// (d(0) + d(1))·n and still measured against the original: what is left is
+// its noise minus the second part's, exactly as the truth says.
+TEST_F(SurfaceHttpTest, SecondCorrectionIsMeasuredAgainstTheOriginal) {
+  SurfaceSim sim({});
+  const auto& nominal = sim.nominal();
+  const SurfaceSimPart first = sim.MachineAndMeasure(nominal);
+  PostOk(SurfaceSim::Csv(nominal, first, false, false));
+  const std::vector<SurfacePoint> program1 = Program();
+  const SurfaceSimPart second = sim.MachineAndMeasure(program1);
+  PostOk(SurfaceSim::Csv(program1, second, false, false));
+  const std::vector<SurfacePoint> program2 = Program();
+  ASSERT_EQ(program2.size(), nominal.size());
+  const SurfaceSimPart third = sim.MachineAndMeasure(program2);
+  const json j2 = PostOk(SurfaceSim::Csv(program2, third, true, false));
+  EXPECT_EQ(j2["iteration"], 2);
+  EXPECT_EQ(j2["nominal_columns"], "program");
+  auto r = client_->Get(kPart);
+  ASSERT_TRUE(r && r->status == 200);
+  const json report = json::parse(r->body);
+  ASSERT_EQ(report["iterations"].size(), 3u);
+  const json& d0 = report["iterations"][0]["d_mm"];
+  const json& d1 = report["iterations"][1]["d_mm"];
+  const json& d2 = report["iterations"][2]["d_mm"];
+  double worst = 0;
+  for (size_t p = 0; p < nominal.size(); ++p) {
+    // corrected(2) moved each point by −(d0 + d1) along the original normal.
+    const double shift = (program2[p].x_mm - nominal[p].x_mm) * nominal[p].i +
+                         (program2[p].y_mm - nominal[p].y_mm) * nominal[p].j +
+                         (program2[p].z_mm - nominal[p].z_mm) * nominal[p].k;
+    EXPECT_NEAR(shift, -(d0[p].get<double>() + d1[p].get<double>()), 1e-5);
+    // d2 = e + ε2 − d0 − d1 = ε2 − ε1 (the systematic part repeats).
+    worst =
+        std::max(worst, std::abs(d2[p].get<double>() - (third.noise_mm[p] - second.noise_mm[p])));
+  }
+  EXPECT_LT(worst, 2e-5);
+  EXPECT_NEAR(j2["stats"]["mean_abs_mm"].get<double>(), sim.ExpectedMeanAbsAfterMirror(),
+              0.15 * sim.ExpectedMeanAbsAfterMirror());
+}
+
 TEST_F(SurfaceHttpTest, NonUniformAllowanceIsFlagged) {
   SurfaceSimOptions o;
   o.allowance_variation = 0.6;  // stock 0.12 .. 0.48 mm, different on every part
