@@ -12,6 +12,7 @@ json ScoreToJson(const PartHeldOutScore& s) {
           {"refused", s.refused},
           {"rmse", s.rmse},
           {"mae", s.mae},
+          {"served_rmse", s.served_rmse},
           {"r2", s.r2},
           {"baseline_rmse", s.baseline_rmse},
           {"beats_baseline", s.beats_baseline}};
@@ -23,6 +24,7 @@ PartHeldOutScore ScoreFromJson(const json& j) {
   s.refused = j.value("refused", size_t{0});
   s.rmse = j.value("rmse", 0.0);
   s.mae = j.value("mae", 0.0);
+  s.served_rmse = j.value("served_rmse", 0.0);
   s.r2 = j.value("r2", 0.0);
   s.baseline_rmse = j.value("baseline_rmse", 0.0);
   s.beats_baseline = j.value("beats_baseline", false);

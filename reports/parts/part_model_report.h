@@ -38,6 +38,9 @@ struct PartHeldOutScore {
   size_t rows = 0;
   size_t refused = 0;  // outside the trained range: scored as the training mean
   double rmse = 0, mae = 0, r2 = 0;
+  // Over the rows the model did predict (all but the refused), for the
+  // model's accuracy where it serves.
+  double served_rmse = 0;
   double baseline_rmse = 0;     // predicting the training mean
   bool beats_baseline = false;  // by more than chance (paired, 2 standard errors)
 };

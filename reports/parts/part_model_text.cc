@@ -13,7 +13,8 @@ using report_text::Text;
 std::string ScoreRow(const std::string& what, const PartHeldOutScore& s) {
   return "| " + what + " | " + Fixed(s.rmse, "%.2f") + " | " + Fixed(s.mae, "%.2f") + " | " +
          Fixed(s.r2, "%.2f") + " | " + Fixed(s.baseline_rmse, "%.2f") + " | " +
-         (s.beats_baseline ? "yes" : "no") + " | " + std::to_string(s.refused) + " |\n";
+         (s.beats_baseline ? "yes" : "no") + " | " + std::to_string(s.refused) + " | " +
+         Fixed(s.served_rmse, "%.2f") + " |\n";
 }
 
 }  // namespace
@@ -45,8 +46,10 @@ std::string PartFitReportMarkdown(const PartFitReport& r, const PlantTime& time)
   md += "\nCandidates: " + Join(r.candidates) + ". Kept: " + Join(r.kept) + ".\n\n";
   md += "## Types on the held-out records\n\n";
   md +=
-      "| model | RMSE | MAE | R² | mean's RMSE | beats the mean | refused |\n"
-      "|---|---|---|---|---|---|---|\n";
+      "A record the guard refuses (an input outside the trained range) counts as the training "
+      "mean; the last column is the RMSE over the records the model predicted.\n\n"
+      "| model | RMSE | MAE | R² | mean's RMSE | beats the mean | refused | RMSE served |\n"
+      "|---|---|---|---|---|---|---|---|\n";
   for (const PartTypeResult& t : r.types) {
     if (t.fitted) md += ScoreRow(Code(t.type) + " v" + std::to_string(t.version), t.held_out);
   }

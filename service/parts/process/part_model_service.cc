@@ -58,12 +58,19 @@ PartHeldOutScore ScoreOn(const PartModel& model, const std::vector<PartInputs>& 
                          std::vector<std::optional<double>>* predicted) {
   std::vector<double> used(measured.size());
   PartHeldOutScore s;
+  double served_sse = 0;
   for (size_t i = 0; i < measured.size(); ++i) {
     const PartPrediction p = model.Predict(inputs[i]);
     used[i] = p.valid ? *p.value : mean;
-    if (!p.valid) ++s.refused;
+    if (p.valid) {
+      served_sse += (measured[i] - *p.value) * (measured[i] - *p.value);
+    } else {
+      ++s.refused;
+    }
     if (predicted) predicted->push_back(p.value);
   }
+  const size_t served = measured.size() - s.refused;
+  s.served_rmse = served ? std::sqrt(served_sse / static_cast<double>(served)) : 0.0;
   const ProcessScore score = ScoreProcess(measured, used, mean);
   s.rows = score.rows;
   s.rmse = score.rmse;
