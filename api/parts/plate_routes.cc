@@ -75,8 +75,7 @@ void HttpServer::PlateRoutes() {
   httplib::Server& s = server_;
   const std::string plates = kMachinePath + "/plates";
 
-  // The plate's name from the path or from ?plate=; the axis from ?axis=
-  // (Y when absent).
+  // The plate's name from the path, the axis from ?axis= (Y when absent).
   auto import = [this](const Req& req, Res& res, const std::string& name) {
     if (!IsCsv(req)) {
       return WriteProblem(
@@ -97,13 +96,6 @@ void HttpServer::PlateRoutes() {
     res.set_header("Location", "/api/v1/machines/" + in.machine + "/plates/" + in.plate);
     WriteJson(res, PlateReportToJson(*report), 201);
   };
-  s.Post(plates, [import](const Req& req, Res& res) {
-    if (!req.has_param("plate")) {
-      return WriteProblem(res, 400, "plate: the plate's name is required",
-                          {{0, "plate", "required (or POST to .../plates/{plate})"}});
-    }
-    import(req, res, req.get_param_value("plate"));
-  });
   s.Post(plates + "/" + kPlateName,
          [import](const Req& req, Res& res) { import(req, res, req.matches[2]); });
 
