@@ -51,12 +51,12 @@ std::string PlateReportMarkdown(const PlateReport& r, const PlantTime& time) {
   if (st.pay_off_ms && r.pay_off_minutes) {
     md += "Compensation pays from pair " + std::to_string(st.pay_off_pair.value_or(0)) + " on, " +
           Text(time.Format(*st.pay_off_ms)) + ", " + Fixed(*r.pay_off_minutes, "%.0f") +
-          " min after the first hole: from there every run of three pairs gains more than the "
-          "compensated holes scatter (S on).\n\n";
+          " min after the first hole: from there every run of three pairs gains more than twice "
+          "the compensated holes' scatter (2 S on).\n\n";
   } else {
     md +=
         "No pay-off time: no run of pairs to the plate's end where compensation keeps "
-        "gaining more than the compensated holes scatter.\n\n";
+        "gaining more than twice the compensated holes' scatter (2 S on).\n\n";
   }
   if (r.holes_without_served > 0) {
     md += std::to_string(r.holes_without_served) +
