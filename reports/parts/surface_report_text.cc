@@ -24,8 +24,8 @@ std::string Flag(const SurfaceIteration& it) {
 
 std::string SurfacePartMarkdown(const SurfacePartReport& r, const PlantTime& time) {
   std::string md = "# Surface " + Code(r.part) + " on " + Text(r.machine) + "\n\n";
-  md += std::to_string(r.nominal.size()) +
-        " points. Each deviation d is taken along the normal of the original nominal point, in "
+  md += std::to_string(r.nominal.size()) + (r.nominal.size() == 1 ? " point" : " points") +
+        ". Each deviation d is taken along the normal of the original nominal point, in "
         "every iteration; the program for the next part is the mirror of what is left: "
         "corrected(k+1) = corrected(k) − d(k)·n (corrected(0) = nominal).\n\n";
   if (r.iterations.empty()) return md + "No measurement yet.\n";
