@@ -120,6 +120,14 @@ const std::vector<std::pair<std::regex, std::set<std::string>>>& RouteParams() {
       {std::regex(m + "/axes/[^/]+/thermal-error"), {"format", "spacing_mm"}},
       {std::regex(m + "/axes/[^/]+/thermal-error/history"),
        {"from", "to", "positions", "max_points"}},
+      // Parts (docs/api.md, Parts).
+      {std::regex(m + "/plates/[^/]+"), {"axis", "format"}},
+      {std::regex(m + "/turned-parts"), {"feature", "from", "to", "limit"}},
+      {std::regex(m + "/turned-parts/report"), {"from", "to", "format"}},
+      {std::regex(m + "/process-records"), {"limit"}},
+      {std::regex(m + "/part-models/[0-9]+"), {"format"}},
+      {std::regex(m + "/surfaces/[^/]+"), {"format"}},
+      {std::regex(m + "/surfaces/[^/]+/corrected"), {"iteration", "format"}},
   };
   return table;
 }
