@@ -1,4 +1,5 @@
 #include "service/parts/turning/turning_service.h"
+#include "storage/parts/turning_store.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -41,13 +42,15 @@ void Check(const TurnedPartInput& in, int64_t latest_ms, FieldErrors& errors) {
     errors.push_back({in.row, "feature", "must match [A-Za-z0-9_.-]{1,64}"});
   }
   const std::string limit = FormatNmAsMm(kMaxDiameterNm, 0);
-  const std::pair<const char*, int64_t> diameters[] = {
-      {"d_des_mm", in.d_des_nm}, {"d_w_mm", in.d_w_nm}, {"d_c_mm", in.d_c_nm}, {"d_pp_mm", in.d_pp_nm}};
+  const std::pair<const char*, int64_t> diameters[] = {{"d_des_mm", in.d_des_nm},
+                                                       {"d_w_mm", in.d_w_nm},
+                                                       {"d_c_mm", in.d_c_nm},
+                                                       {"d_pp_mm", in.d_pp_nm}};
   bool sizes_ok = true;
   for (const auto& [field, nm] : diameters) {
     if (nm <= 0 || nm > kMaxDiameterNm) {
-      errors.push_back({in.row, field,
-                        "must be above 0 and at most " + limit + " mm, got " + FormatNmAsMm(nm)});
+      errors.push_back(
+          {in.row, field, "must be above 0 and at most " + limit + " mm, got " + FormatNmAsMm(nm)});
       sizes_ok = false;
     }
   }
@@ -74,11 +77,10 @@ TurningService::TurningService(Storage& storage, const Clock& clock, const Confi
 
 StatusOr<TurnedPartsResult> TurningService::Record(const std::string& machine_name,
                                                    const std::vector<TurnedPartInput>& parts,
-                                                   const std::string& actor,
-                                                   FieldErrors* errors) {
+                                                   const std::string& actor, FieldErrors* errors) {
   if (parts.size() > kMaxRows) {
-    return Status::TooLarge("at most " + std::to_string(kMaxRows) + " turned parts per request, got " +
-                            std::to_string(parts.size()));
+    return Status::TooLarge("at most " + std::to_string(kMaxRows) +
+                            " turned parts per request, got " + std::to_string(parts.size()));
   }
   if (parts.empty()) {
     errors->push_back({0, "parts", "no turned parts in the body"});
@@ -164,7 +166,8 @@ StatusOr<std::vector<CompensationChange>> TurningService::CompensationChanges(
   auto machine = FindMachine(*session, machine_name);
   if (!machine.ok()) return machine.status();
   std::vector<CompensationChange> out;
-  for (const CompensationChangeRecord& c : session->turned_parts().CompensationChanges(machine_name)) {
+  for (const CompensationChangeRecord& c :
+       session->turned_parts().CompensationChanges(machine_name)) {
     out.push_back(FromRecord(c));
   }
   return out;
@@ -210,6 +213,13 @@ StatusOr<TurningReport> TurningService::Report(const std::string& machine_name, 
     f.first_ms = list.front()->cut_ms;
     f.last_ms = list.back()->cut_ms;
     f.latest = *list.back();
+    // The latest change (at or before `to`) with parts on both sides.
+    for (auto c = report.changes.rbegin(); c != report.changes.rend(); ++c) {
+      if (c->ts_ms <= to_ms && c->ts_ms > f.first_ms && c->ts_ms <= f.last_ms) {
+        f.change = *c;
+        break;
+      }
+    }
     std::vector<DiameterComponents> all, before, after;
     std::vector<int64_t> times;
     std::vector<std::optional<double>> shares;
@@ -222,15 +232,13 @@ StatusOr<TurningReport> TurningService::Report(const std::string& machine_name, 
       times.push_back(p->cut_ms);
       shares.push_back(ThermalShare(p->c));
       weeks[time_.WeekStartMs(p->cut_ms)].push_back(p->c);
-      if (report.latest_change) {
-        (p->cut_ms < report.latest_change->ts_ms ? before : after).push_back(p->c);
-      }
+      if (f.change) (p->cut_ms < f.change->ts_ms ? before : after).push_back(p->c);
     }
     f.all = Summarize(all);
     f.trend = ShareOverTime(times, shares);
     f.weeks.reserve(weeks.size());
     for (const auto& [start, week] : weeks) f.weeks.push_back({start, Summarize(week)});
-    if (!before.empty() && !after.empty()) {
+    if (f.change) {
       f.before = Summarize(before);
       f.after = Summarize(after);
     }

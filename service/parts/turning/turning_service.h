@@ -15,6 +15,7 @@
 #include "core/plant_time.h"
 #include "reports/parts/turning_report.h"
 #include "service/config.h"
+#include "storage/parts/turning_store.h"
 #include "storage/storage.h"
 
 namespace thermocomp {

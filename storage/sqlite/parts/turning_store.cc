@@ -66,8 +66,7 @@ Status SqliteTurningStore::Insert(int64_t machine_id, const TurnedPartRecord& r)
 std::optional<TurnedPartRecord> SqliteTurningStore::Find(int64_t machine_id,
                                                          const std::string& part,
                                                          const std::string& feature) {
-  Statement q(db_,
-              std::string(kColumns) + "WHERE machine_id = ? AND part = ? AND feature = ?");
+  Statement q(db_, std::string(kColumns) + "WHERE machine_id = ? AND part = ? AND feature = ?");
   q.Bind(1, machine_id).Bind(2, part).Bind(3, feature);
   if (!q.Step()) return std::nullopt;
   return Read(q);

@@ -1,4 +1,0 @@
-#include <gtest/gtest.h>
-
-// Replaced by the turning tests.
-TEST(PartsPlaceholder, Turning) {}
