@@ -1,5 +1,6 @@
 #include "model/parts/process_quadratic.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -26,7 +27,8 @@ bool Removable(const std::vector<QuadraticTerm>& terms, size_t k) {
 
 std::vector<QuadraticTerm> QuadraticTerms(int inputs, QuadraticStructure structure) {
   std::vector<QuadraticTerm> terms;
-  terms.reserve(static_cast<size_t>(1 + 2 * inputs + inputs * (inputs - 1) / 2));
+  const auto d = static_cast<size_t>(std::max(0, inputs));
+  terms.reserve(1 + 2 * d + d * (d - (d > 0 ? 1 : 0)) / 2);
   terms.push_back({});
   for (int a = 0; a < inputs; ++a) terms.push_back({a, -1});
   if (structure == QuadraticStructure::kLinear) return terms;

@@ -44,7 +44,10 @@ StatusOr<double> CvRmse(const Eigen::MatrixXd& x, const Eigen::VectorXd& y,
         // Name the column of x, not the index among `columns`.
         const size_t end = message.find(' ', prefix.size());
         const int k = std::stoi(message.substr(prefix.size(), end - prefix.size()));
-        message = prefix + std::to_string(columns[static_cast<size_t>(k)]) + message.substr(end);
+        std::string named = prefix;
+        named += std::to_string(columns[static_cast<size_t>(k)]);
+        named += message.substr(end);
+        message = std::move(named);
       }
       return Status::Unprocessable(message);
     }

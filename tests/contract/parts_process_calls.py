@@ -21,6 +21,8 @@ def exercise(base, call):
                        "f_mm_rev": 0.15, "vc_m_min": 180, "temperature_c": 23.0, "size_error_um": 1.0}]},
          expect=201)
     call(base, "GET", M + "/process-records", expect=200)
+    call(base, "GET", M + "/process-records?limit=5", expect=200)
+    call(base, "GET", M + "/process-records?limit=0", expect=400)
     call(base, "GET", "/api/v1/machines/nowhere/process-records", expect=404)
 
     status, text = call(base, "POST", M + "/part-models/fit",
@@ -39,6 +41,9 @@ def exercise(base, call):
     v = versions[0]
     status, text = call(base, "GET", f"{M}/part-models/{v}", expect=200)
     model = json.loads(text)["model"] if status == 200 else {"ranges": []}
+    call(base, "GET", f"{M}/part-models/{v}?format=markdown", expect=200)
+    call(base, "GET", f"{M}/part-models/{v}?format=html", expect=200)
+    call(base, "GET", f"{M}/part-models/{v}?format=pdf", expect=400)
     call(base, "GET", f"{M}/part-models/99999", expect=404)
     call(base, "POST", f"{M}/part-models/{v}/activate", expect=200)
     call(base, "POST", f"{M}/part-models/99999/activate", expect=404)

@@ -102,7 +102,8 @@ StatusOr<std::shared_ptr<const PartModel>> QuadraticPartType::Fit(
 }
 
 StatusOr<std::shared_ptr<const PartModel>> QuadraticPartType::FromJson(
-    const nlohmann::json& j) const {
+    const nlohmann::json& model_json) const {
+  const nlohmann::json& j = model_json;
   auto header = ReadPartModelHeader(j);
   if (!header.ok()) return header.status();
   QuadraticFit fit;
@@ -155,7 +156,9 @@ StatusOr<std::shared_ptr<const PartModel>> NeuralPartType::Fit(
       set.target, TrainedRanges(set), std::move(net).value(), static_cast<int>(set.x.rows())));
 }
 
-StatusOr<std::shared_ptr<const PartModel>> NeuralPartType::FromJson(const nlohmann::json& j) const {
+StatusOr<std::shared_ptr<const PartModel>> NeuralPartType::FromJson(
+    const nlohmann::json& model_json) const {
+  const nlohmann::json& j = model_json;
   auto header = ReadPartModelHeader(j);
   if (!header.ok()) return header.status();
   auto net = NetworkFromJson(j);
@@ -166,20 +169,6 @@ StatusOr<std::shared_ptr<const PartModel>> NeuralPartType::FromJson(const nlohma
   return std::shared_ptr<const PartModel>(
       std::make_shared<NeuralPartModel>(header->target, std::move(header->ranges),
                                         std::move(net).value(), j.value("training_rows", 0)));
-}
-
-const std::vector<const PartModelType*>& PartModelTypes() {
-  static const QuadraticPartType quadratic;
-  static const NeuralPartType neural;
-  static const std::vector<const PartModelType*> types = {&quadratic, &neural};
-  return types;
-}
-
-const PartModelType* FindPartModelType(const std::string& name) {
-  for (const PartModelType* t : PartModelTypes()) {
-    if (t->name() == name) return t;
-  }
-  return nullptr;
 }
 
 }  // namespace thermocomp

@@ -138,6 +138,14 @@ TEST_F(ProcessHttpTest, HostileFilesAreRefusedNamingRowAndColumnAndStoreNothing)
   ASSERT_EQ(records.size(), 1u);
   EXPECT_EQ(records[0]["ap_mm"], 1.5);
   EXPECT_TRUE(records[0]["fc_n"].is_null());
+  ASSERT_EQ(PostCsv(kHeader + "P3,D1,2026-03-01T07:00:00Z,1,0.2,200,25,1\n")->status, 201);
+  auto newest = client_->Get(kRecords + "?limit=1");
+  ASSERT_EQ(newest->status, 200);
+  ASSERT_EQ(json::parse(newest->body)["records"].size(), 1u);
+  EXPECT_EQ(json::parse(newest->body)["records"][0]["part"], "P3");
+  for (const char* bad : {"0", "-1", "abc", "100001", "1e3"}) {
+    EXPECT_EQ(client_->Get(kRecords + "?limit=" + bad)->status, 400) << bad;
+  }
 }
 
 TEST_F(ProcessHttpTest, FitFindsTheTruthAndPredictionsOutsideTheRangeAreRefused) {
