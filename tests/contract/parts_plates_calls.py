@@ -1,6 +1,7 @@
 """Calls of the test-plate operations for openapi_contract.py: on the demo
-server, a small plate is imported on sim-2 (201), imported again (409),
-refused for a bad row (400), listed, and its report read as JSON and its
+server, a small plate is imported on sim-2 (201), imported again (409), its X deviations compared (201), an unknown axis
+refused (400),
+refused for a bad row (400), listed, and its report read as JSON, Markdown and HTML and its
 holes as CSV; the demo's plates on sim-1 are read too."""
 
 
@@ -21,6 +22,10 @@ def exercise(base, call):
          content_type="text/csv", expect=400)
     call(base, "GET", m, expect=200)
     call(base, "GET", m + "/contract-plate", expect=200)
+    call(base, "GET", m + "/contract-plate?format=markdown", expect=200)
+    call(base, "GET", m + "/contract-plate?format=html", expect=200)
+    call(base, "POST", m + "/contract-x?axis=X", body=PLATE_CSV, content_type="text/csv", expect=201)
+    call(base, "POST", m + "/contract-z?axis=Z", body=PLATE_CSV, content_type="text/csv", expect=400)
     call(base, "GET", m + "/contract-plate/holes.csv", expect=200)
     call(base, "GET", m + "/no-such-plate", expect=404)
     call(base, "GET", "/api/v1/machines/sim-1/plates", expect=200)

@@ -95,6 +95,32 @@ TEST_F(PlateHttpTest, ImportListReport) {
   EXPECT_EQ(res->get_header_value("Content-Type"), "text/html");
   EXPECT_NE(res->body.find("<table>"), std::string::npos);
 
+  // ?format= says the same as Accept; an unknown format is named.
+  res = client_->Get("/api/v1/machines/m1/plates/p1?format=markdown");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->get_header_value("Content-Type"), "text/markdown");
+  res = client_->Get("/api/v1/machines/m1/plates/p1?format=html");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->get_header_value("Content-Type"), "text/html");
+  res = client_->Get("/api/v1/machines/m1/plates/p1?format=xml");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 400);
+  EXPECT_NE(res->body.find("\"format\""), std::string::npos);
+
+  // The X deviations compared instead: another plate, its axis X; an axis
+  // the file does not hold is refused, naming it.
+  res = Post("/api/v1/machines/m1/plates/p1x?axis=X", plate_.Csv());
+  ASSERT_TRUE(res);
+  ASSERT_EQ(res->status, 201) << res->body;
+  const json x = json::parse(res->body);
+  EXPECT_EQ(x["axis"], "X");
+  EXPECT_NE(x["whole_plate"]["off"]["s_um"], report["whole_plate"]["off"]["s_um"]);
+  res = Post("/api/v1/machines/m1/plates/p1z?axis=Z", plate_.Csv());
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 400);
+  EXPECT_NE(res->body.find("\"axis\""), std::string::npos);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM plates"), 2);
+
   res = client_->Get("/api/v1/machines/m1/plates/p1/holes.csv");
   ASSERT_TRUE(res);
   ASSERT_EQ(res->status, 200);
