@@ -47,7 +47,7 @@ def run(d, s, check, out):
     check(link.endswith(f"/part-models/{models[0]['version']}?format=html"),
           f"part models: the version links to its HTML report ({link})")
 
-    others = [x["id"] for x in s.api("/machines")["machines"] if x["id"] != m]
+    others = [x["machine"] for x in s.api("/machines")["machines"] if x["machine"] != m]
     if others:
         o = others[0]
         if not s.api(f"/machines/{o}/part-models")["models"]:
