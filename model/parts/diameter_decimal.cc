@@ -29,7 +29,8 @@ std::string Decimal(uint64_t v, int decimals, int min_decimals) {
 
 }  // namespace
 
-std::optional<int64_t> ParseMillimetresNm(std::string_view s, std::string* why) {
+std::optional<int64_t> ParseMillimetresNm(std::string_view text, std::string* why) {
+  const std::string_view s = text;
   auto fail = [&](const char* message) -> std::optional<int64_t> {
     if (why) *why = message;
     return std::nullopt;

@@ -182,6 +182,36 @@ TEST_F(TurningHttpTest, HistoryIsOldestFirstFilteredAndPaged) {
     EXPECT_LE(all["parts"][i - 1]["cut_at"].get<std::string>(),
               all["parts"][i]["cut_at"].get<std::string>());
   }
+  const json first = Get(kParts + "?feature=D25&limit=4");
+  EXPECT_EQ(first["total"], 10);
+  ASSERT_EQ(first["parts"].size(), 4u);
+  EXPECT_EQ(first["next_offset"], 4);
+  EXPECT_EQ(first["parts"][0]["part"], "P9");  // the oldest
+  const json window = Get(kParts + "?feature=D40&from=" + FormatRfc3339(kT0 + 3 * 3600000LL) +
+                          "&to=" + std::to_string(kT0 + 5 * 3600000LL));
+  EXPECT_EQ(window["total"], 3);
+  for (const char* bad : {"?limit=0", "?limit=10001", "?from=yesterday",
+                          "?from=2026-03-05T00:00:00Z&to=2026-03-01T00:00:00Z", "?feature="}) {
+    auto b = client_->Get(kParts + bad);
+    ASSERT_TRUE(b);
+    EXPECT_EQ(b->status, 400) << bad << ": " << b->body;
+  }
+  auto unknown = client_->Get("/api/v1/machines/nope/turned-parts");
+  ASSERT_TRUE(unknown);
+  EXPECT_EQ(unknown->status, 404);
+}
+
+// The next page from `next_offset` (the offset parameter must be in the
+// request hook's table of parameters, api/http_server.cc RouteParams).
+TEST_F(TurningHttpTest, HistoryPagesOnFromNextOffset) {
+  std::string csv = kHeader;
+  for (int i = 0; i < 10; ++i) {
+    csv += "P" + std::to_string(i) + ",D25,25.000,25.010,25.004,25.006," +
+           std::to_string(kT0 + (10 - i) * 3600000LL) + "\n";
+  }
+  auto r = PostCsv(csv);
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 201) << r->body;
   const json page = Get(kParts + "?feature=D25&limit=4&offset=4");
   EXPECT_EQ(page["total"], 10);
   ASSERT_EQ(page["parts"].size(), 4u);
@@ -191,18 +221,9 @@ TEST_F(TurningHttpTest, HistoryIsOldestFirstFilteredAndPaged) {
     EXPECT_EQ(p["feature"], "D25");
     EXPECT_EQ(p["delta_th_mm"].dump(), "-0.003");
   }
-  const json window = Get(kParts + "?feature=D40&from=" + FormatRfc3339(kT0 + 3 * 3600000LL) +
-                          "&to=" + std::to_string(kT0 + 5 * 3600000LL));
-  EXPECT_EQ(window["total"], 3);
-  for (const char* bad : {"?limit=0", "?limit=10001", "?offset=-1", "?from=yesterday",
-                          "?from=2026-03-05T00:00:00Z&to=2026-03-01T00:00:00Z", "?feature="}) {
-    auto b = client_->Get(kParts + bad);
-    ASSERT_TRUE(b);
-    EXPECT_EQ(b->status, 400) << bad << ": " << b->body;
-  }
-  auto unknown = client_->Get("/api/v1/machines/nope/turned-parts");
-  ASSERT_TRUE(unknown);
-  EXPECT_EQ(unknown->status, 404);
+  auto bad = client_->Get(kParts + "?offset=-1");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, 400);
 }
 
 TEST_F(TurningHttpTest, ReportMarksCompensationChangesBeforeAndAfter) {
