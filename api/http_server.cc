@@ -122,7 +122,7 @@ const std::vector<std::pair<std::regex, std::set<std::string>>>& RouteParams() {
        {"from", "to", "positions", "max_points"}},
       // Parts (docs/api.md, Parts).
       {std::regex(m + "/plates/[^/]+"), {"axis", "format"}},
-      {std::regex(m + "/turned-parts"), {"feature", "from", "to", "limit"}},
+      {std::regex(m + "/turned-parts"), {"feature", "from", "to", "limit", "offset"}},
       {std::regex(m + "/turned-parts/report"), {"from", "to", "format"}},
       {std::regex(m + "/process-records"), {"limit"}},
       {std::regex(m + "/part-models/[0-9]+"), {"format"}},
