@@ -14,12 +14,12 @@
 #include "api/parts/process_csv.h"
 #include "api/problem.h"
 #include "api/report_page.h"
+#include "core/process_record.h"
 #include "core/time_format.h"
 #include "reports/json_fields.h"
 #include "reports/parts/part_model_codec.h"
 #include "reports/parts/part_model_text.h"
 #include "service/parts/process/part_model_service.h"
-#include "storage/parts/part_model_store.h"
 
 namespace thermocomp::api {
 using nlohmann::json;

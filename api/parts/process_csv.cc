@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <string>
 
+#include "core/process_record.h"
 #include "core/time_format.h"
 #include "reports/json_text.h"
-#include "storage/parts/part_model_store.h"
 
 namespace thermocomp::api {
 namespace {
