@@ -169,6 +169,10 @@ def open_access(d, s):
           f"the overview shows a new request ({want}) without a reload")
 
     open_page(d, s, "/ui/machines/sim-1", "machine")
+    parts = [a.get_attribute("href") for a in d.find_elements(By.CSS_SELECTOR, "#parts-links a")]
+    check([p.split("/ui/machines/sim-1/")[-1] for p in parts] ==
+          ["plates", "turned-parts", "part-models", "surfaces"],
+          f"the machine page links its part tests {parts}")
     drawn = int(d.find_element(By.ID, "drift").get_attribute("data-points"))
     request = d.execute_script("return document.body.dataset.driftRequest")
     served = s.api(request)

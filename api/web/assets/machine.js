@@ -27,7 +27,7 @@
     el("div", { class: "card" }, "Samples", el("b", {}, info.samples.toLocaleString("en"))),
     el("div", { class: "card" }, "Probe points", el("b", {}, info.probe_points.toLocaleString("en"))),
     el("div", { class: "card" }, "Column checks", el("b", {}, el("a", { href: base + "/checks" },
-      info.checks.pending + " open" + (info.checks.overdue ? ", " + info.checks.overdue + " overdue" : ""))),
+      info.checks.pending + " open" + (info.checks.overdue ? ", " + info.checks.overdue + " overdue" : "")))),
     el("div", { class: "card", id: "parts-links" }, "Parts", el("b", {},
       el("a", { href: base + "/plates" }, "plates"), " · ",
       el("a", { href: base + "/turned-parts" }, "turned parts"), " · ",
