@@ -24,7 +24,7 @@ import feed_axis_pages
 import headless_chromium
 import outcome_pages
 from headless_chromium import free_port
-from selenium.common.exceptions import TimeoutException
+from selenium.common.exceptions import StaleElementReferenceException, TimeoutException
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import WebDriverWait
@@ -161,7 +161,10 @@ def open_access(d, s):
     urllib.request.urlopen(req, timeout=10)
     want = f"{before + 1} open"
     try:
-        WebDriverWait(d, 10).until(lambda x: want in x.find_element(By.ID, "machines").text)
+        # The refresh redraws the list: an element found just before it
+        # may be gone when read, so a stale one is looked up again.
+        WebDriverWait(d, 10, ignored_exceptions=[StaleElementReferenceException]).until(
+            lambda x: want in x.find_element(By.ID, "machines").text)
         refreshed = True
     except TimeoutException:
         refreshed = False
