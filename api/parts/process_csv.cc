@@ -6,32 +6,13 @@
 #include <cstdlib>
 #include <string>
 
+#include "api/csv_cells.h"
 #include "core/process_record.h"
 #include "core/time_format.h"
 #include "reports/json_text.h"
 
 namespace thermocomp::api {
 namespace {
-
-std::string_view Trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) {
-    s.remove_suffix(1);
-  }
-  return s;
-}
-
-std::vector<std::string_view> Cells(std::string_view line) {
-  std::vector<std::string_view> cells;
-  size_t c = 0;
-  while (true) {
-    const size_t comma = line.find(',', c);
-    cells.push_back(Trim(line.substr(c, comma == std::string_view::npos ? comma : comma - c)));
-    if (comma == std::string_view::npos) break;
-    c = comma + 1;
-  }
-  return cells;
-}
 
 // A finite number; "nan", "inf" and 1e999 are not.
 std::optional<double> FiniteNumber(std::string_view s) {
@@ -76,12 +57,12 @@ Status ParseProcessCsv(std::string_view body, std::vector<ProcessRecordInput>& o
   if (body.size() >= 3 && body.substr(0, 3) == "\xEF\xBB\xBF") body.remove_prefix(3);  // BOM
   // The header: the first line.
   size_t pos = body.find('\n');
-  const std::string_view header_line = Trim(body.substr(0, pos));
+  const std::string_view header_line = TrimCell(body.substr(0, pos));
   if (header_line.empty()) {
     errors.push_back({0, "header", std::string("empty header: ") + kHeaderHelp});
     return Status::InvalidArgument(std::string("empty header: ") + kHeaderHelp);
   }
-  const std::vector<std::string_view> header = Cells(header_line);
+  const std::vector<std::string_view> header = CsvCells(header_line);
   const std::vector<std::string>& fields = ProcessRecordFields();
   std::vector<std::string> names;
   for (std::string_view h : header) {
@@ -110,7 +91,7 @@ Status ParseProcessCsv(std::string_view body, std::vector<ProcessRecordInput>& o
     const size_t start = pos + 1;
     pos = body.find('\n', start);
     const std::string_view line =
-        Trim(body.substr(start, pos == std::string_view::npos ? pos : pos - start));
+        TrimCell(body.substr(start, pos == std::string_view::npos ? pos : pos - start));
     ++row;
     if (row > kMaxProcessCsvRows) {
       errors.push_back({row, "row",
@@ -120,7 +101,7 @@ Status ParseProcessCsv(std::string_view body, std::vector<ProcessRecordInput>& o
                               " rows after the header");
     }
     if (line.empty()) continue;
-    const std::vector<std::string_view> cells = Cells(line);
+    const std::vector<std::string_view> cells = CsvCells(line);
     if (cells.size() != names.size()) {
       errors.push_back({row, "row",
                         std::to_string(cells.size()) + " cells where the header has " +

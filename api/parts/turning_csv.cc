@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/csv_cells.h"
 #include "core/time_format.h"
 #include "model/parts/diameter_decimal.h"
 #include "reports/json_fields.h"
@@ -20,25 +21,6 @@ constexpr std::array<const char*, kColumns> kNames = {"part",   "feature", "d_de
                                                       "d_c_mm", "d_pp_mm", "cut_at"};
 const char* kTsHelp =
     "must be RFC 3339 (e.g. 2026-03-01T06:00:00Z) or integer Unix milliseconds, from 2000 to 2099";
-
-std::string_view Trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) {
-    s.remove_suffix(1);
-  }
-  return s;
-}
-
-std::vector<std::string_view> Cells(std::string_view line) {
-  std::vector<std::string_view> cells;
-  size_t c = 0;
-  while (true) {
-    const size_t comma = line.find(',', c);
-    cells.push_back(Trim(line.substr(c, comma == std::string_view::npos ? comma : comma - c)));
-    if (comma == std::string_view::npos) return cells;
-    c = comma + 1;
-  }
-}
 
 int64_t* Diameter(TurnedPartInput& in, int column) {
   switch (column) {
@@ -59,7 +41,7 @@ int64_t* Diameter(TurnedPartInput& in, int column) {
 bool Header(std::string_view line, std::array<int, kColumns>& at, size_t& width,
             FieldErrors& errors) {
   at.fill(-1);
-  const std::vector<std::string_view> cells = Cells(line);
+  const std::vector<std::string_view> cells = CsvCells(line);
   width = cells.size();
   for (size_t i = 0; i < cells.size(); ++i) {
     int found = -1;
@@ -93,7 +75,7 @@ bool ParseTurnedPartsCsv(const std::string& body_text, std::vector<TurnedPartInp
   auto next_line = [&]() {
     size_t end = body.find('\n', pos);
     if (end == std::string_view::npos) end = body.size();
-    std::string_view line = Trim(body.substr(pos, end - pos));
+    std::string_view line = TrimCell(body.substr(pos, end - pos));
     pos = end + 1;
     return line;
   };
@@ -124,7 +106,7 @@ bool ParseTurnedPartsCsv(const std::string& body_text, std::vector<TurnedPartInp
           {row, "row", "beyond " + std::to_string(TurningService::kMaxRows) + " rows"});
       return false;
     }
-    const std::vector<std::string_view> cells = Cells(line);
+    const std::vector<std::string_view> cells = CsvCells(line);
     if (cells.size() != width) {
       errors.push_back(
           {row, "row",
