@@ -14,10 +14,15 @@ using json_read::ValueOr;
 using nlohmann::json;
 
 PairedGain PairedGainFromJson(const json& j) {
-  std::vector<int> won;
-  for (const auto& b : ArrayAt(j, "won")) won.push_back(b.get<int>());
-  return {NumberOr(j, "gain_mm2"), NumberOr(j, "se_mm2"),        NumberOr(j, "t"),
-          NumberOr(j, "relative"), ValueOr<int>(j, "blocks", 0), std::move(won)};
+  // Field by field: fields the stored JSON does not carry keep their defaults.
+  PairedGain g;
+  g.gain = NumberOr(j, "gain_mm2");
+  g.se = NumberOr(j, "se_mm2");
+  g.t = NumberOr(j, "t");
+  g.relative = NumberOr(j, "relative");
+  g.blocks = ValueOr<int>(j, "blocks", 0);
+  for (const auto& b : ArrayAt(j, "won")) g.won.push_back(b.get<int>());
+  return g;
 }
 
 std::vector<std::string> Strings(const json& list) {
