@@ -114,8 +114,8 @@ void HttpServer::TurningRoutes() {
     Integer(req, "offset", 0, int64_t{1} << 40, q.offset, errors);
     if (req.has_param("feature")) {
       q.feature = req.get_param_value("feature");
-      if (q.feature->empty() || q.feature->size() > 64) {
-        errors.push_back({0, "feature", "must be a feature name of 1 to 64 characters"});
+      if (!TurningService::ValidName(*q.feature)) {
+        errors.push_back({0, "feature", "must match [A-Za-z0-9_.-]{1,64}"});
       }
     }
     if (!errors.empty()) return WriteQueryProblem(res, errors);

@@ -14,11 +14,6 @@
 namespace thermocomp {
 namespace {
 
-bool ValidName(const std::string& s) {
-  static const std::regex re("[A-Za-z0-9_.-]{1,64}");
-  return std::regex_match(s, re);
-}
-
 TurnedPart FromRecord(const TurnedPartRecord& r) {
   TurnedPart p;
   p.part = r.part;
@@ -35,10 +30,10 @@ CompensationChange FromRecord(const CompensationChangeRecord& r) {
 
 // The content rules of one row; errors name its row and field.
 void Check(const TurnedPartInput& in, int64_t latest_ms, FieldErrors& errors) {
-  if (!ValidUtf8(in.part) || !ValidName(in.part)) {
+  if (!TurningService::ValidName(in.part)) {
     errors.push_back({in.row, "part", "must match [A-Za-z0-9_.-]{1,64}"});
   }
-  if (!ValidUtf8(in.feature) || !ValidName(in.feature)) {
+  if (!TurningService::ValidName(in.feature)) {
     errors.push_back({in.row, "feature", "must match [A-Za-z0-9_.-]{1,64}"});
   }
   const std::string limit = FormatNmAsMm(kMaxDiameterNm, 0);
@@ -69,6 +64,11 @@ void Check(const TurnedPartInput& in, int64_t latest_ms, FieldErrors& errors) {
 }
 
 }  // namespace
+
+bool TurningService::ValidName(const std::string& name) {
+  static const std::regex re("[A-Za-z0-9_.-]{1,64}");
+  return std::regex_match(name, re);  // ASCII only: invalid UTF-8 never matches
+}
 
 TurningService::TurningService(Storage& storage, const Clock& clock, const Config& config)
     : storage_(storage), clock_(clock), config_(config) {

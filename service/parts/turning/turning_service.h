@@ -48,6 +48,10 @@ class TurningService {
   // then narrowed, and says so by its `from`).
   static constexpr int64_t kMaxReportParts = 200000;
 
+  // A part or feature name: [A-Za-z0-9_.-]{1,64}, the rule for what is
+  // stored and for what a history query may ask for.
+  static bool ValidName(const std::string& name);
+
   TurningService(Storage& storage, const Clock& clock, const Config& config);
 
   // InvalidArgument with `errors` naming row and field, TooLarge, NotFound

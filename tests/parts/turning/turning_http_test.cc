@@ -191,11 +191,16 @@ TEST_F(TurningHttpTest, HistoryIsOldestFirstFilteredAndPaged) {
                           "&to=" + std::to_string(kT0 + 5 * 3600000LL));
   EXPECT_EQ(window["total"], 3);
   for (const char* bad : {"?limit=0", "?limit=10001", "?from=yesterday",
-                          "?from=2026-03-05T00:00:00Z&to=2026-03-01T00:00:00Z", "?feature="}) {
+                          "?from=2026-03-05T00:00:00Z&to=2026-03-01T00:00:00Z",
+                          "?feature=", "?feature=%FF%FE", "?feature=D%2025"}) {
     auto b = client_->Get(kParts + bad);
     ASSERT_TRUE(b);
     EXPECT_EQ(b->status, 400) << bad << ": " << b->body;
   }
+  // A feature name that is not valid UTF-8 is named, not answered empty.
+  auto not_utf8 = client_->Get(kParts + "?feature=%FF%FE");
+  ASSERT_TRUE(not_utf8);
+  EXPECT_NE(not_utf8->body.find("\"feature\""), std::string::npos) << not_utf8->body;
   auto unknown = client_->Get("/api/v1/machines/nope/turned-parts");
   ASSERT_TRUE(unknown);
   EXPECT_EQ(unknown->status, 404);
