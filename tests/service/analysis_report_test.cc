@@ -18,6 +18,19 @@
 namespace thermocomp {
 namespace {
 
+// A paired gain as the report stores it (the fields the JSON carries).
+PairedGain Gain(double gain, double se, double t, double relative, int blocks,
+                std::vector<int> won) {
+  PairedGain g;
+  g.gain = gain;
+  g.se = se;
+  g.t = t;
+  g.relative = relative;
+  g.blocks = blocks;
+  g.won = std::move(won);
+  return g;
+}
+
 using nlohmann::json;
 
 AnalysisReport FullReport() {
@@ -44,14 +57,14 @@ AnalysisReport FullReport() {
   e.cv_rmse_after_mm = 0.0012;
   e.residual_correlation = 0.8;
   e.interpretation = "The column lags its coolant by an hour.";
-  e.confidence = {1e-4, 1e-5, 10.0, 0.6, 12, {0, 1, 2}};
-  e.alternatives = {{"lag(Tco,120min)", {9e-5, 1e-5, 9.0, 0.55, 12, {}}}};
+  e.confidence = Gain(1e-4, 1e-5, 10.0, 0.6, 12, {0, 1, 2});
+  e.alternatives = {{"lag(Tco,120min)", Gain(9e-5, 1e-5, 9.0, 0.55, 12, {})}};
   e.revises_declared = "Tco: -5.1 -> -2.0 um/degC";
   e.runners_up = {{"rate(Tco)", 0.0014, 1e-6, std::nullopt}};
   r.effects = {e};
   r.superseded = {"Tbed"};
   r.superseded_reasons = {{"Tbed", "replaced by lag(Tco,60min), which explains at least as well"}};
-  r.closest = {{"sq(Tco)", 0.0011, 0.2, PairedGain{1e-6, 1e-6, 1.0, 0.01, 12, {}}}};
+  r.closest = {{"sq(Tco)", 0.0011, 0.2, Gain(1e-6, 1e-6, 1.0, 0.01, 12, {})}};
   r.terms = {EffectTerm::Sensor("Tco"), EffectTerm::Lag("Tco", 60)};
   r.coefficients = {{"intercept", 0.001}, {"Tco", -0.002}, {"lag(Tco,60min)", -0.0042}};
   r.holdout_rmse_before_mm = 0.003;
@@ -80,11 +93,11 @@ AnalysisReport FullReport() {
   f.interval_min = 1;
   f.recommended_alpha = 0.2;
   f.recommended_tau_min = 4;
-  f.validated = {2e-6, 5e-7, 4.0, 0.05, 20, {}};
+  f.validated = Gain(2e-6, 5e-7, 4.0, 0.05, 20, {});
   f.applied = true;
   r.filters = {f};
   r.set_aside = {{"step(maintenance 2026-03-05T14:00Z)", "fails the forward check", {}}};
-  r.ambiguous = {{"signal(rpm,30min)", {1e-6, 1e-6, 1, 0.01, 12, {}}}};
+  r.ambiguous = {{"signal(rpm,30min)", Gain(1e-6, 1e-6, 1, 0.01, 12, {})}};
   r.coefficient_changes = {{"Tco", -0.0051, -0.002}};
   EventComparison ev;
   ev.event = {*ParseRfc3339("2026-03-05T14:00:00.000Z"), "maintenance"};
