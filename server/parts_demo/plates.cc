@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "core/time_units.h"
 #include "server/parts_demo.h"
 #include "service/parts/plates/plate_service.h"
 #include "sim/parts/plate_sim.h"
@@ -15,8 +16,6 @@
 
 namespace thermocomp {
 namespace {
-
-constexpr int64_t kDayMs = 86400000;
 
 struct DemoPlate {
   const char* name;

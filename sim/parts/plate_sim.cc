@@ -6,12 +6,11 @@
 #include <random>
 
 #include "core/time_format.h"
+#include "core/time_units.h"
 #include "sim/virtual_machine.h"
 
 namespace thermocomp {
 namespace {
-
-constexpr int64_t kMinuteMs = 60000;
 
 // The declared Y law of the virtual machine on sensed temperatures.
 double DeclaredLawMm(const std::map<std::string, double>& t,
