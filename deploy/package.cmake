@@ -1,1 +1,80 @@
-# Install layout and the Debian package (docs/operations.md).
+# Install layout and the Debian package (docs/operations.md, "Installing
+# the package"). In the build folder, after building the thermocomp target:
+#   cpack -G DEB      ->  thermocomp_<version>_amd64.deb
+# The package puts the program in /usr/bin, the configuration in
+# /etc/thermocomp (conffiles), the systemd unit in /lib/systemd/system
+# (Debian 12 keeps units there) and the data in /var/lib/thermocomp, which
+# its postinst creates for the system user "thermocomp".
+
+set(THERMOCOMP_PACKAGE_PREFIX /usr)
+set(THERMOCOMP_INSTALLED_BINARY ${THERMOCOMP_PACKAGE_PREFIX}/bin/thermocomp)
+set(THERMOCOMP_CONFIG_DIR /etc/thermocomp)
+set(THERMOCOMP_STATE_DIR /var/lib/thermocomp)
+
+# The build's description for `thermocomp --version`, taken now: a commit
+# made later shows after the next configure.
+set(THERMOCOMP_GIT_DESCRIBE "")
+find_package(Git QUIET)
+if(GIT_FOUND AND EXISTS ${PROJECT_SOURCE_DIR}/.git)
+  execute_process(COMMAND ${GIT_EXECUTABLE} describe --always --dirty
+                  WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
+                  OUTPUT_VARIABLE THERMOCOMP_GIT_DESCRIBE OUTPUT_STRIP_TRAILING_WHITESPACE
+                  ERROR_QUIET RESULT_VARIABLE git_result)
+  if(NOT git_result EQUAL 0)
+    set(THERMOCOMP_GIT_DESCRIBE "")
+  endif()
+endif()
+configure_file(${PROJECT_SOURCE_DIR}/core/version.h.in
+               ${CMAKE_BINARY_DIR}/generated/core/version.h @ONLY)
+target_include_directories(thermocomp_server PUBLIC ${CMAKE_BINARY_DIR}/generated)
+
+# The installed configuration is deploy/thermocomp.toml with its relative
+# paths (the development layout) made the package's absolute ones.
+set(shipped_toml ${PROJECT_SOURCE_DIR}/deploy/thermocomp.toml)
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${shipped_toml})
+file(READ ${shipped_toml} installed_toml)
+string(REGEX REPLACE "\npath = \"[^\"/][^\"]*\"" "\npath = \"${THERMOCOMP_STATE_DIR}/thermocomp.db\""
+       installed_toml "${installed_toml}")
+string(REGEX REPLACE "\nconfig = \"[^\"/][^\"]*\"" "\nconfig = \"${THERMOCOMP_CONFIG_DIR}/cyclonedds.xml\""
+       installed_toml "${installed_toml}")
+file(WRITE ${CMAKE_BINARY_DIR}/package/thermocomp.toml "${installed_toml}")
+
+install(TARGETS thermocomp RUNTIME DESTINATION bin)
+# The file may hold access tokens: root and the service's group read it
+# (postinst sets the group).
+install(FILES ${CMAKE_BINARY_DIR}/package/thermocomp.toml DESTINATION ${THERMOCOMP_CONFIG_DIR}
+        PERMISSIONS OWNER_READ OWNER_WRITE GROUP_READ)
+install(FILES ${PROJECT_SOURCE_DIR}/deploy/cyclonedds.xml DESTINATION ${THERMOCOMP_CONFIG_DIR})
+install(FILES ${PROJECT_SOURCE_DIR}/deploy/thermocomp.service DESTINATION /lib/systemd/system)
+install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/docs/operations.md
+        DESTINATION share/doc/thermocomp)
+
+# cpack installs what is built; it does not build every target first (the
+# tests and benchmarks take half an hour on two cores): build `thermocomp`,
+# then run cpack.
+set(CMAKE_SKIP_INSTALL_ALL_DEPENDENCY ON)
+
+set(CPACK_GENERATOR DEB)
+set(CPACK_PACKAGE_NAME thermocomp)
+set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+set(CPACK_PACKAGING_INSTALL_PREFIX ${THERMOCOMP_PACKAGE_PREFIX})
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "thermal compensation server for CNC machine tools")
+set(CPACK_PACKAGE_DESCRIPTION
+    "Archives machine temperatures and probe measurements, fits a thermal-error model per axis and serves the compensation each control should apply, over HTTP and DDS.")
+set(THERMOCOMP_PACKAGE_MAINTAINER "thermocomp maintainers <thermocomp@localhost>"
+    CACHE STRING "Maintainer field of the Debian package")
+set(CPACK_DEBIAN_PACKAGE_MAINTAINER ${THERMOCOMP_PACKAGE_MAINTAINER})
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SECTION misc)
+set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
+# The shared libraries' packages come from dpkg-shlibdeps (dpkg-dev), run on
+# the binary; the rest is what the program reads or its scripts call: the
+# charting library of the pages, the zone database, adduser for the user.
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser, libjs-dygraphs, tzdata")
+set(CPACK_STRIP_FILES ON)
+set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
+    ${PROJECT_SOURCE_DIR}/deploy/debian/conffiles ${PROJECT_SOURCE_DIR}/deploy/debian/postinst
+    ${PROJECT_SOURCE_DIR}/deploy/debian/prerm ${PROJECT_SOURCE_DIR}/deploy/debian/postrm)
+set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
+include(CPack)

@@ -1,11 +1,21 @@
 #include "server/command_util.h"
 
+#include <sys/socket.h>
+#include <sys/un.h>
+
+#include <cerrno>
+#include <cstddef>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "core/log.h"
+#include "core/version.h"
 #include "server/open_app.h"
 
 namespace thermocomp::cli {
@@ -50,8 +60,24 @@ int Fail(const std::string& what) {
   return 1;
 }
 
+bool RunningInstalled() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return false;
+  // /bin is /usr/bin on a merged-/usr system: compare the real paths.
+  const fs::path installed = fs::weakly_canonical(build::kInstalledBinary, ec);
+  return !ec && self == installed;
+}
+
+Config DefaultConfig() {
+  Config c;
+  if (RunningInstalled()) c.db_path = std::string(build::kStateDir) + "/thermocomp.db";
+  return c;
+}
+
 StatusOr<Config> LoadWithOverrides(const Args& a) {
-  auto c = LoadConfig(a.Get("config"));
+  auto c = LoadConfig(a.Get("config"), DefaultConfig());
   if (!c.ok()) return c;
   if (a.Has("db")) c->db_path = a.Get("db");
   if (a.Has("listen")) {
@@ -60,6 +86,60 @@ StatusOr<Config> LoadWithOverrides(const Args& a) {
   if (a.Has("dds-domain")) c->dds_domain = static_cast<uint32_t>(std::stoul(a.Get("dds-domain")));
   log::SetLevel(c->log_level);
   return c;
+}
+
+StatusOr<std::string> DdsConfigFile(const Args& a, const Config& config) {
+  namespace fs = std::filesystem;
+  const fs::path config_dir =
+      a.Has("config") ? fs::absolute(a.Get("config")).parent_path() : fs::path();
+  std::vector<fs::path> candidates;
+  if (!config.dds_config.empty()) {
+    const fs::path configured(config.dds_config);
+    candidates.push_back(fs::absolute(configured));
+    if (configured.is_relative() && !config_dir.empty()) {
+      candidates.push_back(config_dir / configured);
+    }
+  } else {
+    if (!config_dir.empty()) candidates.push_back(config_dir / "cyclonedds.xml");
+    candidates.push_back(fs::path(build::kConfigDir) / "cyclonedds.xml");
+    candidates.push_back(fs::path(build::kSourceDir) / "deploy" / "cyclonedds.xml");
+  }
+  std::string looked;
+  for (const auto& c : candidates) {
+    std::error_code ec;
+    if (fs::is_regular_file(c, ec)) return c.lexically_normal().string();
+    looked += (looked.empty() ? "" : ", ") + c.string();
+  }
+  return Status::NotFound((config.dds_config.empty()
+                               ? std::string("no Cyclone DDS file")
+                               : "dds.config \"" + config.dds_config + "\" not found") +
+                          " (looked for " + looked + "; set dds.config or CYCLONEDDS_URI)");
+}
+
+Status NotifyServiceManager(const std::string& state) {
+  const char* socket_path = std::getenv("NOTIFY_SOCKET");
+  if (!socket_path || !*socket_path) return Status::Ok();
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  const size_t length = std::strlen(socket_path);
+  if ((socket_path[0] != '/' && socket_path[0] != '@') || length >= sizeof address.sun_path) {
+    return Status::InvalidArgument(std::string("NOTIFY_SOCKET \"") + socket_path +
+                                   "\" is not a socket path or @name");
+  }
+  std::memcpy(address.sun_path, socket_path, length);
+  // An abstract socket's name starts with a NUL byte, written '@'.
+  if (address.sun_path[0] == '@') address.sun_path[0] = '\0';
+  const socklen_t address_length = static_cast<socklen_t>(offsetof(sockaddr_un, sun_path) + length);
+  const int fd = socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) return Status::Unavailable(std::string("notify socket: ") + std::strerror(errno));
+  const ssize_t sent = sendto(fd, state.data(), state.size(), MSG_NOSIGNAL,
+                              reinterpret_cast<const sockaddr*>(&address), address_length);
+  const int error = errno;
+  close(fd);
+  if (sent != static_cast<ssize_t>(state.size())) {
+    return Status::Unavailable(std::string("notify ") + socket_path + ": " + std::strerror(error));
+  }
+  return Status::Ok();
 }
 
 Status PrepareDatabasePath(const Args& a, const std::string& path) {

@@ -44,8 +44,28 @@ struct Args {
 StatusOr<Args> Parse(const CommandSpec& spec, const std::vector<std::string>& in);
 // Prints "thermocomp: what" to stderr; returns the exit code 1.
 int Fail(const std::string& what);
-// Config from --config, then --db / --listen / --dds-domain overrides.
+// Whether this program is the one the package installed (/usr/bin/thermocomp,
+// by /proc/self/exe): then its default paths are the package's.
+bool RunningInstalled();
+// The defaults a config file is read over: Config{}, with the database in
+// /var/lib/thermocomp when RunningInstalled(), else var/ of the working
+// directory (the development layout the README's commands use).
+Config DefaultConfig();
+// Config from --config over DefaultConfig(), then --db / --listen /
+// --dds-domain overrides.
 StatusOr<Config> LoadWithOverrides(const Args& a);
+// The Cyclone DDS file for a command with DDS: `dds.config` when set (a
+// relative path against the working directory, then the config file's
+// folder); else cyclonedds.xml next to --config, then the package's
+// /etc/thermocomp/cyclonedds.xml, then the source tree's deploy/ (a
+// development build run from anywhere). An absolute path, or NotFound
+// naming the places looked in.
+StatusOr<std::string> DdsConfigFile(const Args& a, const Config& config);
+// Tells the service manager (systemd, Type=notify) about the service's
+// state, e.g. "READY=1": one datagram to the socket in $NOTIFY_SOCKET (a
+// path, or an abstract name written with a leading '@'). Without
+// NOTIFY_SOCKET nothing is sent and the result is Ok.
+Status NotifyServiceManager(const std::string& state);
 // The App of a command: the config with overrides, the database opened.
 // A database is created (with its directory) only with --create; without
 // it a missing file is an error, so a mistyped path creates nothing.

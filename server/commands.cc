@@ -3,6 +3,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -23,9 +24,9 @@
 #include "reports/fit_report_codec.h"
 #include "server/command_util.h"
 #include "server/demo_feed_axis.h"
-#include "server/parts_demo.h"
 #include "server/live_simulation.h"
 #include "server/open_app.h"
+#include "server/parts_demo.h"
 #include "sim/virtual_machine.h"
 #include "storage/machine_store.h"
 #include "storage/sqlite/sqlite_storage.h"
@@ -46,7 +47,17 @@ using cli::SimulateIntoApp;
 
 // ---------------------------------------------------------------- serve
 int Serve(const Args& a) {
-  auto app = OpenApp(a);
+  static const SystemClock clock;
+  auto loaded = LoadWithOverrides(a);
+  if (!loaded.ok()) return Fail(loaded.status().message());
+  const bool dds = a.Has("dds") || loaded->dds_enabled;
+  if (dds && !std::getenv("CYCLONEDDS_URI")) {
+    auto file = cli::DdsConfigFile(a, *loaded);
+    if (!file.ok()) return Fail(file.status().message());
+    loaded->dds_config = *file;
+  }
+  if (Status s = cli::PrepareDatabasePath(a, loaded->db_path); !s.ok()) return Fail(s.message());
+  auto app = thermocomp::OpenApp(*loaded, clock);
   if (!app.ok()) return Fail(app.status().message());
   const Config& config = (*app)->config();
   for (const auto& m : (*app)->machines().List()) (void)(*app)->compensation().Recompute(m.name);
@@ -55,7 +66,7 @@ int Serve(const Args& a) {
     return Fail(s.message());
   (*app)->scheduler().Start(std::chrono::seconds(60));
   std::unique_ptr<dds::DdsBridge> bridge;
-  if (a.Has("dds") || config.dds_enabled) {
+  if (dds) {
     dds::BridgeOptions options{config.dds_batch_max, config.dds_batch_max_delay_ms,
                                config.dds_publish_step_mm, config.dds_publish_every_s * 1000,
                                config.dds_domain};
@@ -74,7 +85,15 @@ int Serve(const Args& a) {
   std::printf("thermocomp serving on http://%s:%d (database %s)\n", config.listen_host.c_str(),
               http.port(), config.db_path.c_str());
   std::fflush(stdout);
+  // Under systemd (Type=notify) the unit counts as started once the HTTP
+  // listener accepts connections and the DDS bridge runs.
+  if (Status s = cli::NotifyServiceManager("READY=1\nSTATUS=serving on http://" +
+                                           config.listen_host + ":" + std::to_string(http.port()));
+      !s.ok()) {
+    log::Warn("cannot notify the service manager", "error=\"" + s.message() + "\"");
+  }
   while (!g_stop) std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  (void)cli::NotifyServiceManager("STOPPING=1");
   if (bridge) bridge->Stop();
   (*app)->scheduler().Stop();
   http.Stop();
@@ -400,7 +419,9 @@ const CommandSpec* FindCommand(const std::string& name) {
 static int Dispatch(const std::string& name, const Args& a);
 
 std::string Usage() {
-  std::string out = "usage: thermocomp <command> [options]   (thermocomp <command> --help)\n\n";
+  std::string out =
+      "usage: thermocomp <command> [options]   (thermocomp <command> --help)\n"
+      "       thermocomp --version                program and database schema version\n\n";
   for (const auto& c : Commands()) out += c.usage;
   return out +
          "\nCommon: --config FILE (TOML, see deploy/thermocomp.toml), --db PATH. Only serve,\n"

@@ -2,6 +2,7 @@
 // files, or live to a running server.
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -237,7 +238,13 @@ int SimulateLive(const Args& a, const std::vector<std::string>& names, uint64_t 
   std::signal(SIGTERM, OnSignal);
   std::unique_ptr<MachineLink> link;
   if (a.Has("dds")) {
-    dds::UseLoopbackConfig("deploy/cyclonedds.xml");
+    if (!std::getenv("CYCLONEDDS_URI")) {
+      auto config = LoadWithOverrides(a);
+      if (!config.ok()) return Fail(config.status().message());
+      auto file = DdsConfigFile(a, *config);
+      if (!file.ok()) return Fail(file.status().message());
+      dds::UseLoopbackConfig(*file);
+    }
     link = DdsLink(static_cast<uint32_t>(std::stoul(a.Get("dds-domain", "0"))));
     std::printf("live simulation of %zu machine(s) over DDS\n", names.size());
   } else {

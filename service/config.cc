@@ -7,6 +7,7 @@
 #include <regex>
 #include <set>
 #include <string_view>
+#include <utility>
 
 #include <toml++/toml.h>
 
@@ -165,8 +166,8 @@ std::string ReadTokens(const toml::node& n, Config& c) {
     if (a.name.empty() || a.token.size() < 16) {
       return "each needs a name and a token of 16 characters or more";
     }
-    if (a.role != "machine" && a.role != "reader" && a.role != "maintenance" && a.role != "quality" &&
-        a.role != "admin") {
+    if (a.role != "machine" && a.role != "reader" && a.role != "maintenance" &&
+        a.role != "quality" && a.role != "admin") {
       return a.name + ": role must be machine, reader, maintenance, quality or admin";
     }
     if (a.role == "machine" && a.machine.empty()) {
@@ -395,8 +396,8 @@ Status ParseListen(const std::string& listen, Config& c) {
   return Status::Ok();
 }
 
-StatusOr<Config> LoadConfig(const std::string& path) {
-  Config c;
+StatusOr<Config> LoadConfig(const std::string& path, Config defaults) {
+  Config c = std::move(defaults);
   if (path.empty()) return c;
   toml::table t;
   try {

@@ -43,6 +43,8 @@ struct Config {
   // names only when no tokens are configured, any name with tokens.
   std::vector<std::string> allowed_hosts;
   // [database]
+  // Relative to the working directory. The installed program's default
+  // is absolute (/var/lib/thermocomp/thermocomp.db: server/command_util.h).
   std::string db_path = "var/thermocomp.db";
   std::string synchronous = "full";
   int busy_timeout_ms = 5000;  // a write waits this long for another writer, then 503
@@ -100,23 +102,25 @@ struct Config {
   std::string web_time_zone = "UTC";
   std::string web_dygraphs_dir = "/usr/share/javascript/dygraphs";
   int web_session_hours = 12;
-  bool web_secure_cookie = false;  // true behind an HTTPS proxy
-  int web_max_sessions = 1000;     // beyond: the least recently made is signed out
+  bool web_secure_cookie = false;      // true behind an HTTPS proxy
+  int web_max_sessions = 1000;         // beyond: the least recently made is signed out
   int web_max_sessions_per_token = 5;  // beyond: that token's oldest session ends
 
   std::string log_level = "info";
   // [dds]
   bool dds_enabled = false;
   uint32_t dds_domain = 0;
-  std::string dds_config = "deploy/cyclonedds.xml";
+  // The Cyclone DDS file; empty: looked up where the configuration and the
+  // package keep it (server/command_util.h, DdsConfigFile).
+  std::string dds_config;
   int dds_batch_max = 1000;
   int dds_batch_max_delay_ms = 20;
   double dds_publish_step_mm = 1e-4;
   int dds_publish_every_s = 60;
 };
 
-// Reads `path`; an empty path yields the defaults.
-StatusOr<Config> LoadConfig(const std::string& path);
+// Reads `path` over `defaults`; an empty path yields the defaults.
+StatusOr<Config> LoadConfig(const std::string& path, Config defaults = {});
 // "host:port" or ":port" or "port".
 Status ParseListen(const std::string& listen, Config& config);
 
