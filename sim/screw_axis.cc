@@ -26,11 +26,16 @@ class Rod {
     const size_t n = theta_.size();
     const double k = kDiffusivity * kStepS / (kDxM * kDxM);
     for (size_t i = 0; i < n; ++i) {
-      // Insulated ends: the mirror node.
+      // Insulated ends: the mirror node. An end node holds half a node's
+      // steel (its cell is 5 mm long, as the trapezoid integral weighs it),
+      // so a bearing's watts warm it twice as fast as an inner node's:
+      // with the full capacity half the bearing's heat would be lost.
+      const bool end = i == 0 || i + 1 == n;
+      const double capacity = end ? 0.5 * kNodeCapacity : kNodeCapacity;
       const double left = theta_[i == 0 ? 1 : i - 1];
       const double right = theta_[i + 1 == n ? n - 2 : i + 1];
       next_[i] = theta_[i] + k * (left - 2 * theta_[i] + right) -
-                 kStepS * theta_[i] / convection_s_ + kStepS * heat_w[i] / kNodeCapacity;
+                 kStepS * theta_[i] / convection_s_ + kStepS * heat_w[i] / capacity;
     }
     theta_.swap(next_);
   }

@@ -4,6 +4,14 @@
 // checks' thermal errors on the model's shapes, with their standard errors;
 // a = b/α and its error by the delta method.
 //
+// The sensors between them can be read two ways: linearly, as the model
+// serves, or through a not-a-knot cubic spline. Linear interpolation
+// flattens a smooth profile's humps by h²·θ''/12 a gap, always the same
+// way, and a fit through it puts that into α (docs/model.md §12). Both
+// readings have the same parameters, so the fit keeps the one whose
+// residual is smaller: the checks decide how the screw is warm between the
+// sensors. With fewer than three sensors only the linear one exists.
+//
 // A check's thermal error at a target is its deviation minus the cold
 // reference's there (µm, machine coordinates, the sign of ScrewErrorUm). A
 // laser zeroed at one position at the start of each run measures the error
@@ -31,6 +39,7 @@ struct ScrewIdentification {
   double rmse_um = 0;  // of the fit, over every target of every check
   int n = 0;           // targets used
   int checks = 0;
+  bool spline_reading = false;  // the sensors read through the spline (it fitted better)
 };
 
 // Fits α (and a) on `checks` with the rest of `axis` as given. Unprocessable
