@@ -30,6 +30,7 @@ command -v debootstrap >/dev/null || die "needs debootstrap (apt-get install deb
 work=$(mktemp -d /var/tmp/thermocomp-pkgtest.XXXXXX)
 root=$work/root
 cleanup() {
+    if mountpoint -q "$root/run/notify.sock" 2>/dev/null; then umount "$root/run/notify.sock"; fi
     for m in dev/pts dev proc sys; do
         mountpoint -q "$root/$m" 2>/dev/null && umount -l "$root/$m" || true
     done
@@ -93,10 +94,11 @@ start_service() {
         notify=$work/notify.sock
         rm -f "$notify" "$work/ready"
         python3 - "$notify" "$work/ready" <<'PY' &
-import socket, sys
+import os, socket, sys
 s = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
 s.bind(sys.argv[1])
-s.settimeout(300)
+os.chmod(sys.argv[1], 0o666)  # the service runs as its own user, as under systemd
+s.settimeout(120)
 while True:
     data = s.recv(4096).decode()
     if "READY=1" in data.split("\n"):
@@ -124,8 +126,8 @@ stop_service() {
     if [ "$mode" = systemd ]; then
         in_root systemctl stop thermocomp
     elif [ -n "${server_pid:-}" ]; then
-        pkill_target=$(pgrep -P "$server_pid" || true)
-        kill "$server_pid" $pkill_target 2>/dev/null || true
+        children=$(pgrep -P "$server_pid" || true)
+        kill "$server_pid" $children 2>/dev/null || true
         wait "$server_pid" 2>/dev/null || true
         server_pid=
     fi
@@ -136,8 +138,8 @@ apt_in_root install /tmp/debs/old.deb
 in_root thermocomp --version | sed 's/^/package-test:   /'
 in_root getent passwd thermocomp >/dev/null || die "no user thermocomp"
 [ -d "$root/var/lib/thermocomp" ] || die "no /var/lib/thermocomp"
-[ "$(stat -c %U:%G "$root/etc/thermocomp/thermocomp.toml")" = root:thermocomp ] ||
-    die "thermocomp.toml is not root:thermocomp"
+[ "$(in_root stat -c %U:%G:%a /etc/thermocomp/thermocomp.toml)" = root:thermocomp:640 ] ||
+    die "thermocomp.toml is not root:thermocomp 0640"
 sed -i "s/^listen = .*/listen = \"127.0.0.1:$port\"  # changed by package-test/" \
     "$root/etc/thermocomp/thermocomp.toml"
 start_service
