@@ -4,10 +4,11 @@
 # more compile time for variables nobody inspects on a line server);
 # THERMOCOMP_TARGET=name builds one target only. Tests and benchmarks are
 # configured unless the arguments (passed on to cmake) say otherwise, as
-# deploy/demo.sh's do.
+# deploy/demo.sh's do. Sources compile in batches (THERMOCOMP_UNITY, the
+# top CMakeLists.txt); the clang build of deploy/test.sh compiles each alone.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
-  -DTHERMOCOMP_TESTS=ON -DTHERMOCOMP_BENCH=ON "$@" > /dev/null
+  -DTHERMOCOMP_TESTS=ON -DTHERMOCOMP_BENCH=ON -DTHERMOCOMP_UNITY=ON "$@" > /dev/null
 cmake --build build -j "$(nproc)" ${THERMOCOMP_TARGET:+--target "$THERMOCOMP_TARGET"}
