@@ -123,7 +123,10 @@ TEST(ScrewIdentification, ASmoothHumpBetweenSensorsDoesNotPassIntoAlpha) {
     truth.stiffness_ratio = preloaded ? 0.15 : 0;
     for (int k = 0; k <= 8; ++k) truth.sensors.push_back({"T" + std::to_string(k), 150.0 * k, 20});
     std::vector<ScrewCheck> checks;
-    for (auto [c0, c1] : std::vector<std::pair<double, double>>{{1, 6}, {3, 2}, {0.5, 4}, {2, 5}}) {
+    for (const auto& level :
+         std::vector<std::pair<double, double>>{{1, 6}, {3, 2}, {0.5, 4}, {2, 5}}) {
+      // Plain copies: clang 14 does not capture structured bindings.
+      const double c0 = level.first, c1 = level.second;
       auto theta = [&](double x) { return c0 + c1 * std::sin(pi * x / 1200); };
       std::vector<double> fx, ft;
       for (int i = 0; i <= 1200; ++i) {
