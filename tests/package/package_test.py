@@ -255,6 +255,20 @@ def unit(build_dir, source_dir, version):
     print("systemd-analyze verify: the unit is clean")
 
 
+def stop_when_ready(server, sock):
+    """Waits for READY=1 from `server`, stops it with SIGTERM and returns its log."""
+    try:
+        wait_datagram(sock, "READY=1")
+        server.send_signal(signal.SIGTERM)
+        server.wait(timeout=DEADLINE_S)
+    finally:
+        if server.poll() is None:
+            server.kill()
+            server.wait()
+        sock.close()
+    return server.stderr.read()
+
+
 def wait_datagram(sock, want):
     """Datagrams until one holds the line `want`; all of them, joined."""
     seen = []
@@ -324,16 +338,7 @@ def dds(binary, source_dir):
             [binary, "serve", "--db", os.path.join(tmp, "dds.db"), "--create", "--listen",
              "127.0.0.1:0", "--dds", "--dds-domain", "%d" % (100 + os.getpid() % 100)],
             cwd=tmp, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        try:
-            wait_datagram(sock, "READY=1")
-            server.send_signal(signal.SIGTERM)
-            server.wait(timeout=DEADLINE_S)
-        finally:
-            if server.poll() is None:
-                server.kill()
-                server.wait()
-            sock.close()
-        log = server.stderr.read()
+        log = stop_when_ready(server, sock)
         print(log)
         m = re.search(r'dds bridge started.*uri=file://(\S+)', log)
         if not m:
@@ -365,16 +370,7 @@ def dds(binary, source_dir):
             [binary, "serve", "--config", toml, "--db", os.path.join(tmp, "dds.db"), "--listen",
              "127.0.0.1:0", "--dds-domain", "%d" % (100 + os.getpid() % 100)],
             cwd=elsewhere, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        try:
-            wait_datagram(sock, "READY=1")
-            server.send_signal(signal.SIGTERM)
-            server.wait(timeout=DEADLINE_S)
-        finally:
-            if server.poll() is None:
-                server.kill()
-                server.wait()
-            sock.close()
-        log = server.stderr.read()
+        log = stop_when_ready(server, sock)
         if "uri=file://" + os.path.join(tmp, "cyclonedds.xml") not in log:
             fail("cyclonedds.xml next to the configuration was not used:\n" + log)
     print("serve --dds finds its Cyclone DDS file outside the source tree")
