@@ -71,7 +71,9 @@ StatusOr<FitReport> FitService::Fit(const std::string& machine_name, const std::
   if (!chosen.ok()) return chosen.status();
   const std::vector<std::string>& holdout = *chosen;
   Observations train = data.ToObservations(data.RowsOfRuns(holdout, true), inputs);
-  Observations test = data.ToObservations(data.RowsOfRuns(holdout, false), data.sensors);
+  // The held-out points need the candidate's inputs only: a sensor the
+  // machine gained later (or one that failed) must not empty the validation.
+  Observations test = data.ToObservations(data.RowsOfRuns(holdout, false), inputs);
   if (train.rows() <= static_cast<int>(inputs.size()) + 1 ||
       std::set<int>(train.group.begin(), train.group.end()).size() < 2) {
     return Status::Unprocessable("too few points to fit: " + std::to_string(train.rows()) +

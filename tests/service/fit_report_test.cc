@@ -112,6 +112,29 @@ TEST_F(FitReportTest, CompensatedPointsFitTheSameModelAsTheirRawDrift) {
   EXPECT_EQ(FitReportToJson(*cut)["skipped"]["compensated_unserved"], cut->skipped_unserved);
 }
 
+// A sensor the machine gained after the held-out runs (a screw sensor
+// fitted later, one not wired yet) has no readings there; the held-out
+// points still validate a model that does not read it.
+TEST_F(FitReportTest, ASensorWithoutReadingsInTheHeldOutRunsLeavesTheValidation) {
+  Simulate("m1", 10);
+  FitRequest req;
+  req.actor = "test";
+  auto before = app_->fits().Fit("m1", "Y", req);
+  ASSERT_TRUE(before.ok()) << before.status().ToString();
+  ASSERT_GT(before->validation.n, 0);
+  Sqlite().WithConnection([&](Database& db) {
+    Statement add(db,
+                  "INSERT INTO sensors (machine_id, name, ewma_alpha)"
+                  " SELECT id, 'Tscrew_new', 0.2 FROM machines WHERE name = 'm1'");
+    ASSERT_TRUE(add.Run().ok());
+  });
+  auto after = app_->fits().Fit("m1", "Y", req);
+  ASSERT_TRUE(after.ok()) << after.status().ToString();
+  EXPECT_EQ(after->validation.n, before->validation.n);
+  EXPECT_EQ(after->validation_runs, before->validation_runs);
+  EXPECT_EQ(after->reason.find("no held-out runs"), std::string::npos) << after->reason;
+}
+
 TEST_F(FitReportTest, NumbersThatWereNotComputedAreNullAndComeBackAsNaN) {
   FitReport r;
   r.status = "rejected";
