@@ -17,6 +17,7 @@
 namespace thermocomp::api {
 namespace {
 
+#include "service/operations/operator_gauges.h"
 using nlohmann::json;
 
 constexpr const char* kBase = "/api/v1";
@@ -414,7 +415,8 @@ void HttpServer::Routes() {
     WriteJson(res, {{"status", "ready"}, {"schema_version", app_.storage().schema_version()}});
   });
   s.Get("/metrics", [this](const Req&, Res& res) {
-    res.set_content(app_.metrics().Render(app_.ModelGauges()), "text/plain; version=0.0.4");
+    res.set_content(app_.metrics().Render(app_.ModelGauges() + OperatorGauges(app_)),
+                    "text/plain; version=0.0.4");
   });
 
   MachineRoutes();
@@ -434,3 +436,5 @@ void HttpServer::Routes() {
 }
 
 }  // namespace thermocomp::api
+  AlertRoutes();
+  AuditRoutes();

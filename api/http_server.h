@@ -62,6 +62,8 @@ class HttpServer {
   void PartModelRoutes();     // parts/part_model_routes.cc: part-error models from the process
   void SurfaceRoutes();       // parts/surface_routes.cc: CMM mirror correction
   void OverviewRoutes();      // overview_routes.cc: the line at a glance, temperatures
+  void AlertRoutes();         // operations/alert_routes.cc: the operator's conditions
+  void AuditRoutes();         // operations/audit_routes.cc: the audit trail
   void SessionRoutes();       // web/session_routes.cc: signing in to the pages
   void PageRoutes();          // web/page_routes.cc: the pages and their assets
   // What a request authenticates with: its Authorization header, or the

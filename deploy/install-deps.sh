@@ -5,7 +5,8 @@
 #   deploy/install-deps.sh test   that, plus what the tests need (the
 #                                 default): GoogleTest and Google Benchmark,
 #                                 clang with its sanitizer runtimes and
-#                                 clang-tidy, Chromium for the pages
+#                                 clang-tidy, Chromium for the pages, and
+#                                 nginx and promtool in .tools/
 set -euo pipefail
 purpose=${1:-test}
 packages=(
@@ -30,11 +31,16 @@ for p in "${packages[@]}"; do
 done
 if [ ${#missing[@]} -eq 0 ]; then
   echo "deploy/install-deps.sh: all packages present"
-  exit 0
+else
+  sudo=""
+  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+  echo "deploy/install-deps.sh: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
-sudo=""
-if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
-echo "deploy/install-deps.sh: installing ${missing[*]}"
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# The tests also run nginx (the TLS proxy) and promtool (the alert rules),
+# unpacked from Debian's packages rather than installed: deploy/test-tools.sh.
+if [ "$purpose" = test ]; then
+  "$(dirname "$0")/test-tools.sh"
+fi

@@ -82,6 +82,9 @@ void OnSignal(int);
 
 int Import(const Args& a);
 int Simulate(const Args& a);
+// server/backup_command.cc: an online copy, and a checked restore.
+int Backup(const Args& a);
+int Restore(const Args& a);
 // The study table as machine `machine` (see import_command.cc).
 StatusOr<std::pair<int, int>> ImportStudy(App& app, const std::string& machine,
                                           const std::string& text, int64_t start_ms);

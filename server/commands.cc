@@ -295,22 +295,6 @@ int Demo(const Args& a) {
   return 0;
 }
 
-// ---------------------------------------------------------------- backup
-int Backup(const Args& a) {
-  if (a.positional.empty()) return Fail("usage: thermocomp backup <file> [--db PATH]");
-  auto config = LoadWithOverrides(a);
-  if (!config.ok()) return Fail(config.status().message());
-  if (Status s = cli::PrepareDatabasePath(a, config->db_path); !s.ok()) return Fail(s.message());
-  DatabaseOptions options;
-  options.synchronous = config->synchronous;
-  options.create = false;
-  auto storage = SqliteStorage::OpenFile(config->db_path, options);
-  if (!storage.ok()) return Fail(storage.status().message());
-  if (Status s = (*storage)->Backup(a.positional[0]); !s.ok()) return Fail(s.message());
-  std::printf("backed up %s to %s\n", config->db_path.c_str(), a.positional[0].c_str());
-  return 0;
-}
-
 }  // namespace
 
 namespace {
@@ -400,7 +384,15 @@ const std::vector<CommandSpec>& Commands() {
         {"hidden", true},
         {"study", true}}},
       {"backup",
-       "  backup    FILE [--config FILE] [--db PATH]   online backup, safe while the server runs\n",
+       "  backup    FILE [--force] [--config FILE] [--db PATH]\n"
+       "            online backup, safe while the server runs; an existing FILE only with "
+       "--force\n",
+       {{"config", true}, {"db", true}, {"force", false}},
+       1},
+      {"restore",
+       "  restore   FILE [--config FILE] [--db PATH]\n"
+       "            checks a backup (integrity, schema) and makes it the database; server "
+       "stopped\n",
        {{"config", true}, {"db", true}},
        1},
   };
@@ -462,7 +454,8 @@ static int Dispatch(const std::string& name, const Args& a) {
   if (name == "analyze") return Analyze(a);
   if (name == "simulate") return cli::Simulate(a);
   if (name == "demo") return Demo(a);
-  return Backup(a);
+  if (name == "restore") return cli::Restore(a);
+  return cli::Backup(a);
 }
 
 }  // namespace thermocomp

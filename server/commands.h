@@ -1,4 +1,5 @@
-// The thermocomp subcommands: serve, import, fit, simulate, demo, backup.
+// The thermocomp subcommands: serve, import, fit, analyze, simulate, demo, backup,
+// restore.
 // Each returns a process exit code (0 ok, 1 failed, 2 usage).
 #pragma once
 

@@ -9,6 +9,9 @@
 #include <string_view>
 #include <utility>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+
 #include <toml++/toml.h>
 
 namespace thermocomp {
@@ -131,6 +134,12 @@ std::string TimeZone(const toml::node& n, Config& c) {
   return "";
 }
 
+// "192.0.2.1" or "::1": an address, not a name or a network.
+bool IpLiteral(const std::string& text) {
+  unsigned char buf[sizeof(in6_addr)];
+  return inet_pton(AF_INET, text.c_str(), buf) == 1 || inet_pton(AF_INET6, text.c_str(), buf) == 1;
+}
+
 Reader Texts(std::vector<std::string> Config::*field, size_t max_items) {
   return [=](const toml::node& n, Config& c) -> std::string {
     const toml::array* a = n.as_array();
@@ -202,6 +211,37 @@ const std::map<std::string, Reader>& Keys() {
        Int(&Config::body_min_rate_bytes_per_s, 1, int64_t{1} << 30)},
       {"server.anonymous_worker_share", Number(&Config::anonymous_worker_share, 0.01, 1)},
       {"server.allowed_hosts", Texts(&Config::allowed_hosts, 64)},
+      {"server.allow_network_without_tokens", Bool(&Config::allow_network_without_tokens)},
+      {"server.trusted_proxies",
+       [](const toml::node& n, Config& c) -> std::string {
+         if (std::string e = Texts(&Config::trusted_proxies, 16)(n, c); !e.empty()) return e;
+         for (const auto& p : c.trusted_proxies) {
+           if (!IpLiteral(p)) return "\"" + p + "\" is not an IPv4 or IPv6 address";
+         }
+         return "";
+       }},
+      {"server.access_log", Bool(&Config::access_log)},
+      {"backup.dir",
+       [](const toml::node& n, Config& c) -> std::string {
+         auto v = n.value_exact<std::string>();
+         if (!v || v->empty() || (*v)[0] != '/') return "must be an absolute directory path";
+         c.backup_dir = *v;
+         return "";
+       }},
+      {"backup.every_h", Int(&Config::backup_every_h, 1, 8760)},
+      {"backup.keep", Int(&Config::backup_keep, 1, 1000)},
+      {"alerts.webhook_url",
+       [](const toml::node& n, Config& c) -> std::string {
+         auto v = n.value_exact<std::string>();
+         if (!v || !(v->rfind("http://", 0) == 0 || v->rfind("https://", 0) == 0) ||
+             v->size() > 2048) {
+           return "must be an http:// or https:// URL";
+         }
+         c.alert_webhook_url = *v;
+         return "";
+       }},
+      {"alerts.data_stopped_after_s", Int(&Config::alert_data_stopped_after_s, 60, 86400 * 30)},
+      {"alerts.model_error_ratio", Number(&Config::alert_model_error_ratio, 1.01, 1000)},
       {"database.path", Text(&Config::db_path)},
       {"database.synchronous", Text(&Config::synchronous, {"full", "normal"})},
       {"database.busy_timeout_ms", Int(&Config::busy_timeout_ms, 0, 600000)},

@@ -42,6 +42,13 @@ struct Config {
   // Host header names (with or without port) accepted; empty: loopback
   // names only when no tokens are configured, any name with tokens.
   std::vector<std::string> allowed_hosts;
+  // A listen address beyond loopback without [[auth.tokens]] stops the
+  // start unless this is true (docs/operations.md, Exposure).
+  bool allow_network_without_tokens = false;
+  // Peers (IP literals) whose X-Forwarded-For names the client: the TLS
+  // proxy in front of the server (deploy/nginx/). Empty: the socket's peer.
+  std::vector<std::string> trusted_proxies;
+  bool access_log = true;  // one log line per request
   // [database]
   // Relative to the working directory. The installed program's default
   // is absolute (/var/lib/thermocomp/thermocomp.db: server/command_util.h).
@@ -107,6 +114,16 @@ struct Config {
   int web_max_sessions_per_token = 5;  // beyond: that token's oldest session ends
 
   std::string log_level = "info";
+  // [backup] online backups every `backup_every_h` into `backup_dir`
+  // (empty: none scheduled), the newest `backup_keep` kept.
+  std::string backup_dir;
+  int backup_every_h = 24;
+  int backup_keep = 7;
+  // [alerts] what counts as an operator's condition (docs/operations.md,
+  // Alerts), and where it is sent (empty: nowhere; JSON POST, retried).
+  std::string alert_webhook_url;
+  int alert_data_stopped_after_s = 900;  // no sample of a machine for this long
+  double alert_model_error_ratio = 2.0;  // recent error beyond this × validated
   // [dds]
   bool dds_enabled = false;
   uint32_t dds_domain = 0;
