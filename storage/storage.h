@@ -25,8 +25,11 @@ class Storage {
   virtual int schema_version() const = 0;
   // Where the archive is, for logs and status ("path" of a file).
   virtual std::string location() const = 0;
-  // A consistent copy into `dest` while the archive stays in use.
-  virtual Status Backup(const std::string& dest) = 0;
+  // A consistent copy into `dest` while the archive stays in use. `dest`
+  // gets its name only when the copy is complete and on disk, so a
+  // half-written backup never carries it; an existing `dest` is a
+  // Conflict unless `replace` (then replaced atomically).
+  virtual Status Backup(const std::string& dest, bool replace = false) = 0;
 };
 
 }  // namespace thermocomp

@@ -1,5 +1,12 @@
 #include "storage/sqlite/database.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
+
+#include "storage/sqlite/durable_file.h"
 #include "storage/sqlite/migrator.h"
 
 namespace thermocomp {
@@ -105,6 +112,22 @@ StatusOr<std::unique_ptr<Database>> Database::Open(const std::string& path,
                                                    const DatabaseOptions& options) {
   std::unique_ptr<Database> db(new Database());
   db->path_ = path;
+  // Before the file is touched: a restore holding the lock replaces it.
+  if (const std::string lock = LockPathOf(path); !lock.empty()) {
+    db->lock_fd_ = open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    // Another user's lock file (a backup run as root): a shared lock needs
+    // only reading.
+    if (db->lock_fd_ < 0 && errno == EACCES)
+      db->lock_fd_ = open(lock.c_str(), O_RDONLY | O_CLOEXEC);
+    if (db->lock_fd_ < 0) {
+      return Status::Unavailable("cannot open the lock file " + lock + ": " + durable::ErrnoText());
+    }
+    if (flock(db->lock_fd_, LOCK_SH | LOCK_NB) != 0) {
+      return Status::Unavailable("database " + path +
+                                 " is being restored (thermocomp restore holds " + lock +
+                                 "): try again when it has finished");
+    }
+  }
   int rc = sqlite3_open_v2(
       path.c_str(), &db->db_,
       SQLITE_OPEN_READWRITE | (options.create ? SQLITE_OPEN_CREATE : 0) | SQLITE_OPEN_NOMUTEX,
@@ -135,6 +158,12 @@ Database::~Database() {
     for (sqlite3_stmt* s : list) sqlite3_finalize(s);
   }
   sqlite3_close_v2(db_);
+  if (lock_fd_ >= 0) close(lock_fd_);  // releases the shared flock
+}
+
+std::string Database::LockPathOf(const std::string& db_path) {
+  if (db_path.empty() || db_path == ":memory:" || db_path.rfind("file:", 0) == 0) return "";
+  return db_path + ".lock";
 }
 
 sqlite3_stmt* Database::Acquire(const std::string& sql) {
@@ -189,32 +218,73 @@ void Database::Unlock() {
   mutex_.unlock();
 }
 
-Status Database::Backup(const std::string& dest_path) {
+namespace {
+
+// Copies `src` (its "main" database) into the file at `dest_path` in one
+// step: on a connection of its own the step is one read transaction, a
+// consistent snapshot that writers in WAL mode do not wait for.
+Status CopyDatabase(sqlite3* src, const std::string& dest_path) {
   sqlite3* dest = nullptr;
-  if (sqlite3_open(dest_path.c_str(), &dest) != SQLITE_OK) {
+  if (sqlite3_open_v2(dest_path.c_str(), &dest, SQLITE_OPEN_READWRITE, nullptr) != SQLITE_OK) {
     sqlite3_close(dest);
-    return Status::InvalidArgument("cannot create backup file " + dest_path);
+    return Status::Unavailable("cannot open the backup file " + dest_path);
   }
-  sqlite3_backup* b = sqlite3_backup_init(dest, "main", db_, "main");
+  // The temporary file is thrown away on any failure: no journal needed.
+  sqlite3_exec(dest, "PRAGMA journal_mode=OFF", nullptr, nullptr, nullptr);
+  sqlite3_backup* b = sqlite3_backup_init(dest, "main", src, "main");
   if (!b) {
     Status s = Status::Internal(std::string("backup failed: ") + sqlite3_errmsg(dest));
     sqlite3_close(dest);
     return s;
   }
-  int rc;
-  // Copy in steps so writers are blocked only briefly each time.
+  int rc = SQLITE_OK;
   do {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      rc = sqlite3_backup_step(b, 256);
-    }
+    rc = sqlite3_backup_step(b, -1);
     if (rc == SQLITE_BUSY || rc == SQLITE_LOCKED) sqlite3_sleep(10);
   } while (rc == SQLITE_OK || rc == SQLITE_BUSY || rc == SQLITE_LOCKED);
   sqlite3_backup_finish(b);
-  Status s = rc == SQLITE_DONE
-                 ? Status::Ok()
-                 : Status::Internal(std::string("backup failed: ") + sqlite3_errmsg(dest));
+  Status s = Status::Ok();
+  if (rc != SQLITE_DONE) {
+    s = (rc & 0xff) == SQLITE_FULL
+            ? Status::InsufficientStorage("the disk holding " + dest_path + " is full")
+            : Status::Internal(std::string("backup failed: ") + sqlite3_errmsg(dest));
+  }
   sqlite3_close(dest);
+  return s;
+}
+
+}  // namespace
+
+Status Database::Backup(const std::string& dest_path, bool replace) {
+  if (dest_path.empty()) return Status::InvalidArgument("no backup file given");
+  if (!replace && durable::Exists(dest_path)) {
+    return Status::Conflict(dest_path + " already exists (--force replaces it)");
+  }
+  auto tmp = durable::MakeTemporaryBeside(dest_path, "partial");
+  if (!tmp.ok()) return tmp.status();
+  Status s = Status::Ok();
+  if (LockPathOf(path_).empty()) {
+    // In memory: no second connection can see it; copy on this one, held.
+    std::lock_guard<std::mutex> lock(mutex_);
+    s = CopyDatabase(db_, *tmp);
+  } else {
+    sqlite3* src = nullptr;
+    if (sqlite3_open_v2(path_.c_str(), &src, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX, nullptr) !=
+        SQLITE_OK) {
+      s = Status::Unavailable("cannot open " + path_ +
+                              " for the backup: " + (src ? sqlite3_errmsg(src) : "out of memory"));
+    } else {
+      sqlite3_busy_timeout(src, 5000);
+      s = CopyDatabase(src, *tmp);
+    }
+    sqlite3_close(src);
+  }
+  if (s.ok()) s = durable::SyncFile(*tmp);
+  if (s.ok()) s = durable::Publish(*tmp, dest_path, replace);
+  if (s.code() == Status::Code::kConflict) {
+    s = Status::Conflict(dest_path + " already exists (--force replaces it)");
+  }
+  durable::RemoveIfPresent(*tmp);  // gone already when published
   return s;
 }
 

@@ -99,8 +99,17 @@ class Database {
   int64_t LastInsertId() { return sqlite3_last_insert_rowid(db_); }
   int Changes() { return sqlite3_changes(db_); }
 
-  // Online backup into `dest_path` while the database stays in use.
-  Status Backup(const std::string& dest_path);
+  // Online backup into `dest_path` while the database stays in use: a
+  // consistent snapshot (a second, read-only connection in one read
+  // transaction, so writers go on) copied into a temporary file beside
+  // `dest_path`, synced, and only then given its name; an existing
+  // `dest_path` is a Conflict unless `replace`.
+  Status Backup(const std::string& dest_path, bool replace = false);
+
+  // The lock file beside a database file ("<path>.lock"): every open
+  // Database holds a shared flock on it, a restore needs it exclusively
+  // (docs/operations.md, Backup and restore). Empty for ":memory:".
+  static std::string LockPathOf(const std::string& db_path);
 
   // The statement cache behind Statement(Database&, sql). A statement in
   // use is not handed out twice: a nested use of the same SQL gets its own.
@@ -123,6 +132,7 @@ class Database {
   std::atomic<bool> storage_full_{false};
   std::mutex mutex_;
   std::atomic<std::thread::id> owner_{};
+  int lock_fd_ = -1;  // the shared flock on LockPathOf(path_)
 };
 
 }  // namespace thermocomp

@@ -21,7 +21,27 @@ class SqliteStorage final : public Storage {
   bool storage_full() const override { return db_->storage_full(); }
   int schema_version() const override { return db_->schema_version(); }
   std::string location() const override { return db_->path(); }
-  Status Backup(const std::string& dest) override { return db_->Backup(dest); }
+  Status Backup(const std::string& dest, bool replace = false) override {
+    return db_->Backup(dest, replace);
+  }
+
+  // Makes the backup `file` the database at `db_path` (docs/operations.md,
+  // Backup and restore). Refused, with nothing changed, unless `file` is
+  // an SQLite database that passes PRAGMA integrity_check with a schema
+  // version this program knows (an older one is migrated at the next
+  // open), and no process has `db_path` open (the exclusive flock on its
+  // lock file, which every open Database shares). The current database is
+  // kept as "<db_path>.before-restore-<UTC time>" (checkpointed; a WAL
+  // that could not be is moved with it), the copy is synced, then renamed
+  // over `db_path`.
+  struct RestoreReport {
+    int schema_version = 0;       // the backup's
+    int program_version = 0;      // this program's newest
+    std::string kept;             // where the previous database went; empty: there was none
+    bool kept_wal_moved = false;  // its WAL could not be checkpointed: moved with it
+  };
+  static StatusOr<RestoreReport> Restore(const std::string& file, const std::string& db_path,
+                                         int64_t now_ms);
 
   // Runs `fn` on the connection itself, holding the session lock: for
   // tests and benchmarks that need SQL no store offers (pragmas, counts).
