@@ -42,6 +42,31 @@ Status TooManySensors(size_t sensors, size_t max, FieldErrors* errors) {
   return Status::InvalidArgument("too many sensors");
 }
 
+// What a definition set, for its audit line: which parts of what the
+// machine's control receives (axes' inputs, clamp, reference and travel;
+// sensors and their filters; the control) it changed, and on which axes.
+std::string DefinitionSummary(const MachineDefinition& d, bool created) {
+  std::string out = created ? "created" : "updated";
+  auto names = [](const auto& items) {
+    std::string list;
+    for (const auto& item : items) list += (list.empty() ? "" : ",") + item.name;
+    return list;
+  };
+  if (!d.axes.empty()) out += "; axes " + names(d.axes);
+  if (!d.sensors.empty()) out += "; sensors " + names(d.sensors);
+  if (d.controller) out += "; controller " + *d.controller;
+  if (d.control_axes) out += "; control_axes";
+  if (d.automatic_checks)
+    out += *d.automatic_checks ? "; automatic_checks on" : "; automatic_checks off";
+  if (d.display_name) out += "; display_name";
+  if (out.size() > 500) {
+    // Resized, not substr + "...": GCC 12 warns falsely on that (PR 105651).
+    out.resize(497);
+    out.append("...");
+  }
+  return out;
+}
+
 }  // namespace
 
 bool KnownController(const std::string& controller) {
@@ -166,7 +191,9 @@ StatusOr<bool> MachineService::Register(const MachineDefinition& machine, const 
   if (!tx.status().ok()) return tx.status();
   auto created = session->machines().Upsert(m, clock_.NowMs());
   if (!created.ok()) return created.status();
-  if (Status s = session->log().Audit(clock_.NowMs(), actor, "machine", m.name, 1); !s.ok())
+  if (Status s = session->log().Audit(clock_.NowMs(), actor, "machine", m.name, 1,
+                                      DefinitionSummary(machine, !existing.has_value()));
+      !s.ok())
     return s;
   if (Status s = tx.Commit(); !s.ok()) return s;
   if (cache_ && existing)

@@ -1,12 +1,32 @@
 // LogStore: the served-compensation log and the audit of writes.
 #pragma once
 
+#include <limits>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "core/records.h"
 #include "core/status.h"
 
 namespace thermocomp {
+
+// A stored audit line with its place in the trail (rows are numbered in
+// the order they were written).
+struct AuditRow {
+  int64_t id = 0;
+  AuditEntry entry;
+};
+
+// Which audit lines to read: all filters optional (empty: any), times
+// inclusive, only rows written before `before_id` (a page's cursor).
+struct AuditQuery {
+  std::string machine;
+  std::string action;
+  std::optional<int64_t> from_ms, to_ms;
+  int64_t before_id = std::numeric_limits<int64_t>::max();
+  int limit = 100;
+};
 
 class LogStore {
  public:
@@ -34,6 +54,8 @@ class LogStore {
   virtual Status Audit(int64_t ts_ms, const std::string& actor, const std::string& action,
                        const std::string& machine, int64_t count,
                        const std::string& detail = "") = 0;
+  // The audit lines matching `q`, the last written first, at most q.limit.
+  virtual StatusOr<std::vector<AuditRow>> AuditTrail(const AuditQuery& q) = 0;
 };
 
 }  // namespace thermocomp

@@ -140,6 +140,7 @@ void HttpServer::PageRoutes() {
       {"/ui/sign-in", "sign_in", "Sign in"},
       {"/ui/checks", "checks", "Checks"},
       {"/ui/compare", "compare", "Compare machines"},
+      {"/ui/audit", "audit", "Audit trail"},
       {m, "machine", "Machine"},
       {m + "/checks", "machine_checks", "Machine checks"},
       {a + "/models", "models", "Model versions"},

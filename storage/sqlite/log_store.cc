@@ -1,5 +1,7 @@
 #include "storage/sqlite/log_store.h"
 
+#include <limits>
+
 #include "storage/sqlite/envelope.h"
 
 namespace thermocomp {
@@ -119,6 +121,30 @@ Status SqliteLogStore::Audit(int64_t ts_ms, const std::string& actor, const std:
       "INSERT INTO audit(ts_ms, actor, action, machine, count, detail) VALUES (?, ?, ?, ?, ?, ?)");
   q.Bind(1, ts_ms).Bind(2, actor).Bind(3, action).Bind(4, machine).Bind(5, count).Bind(6, detail);
   return q.Run();
+}
+
+StatusOr<std::vector<AuditRow>> SqliteLogStore::AuditTrail(const AuditQuery& q) {
+  // One statement for every combination of filters (an empty filter
+  // matches all), walked newest first along the rowid.
+  Statement s(db_,
+              "SELECT id, ts_ms, actor, action, COALESCE(machine, ''), count, detail FROM audit"
+              " WHERE id < ?1 AND (?2 = '' OR machine = ?2) AND (?3 = '' OR action = ?3)"
+              " AND ts_ms >= ?4 AND ts_ms <= ?5 ORDER BY id DESC LIMIT ?6");
+  s.Bind(1, q.before_id)
+      .Bind(2, q.machine)
+      .Bind(3, q.action)
+      .Bind(4, q.from_ms.value_or(std::numeric_limits<int64_t>::min()))
+      .Bind(5, q.to_ms.value_or(std::numeric_limits<int64_t>::max()))
+      .Bind(6, int64_t{q.limit});
+  std::vector<AuditRow> rows;
+  while (s.Step()) {
+    AuditRow r;
+    r.id = s.Int(0);
+    r.entry = {s.Int(1), s.Text(2), s.Text(3), s.Text(4), s.Int(5), s.Text(6)};
+    rows.push_back(std::move(r));
+  }
+  if (!s.status().ok()) return s.status();
+  return rows;
 }
 
 }  // namespace thermocomp

@@ -24,6 +24,7 @@ class SqliteLogStore final : public LogStore {
                                                  int64_t to_ms) override;
   Status Audit(int64_t ts_ms, const std::string& actor, const std::string& action,
                const std::string& machine, int64_t count, const std::string& detail) override;
+  StatusOr<std::vector<AuditRow>> AuditTrail(const AuditQuery& q) override;
 
  private:
   Database& db_;

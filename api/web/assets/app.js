@@ -230,6 +230,8 @@ const TC = (() => {
         session.auth === "session" ? el("button", { onclick: signOut }, "Sign out") : null);
     }
     document.body.dataset.role = session.role;
+    // The audit trail is the admins' (GET /api/v1/audit answers others 403).
+    if (can("audit")) nav.append(el("a", { href: "/ui/audit" }, "Audit"));
     return session;
   }
 
