@@ -1,2 +1,0 @@
-// Placeholder until the alerts tests land; removed with them.
-#include <gtest/gtest.h>
