@@ -30,7 +30,8 @@ bool IsThermalErrorTable(const std::string& rest) {
 // "plates...", "turned-parts...", "process-records...", "part-models...",
 // "surfaces..." under a machine.
 bool IsPartPath(const std::string& rest) {
-  for (const char* prefix : {"plates", "turned-parts", "process-records", "part-models", "surfaces"}) {
+  for (const char* prefix :
+       {"plates", "turned-parts", "process-records", "part-models", "surfaces"}) {
     const size_t n = std::char_traits<char>::length(prefix);
     if (rest.compare(0, n, prefix) == 0 && (rest.size() == n || rest[n] == '/')) return true;
   }
@@ -53,8 +54,9 @@ bool Permitted(const AccessToken& t, const std::string& method, const std::strin
   if (t.role == "machine") {
     auto [machine, rest] = MachineOf(path);
     if (machine.empty() || machine != t.machine) return false;
-    if (read) return rest.empty() || rest == "compensation" || rest == "column-checks/requests" ||
-                     IsThermalErrorTable(rest);
+    if (read)
+      return rest.empty() || rest == "compensation" || rest == "column-checks/requests" ||
+             IsThermalErrorTable(rest);
     return method == "POST" && (rest == "temperatures" || rest == "probe-points" ||
                                 rest == "signals" || rest == "events" || rest == "column-checks");
   }
@@ -87,6 +89,22 @@ std::string ExposureWarning(const std::string& host, const std::vector<AccessTok
   return "listening on " + host +
          " without [[auth.tokens]]: clients on other hosts get 403 Forbidden; only this host is "
          "served. Give every client a token (docs/operations.md, Access).";
+}
+
+std::string ExposureRefusal(const std::string& host, const std::vector<AccessToken>& tokens,
+                            bool allow_network_without_tokens) {
+  if (!tokens.empty() || allow_network_without_tokens) return "";
+  std::string name = host;
+  if (name.size() > 2 && name.front() == '[' && name.back() == ']') {
+    name = name.substr(1, name.size() - 2);
+  }
+  if (IsLoopbackName(name)) return "";
+  return "server.listen is " + host +
+         ", beyond loopback, and no [[auth.tokens]] are configured: every client on the network "
+         "would be refused, and a proxy on this host would pass them all in as local. Give every "
+         "client a token, or listen on 127.0.0.1 behind the TLS proxy (deploy/nginx/), or set "
+         "server.allow_network_without_tokens = true to serve only this host on that address "
+         "(docs/operations.md, Exposure and TLS).";
 }
 
 AuthDecision Authorizer::Decide(const std::string& method, const std::string& path,

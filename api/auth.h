@@ -73,5 +73,11 @@ bool SameSecret(const std::string& a, const std::string& b);
 // What to tell the operator when the server listens beyond this host
 // without tokens (every remote client would get 403); empty otherwise.
 std::string ExposureWarning(const std::string& listen_host, const std::vector<AccessToken>& tokens);
+// Why `thermocomp serve` must not start on `listen_host`, or "": a
+// listen address beyond loopback (127.0.0.0/8, ::1, localhost; a name or
+// 0.0.0.0 is beyond) without [[auth.tokens]] is refused unless
+// server.allow_network_without_tokens says the operator means it.
+std::string ExposureRefusal(const std::string& listen_host, const std::vector<AccessToken>& tokens,
+                            bool allow_network_without_tokens);
 
 }  // namespace thermocomp::api

@@ -248,6 +248,8 @@ class ConnectionStream : public httplib::Stream {
 // What the hooks learned about the request being served on this thread.
 struct RequestContext {
   ConnectionStream* stream = nullptr;  // none for an in-memory request
+  // The request's first byte: AwaitRequest returns when it arrived.
+  Clock::time_point started = Clock::now();
   bool compressed = false;
   // Where the anonymous worker share taken by this request goes back to.
   std::atomic<int>* anonymous = nullptr;
@@ -316,6 +318,10 @@ bool GuardedServer::BodyTooLarge() {
   return t_request && t_request->stream && t_request->stream->too_large();
 }
 
+Clock::time_point GuardedServer::RequestStarted() {
+  return t_request ? t_request->started : Clock::now();
+}
+
 bool GuardedServer::TimedOut() {
   return t_request && t_request->stream && t_request->stream->timed_out();
 }
@@ -370,22 +376,32 @@ httplib::Server::Handler GuardedServer::Guarded(Handler handler) {
   };
 }
 
+GuardedServer& GuardedServer::Get(const std::string& pattern, Handler handler) {
+  routes_.Add(pattern);
+  httplib::Server::Get(pattern, std::move(handler));
+  return *this;
+}
+
 GuardedServer& GuardedServer::Post(const std::string& pattern, Handler handler) {
+  routes_.Add(pattern);
   httplib::Server::Post(pattern, Guarded(std::move(handler)));
   return *this;
 }
 
 GuardedServer& GuardedServer::Put(const std::string& pattern, Handler handler) {
+  routes_.Add(pattern);
   httplib::Server::Put(pattern, Guarded(std::move(handler)));
   return *this;
 }
 
 GuardedServer& GuardedServer::Patch(const std::string& pattern, Handler handler) {
+  routes_.Add(pattern);
   httplib::Server::Patch(pattern, Guarded(std::move(handler)));
   return *this;
 }
 
 GuardedServer& GuardedServer::Delete(const std::string& pattern, Handler handler) {
+  routes_.Add(pattern);
   httplib::Server::Delete(pattern, Guarded(std::move(handler)));
   return *this;
 }

@@ -46,6 +46,8 @@
 
 #include <httplib.h>
 
+#include "api/route_table.h"
+
 namespace thermocomp::api {
 
 struct ConnectionLimits {
@@ -125,6 +127,10 @@ class GuardedServer : public httplib::Server {
   void Shutdown();
   ConnectionRegistry& registry() { return registry_; }
 
+  // Every route is also added to routes() (its template, for the
+  // metrics and the access log).
+  GuardedServer& Get(const std::string& pattern, Handler handler);
+  const RouteTable& routes() const { return routes_; }
   // Routes whose requests carry a body. They hide httplib::Server's, so
   // that every such handler first gives back an anonymous worker share
   // (the body has been read) and gets a compressed body inflated within
@@ -144,6 +150,9 @@ class GuardedServer : public httplib::Server {
   static HeadTooLarge HeadTooLargeIn();
   // Its body went beyond the limit, or was not sent in time.
   static bool BodyTooLarge();
+  // When the request's first byte arrived (now for an in-memory request,
+  // or outside a request).
+  static std::chrono::steady_clock::time_point RequestStarted();
   static bool TimedOut();
   static void CloseAfterResponse();
   // Called once its head is parsed: the body's deadline follows from its
@@ -163,6 +172,7 @@ class GuardedServer : public httplib::Server {
 
   ConnectionLimits limits_;
   ConnectionRegistry registry_;
+  RouteTable routes_;
   std::atomic<int> anonymous_bodies_{0};
 };
 }  // namespace thermocomp::api

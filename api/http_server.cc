@@ -1,6 +1,9 @@
 #include "api/http_server.h"
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <cstdio>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -8,23 +11,32 @@
 #include <nlohmann/json.hpp>
 
 #include "api/body_guard.h"
+#include "api/client_address.h"
 #include "api/http_util.h"
 #include "api/json_mapping.h"
 #include "api/openapi.h"
 #include "api/problem.h"
 #include "core/log.h"
+#include "service/operations/operator_gauges.h"
 
 namespace thermocomp::api {
 namespace {
 
-#include "service/operations/operator_gauges.h"
 using nlohmann::json;
 
 constexpr const char* kBase = "/api/v1";
-thread_local std::chrono::steady_clock::time_point t_request_start;
 // The request was turned away to shed load (the anonymous share): not a
 // failure of the server, and a flood of them must not flood the log.
 thread_local bool t_shed = false;
+// What the hooks learned about the request on this thread, for its access
+// log line; `routed` is false for a request httplib answered without the
+// hooks (a malformed request line).
+struct RequestFacts {
+  bool routed = false;
+  bool malformed_forward = false;
+  std::string actor;
+};
+thread_local RequestFacts t_facts;
 
 }  // namespace
 
@@ -184,6 +196,50 @@ void AcceptNoBrotli(const Req& req) {
   }
 }
 
+// Every X-Forwarded-For header's value, in order.
+std::vector<std::string> ForwardedFor(const Req& req) {
+  std::vector<std::string> values;
+  const size_t n = req.get_header_value_count("X-Forwarded-For");
+  values.reserve(n);
+  for (size_t i = 0; i < n; ++i) values.push_back(req.get_header_value("X-Forwarded-For", i));
+  return values;
+}
+
+// `value` as a logfmt value: as it is when it has nothing but letters,
+// digits and - _ . / : (a method, most paths, an address), else quoted
+// with quotes and backslashes escaped (core/log.h turns control characters
+// into '?'). At most 2 KiB of it.
+std::string Quoted(std::string_view value) {
+  value = value.substr(0, 2048);
+  const bool bare = !value.empty() && std::all_of(value.begin(), value.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' ||
+           c == '/' || c == ':';
+  });
+  if (bare) return std::string(value);
+  std::string out = "\"";
+  for (char c : value) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+// The access log line's fields (docs/operations.md, "Access log"): never a
+// query string, header, cookie or token. The path is httplib's, without
+// its query.
+std::string AccessFields(const Req& req, const Res& res, const std::string& route, double secs,
+                         const RequestFacts& facts) {
+  char duration[32];
+  std::snprintf(duration, sizeof duration, "%.3f", secs * 1000);
+  std::string f = "method=" + Quoted(req.method) + " path=" + Quoted(req.path) +
+                  " route=" + Quoted(route) + " status=" + std::to_string(res.status) +
+                  " bytes=" + std::to_string(res.body.size()) + " duration_ms=" + duration +
+                  " actor=" + Quoted(facts.actor.empty() ? "anonymous" : facts.actor) +
+                  " client=" + Quoted(req.remote_addr);
+  if (facts.malformed_forward) f += " forwarded=\"malformed\"";
+  return f;
+}
+
 // Nothing here needs byte ranges (no large downloads), and a request for
 // thousands of overlapping ranges of one asset multiplies the response:
 // the Range header is dropped (httplib parsed it already), so every
@@ -215,6 +271,7 @@ HttpServer::HttpServer(App& app)
                      int64_t{app.config().auth_failure_window_s} * 1000),
       server_(LimitsOf(app.config())) {
   Routes();
+  app_.metrics().SetRoutes(server_.routes().templates());
 }
 
 HttpServer::~HttpServer() {
@@ -254,9 +311,22 @@ std::string HttpServer::CompensationBody(const std::string& machine,
 void HttpServer::Routes() {
   auto& s = server_;
   const size_t max_body = app_.config().max_body_bytes;
-  s.set_pre_routing_handler([this, max_body](const Req& req, Res& res) {
-    t_request_start = std::chrono::steady_clock::now();
+  // Who the request is from (api/client_address.h): the client a trusted
+  // proxy names, else the socket's peer.
+  auto clients = std::make_shared<const ClientAddresses>(app_.config().trusted_proxies);
+  s.set_pre_routing_handler([this, max_body, clients](const Req& req, Res& res) {
     t_shed = false;
+    t_facts = RequestFacts{};
+    t_facts.routed = true;
+    const std::string peer = req.remote_addr;
+    const bool forwarded = req.has_header("X-Forwarded-For") || req.has_header("Forwarded");
+    {
+      ClientAddress client = clients->Of(peer, ForwardedFor(req));
+      t_facts.malformed_forward = client.malformed_forward;
+      // Every consumer (the throttle, the audit's actor, the sign-in, the
+      // log) sees the client; connection limits keep the socket's peer.
+      const_cast<Req&>(req).remote_addr = std::move(client.address);
+    }
     AcceptNoBrotli(req);
     DropRanges(req);
     // Answered before the body is read: the connection closes after the
@@ -309,6 +379,15 @@ void HttpServer::Routes() {
         return refuse(415, "Content-Encoding: only gzip and deflate request bodies are accepted",
                       {{0, "Content-Encoding", "must be gzip, deflate or identity"}});
     }
+    // Without tokens only this host is served. A request a proxy forwarded
+    // is not from this host, whatever its socket says: from a proxy not
+    // listed in server.trusted_proxies it is refused, so a proxy set up
+    // without tokens cannot open the server to the network.
+    if (auth_.open() && forwarded && !IsProbe(req) && !clients->Trusted(peer)) {
+      return refuse(403,
+                    "forwarded by a proxy: without [[auth.tokens]] only clients on this host are "
+                    "served (configure tokens, and server.trusted_proxies for the proxy)");
+    }
     const Credentials credentials = CredentialsOf(req);
     auto decide = [&] {
       return auth_.Decide(req.method, req.path, req.remote_addr, credentials.authorization);
@@ -316,6 +395,7 @@ void HttpServer::Routes() {
     const std::string presented = req.get_header_value("Authorization");
     const bool checked = !auth_.open() && !IsProbe(req) && !presented.empty();
     AuthDecision d = checked ? Throttled(req.remote_addr, presented, decide) : decide();
+    t_facts.actor = d.actor;
     if (!d.challenge.empty()) res.set_header("WWW-Authenticate", d.challenge);
     if (d.retry_after_s > 0) res.set_header("Retry-After", std::to_string(d.retry_after_s));
     if (d.status != 200) return refuse(d.status, d.reason);
@@ -347,13 +427,26 @@ void HttpServer::Routes() {
     res.headers.erase("Accept-Ranges");
     res.set_header("Accept-Ranges", "none");
   });
-  s.set_logger([this](const Req& req, const Res& res) {
-    double secs =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_request_start).count();
-    app_.metrics().ObserveRequest(secs);
+  // Per request: its route's counters and latency (service/metrics.h)
+  // and, unless server.access_log is off, one access log line.
+  const bool access_log = app_.config().access_log;
+  s.set_logger([this, access_log](const Req& req, const Res& res) {
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                                      GuardedServer::RequestStarted())
+                            .count();
+    const size_t route = server_.routes().Match(req.path);
+    app_.metrics().ObserveRequest(route, req.method, res.status, secs);
     if (res.status >= 500 && !t_shed)
-      log::Error("request failed", "method=" + req.method + " path=" + req.path);
+      log::Error("request failed", "method=" + req.method + " path=" + Quoted(req.path));
+    if (access_log && log::Enabled(log::Level::kInfo)) {
+      static const std::string kUnmatched = RouteTable::kUnmatchedName;
+      static const RequestFacts kUnrouted;
+      const auto& names = server_.routes().templates();
+      log::Info("request", AccessFields(req, res, route < names.size() ? names[route] : kUnmatched,
+                                        secs, t_facts.routed ? t_facts : kUnrouted));
+    }
     t_shed = false;
+    t_facts = RequestFacts{};
   });
   s.set_error_handler([max_body](const Req& req, Res& res) {
     if (!res.body.empty()) return;
@@ -431,10 +524,10 @@ void HttpServer::Routes() {
   PartModelRoutes();
   SurfaceRoutes();
   OverviewRoutes();
+  AlertRoutes();
+  AuditRoutes();
   SessionRoutes();
   PageRoutes();
 }
 
 }  // namespace thermocomp::api
-  AlertRoutes();
-  AuditRoutes();

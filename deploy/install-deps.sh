@@ -22,6 +22,7 @@ case $purpose in
       python3-jsonschema libgtest-dev libbenchmark-dev
       clang libclang-rt-14-dev clang-tidy-14
       chromium chromium-driver python3-selenium
+      openssl
     ) ;;
   *) echo "usage: deploy/install-deps.sh [run|test]" >&2; exit 2 ;;
 esac

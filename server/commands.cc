@@ -50,6 +50,13 @@ int Serve(const Args& a) {
   static const SystemClock clock;
   auto loaded = LoadWithOverrides(a);
   if (!loaded.ok()) return Fail(loaded.status().message());
+  // Before the database is opened or anything binds: an exposed server
+  // without credentials is a configuration error, not a warning.
+  if (const std::string refusal = api::ExposureRefusal(loaded->listen_host, loaded->tokens,
+                                                       loaded->allow_network_without_tokens);
+      !refusal.empty()) {
+    return Fail(refusal);
+  }
   const bool dds = a.Has("dds") || loaded->dds_enabled;
   if (dds && !std::getenv("CYCLONEDDS_URI")) {
     auto file = cli::DdsConfigFile(a, *loaded);
