@@ -229,6 +229,9 @@ const std::map<std::string, Reader>& Keys() {
          return "";
        }},
       {"backup.every_h", Int(&Config::backup_every_h, 1, 8760)},
+      {"retention.raw_days", Int(&Config::retention_raw_days, 0, 36500)},
+      {"retention.keep_around_h", Int(&Config::retention_keep_around_h, 0, 8760)},
+      {"retention.every_h", Int(&Config::retention_every_h, 1, 8760)},
       {"backup.keep", Int(&Config::backup_keep, 1, 1000)},
       {"alerts.webhook_url",
        [](const toml::node& n, Config& c) -> std::string {

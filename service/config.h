@@ -119,6 +119,14 @@ struct Config {
   std::string backup_dir;
   int backup_every_h = 24;
   int backup_keep = 7;
+  // [retention] raw samples older than `retention_raw_days` (0: kept for
+  // ever) are deleted, except those within `retention_keep_around_h`
+  // before and after a probe point or a check; hourly rollups, probe
+  // points, models and checks are never deleted. The database gives the
+  // space back (incremental vacuum) every `retention_every_h`.
+  int retention_raw_days = 400;
+  int retention_keep_around_h = 48;
+  int retention_every_h = 24;
   // [alerts] what counts as an operator's condition (docs/operations.md,
   // Alerts), and where it is sent (empty: nowhere; JSON POST, retried).
   std::string alert_webhook_url;
