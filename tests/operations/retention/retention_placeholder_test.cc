@@ -1,0 +1,2 @@
+// Placeholder until the retention tests land; removed with them.
+#include <gtest/gtest.h>
