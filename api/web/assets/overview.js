@@ -12,7 +12,30 @@
   const every = Math.min(3600, Math.max(2, Number(TC.param("refresh")) || 15));
   const status = el("p", { class: "muted", id: "updated" });
   const body = el("div", { id: "overview" });
-  TC.main(el("h1", {}, "Line overview"), status, body);
+  // The operator's conditions (GET /api/v1/alerts), above the table.
+  const banner = el("div", { id: "alerts", class: "error", role: "status", hidden: "" });
+  TC.main(el("h1", {}, "Line overview"), status, banner, body);
+
+  const alertNames = {
+    model_gone_bad: "model gone bad", data_stopped: "data stopped",
+    column_check_overdue: "column check overdue", sensor_failed: "sensor failed",
+    compensation_stale: "compensation stale", compensation_invalid: "compensation not valid",
+  };
+  function renderAlerts(data) {
+    const alerts = data.alerts || [];
+    banner.dataset.alerts = alerts.length;
+    if (!alerts.length) {
+      banner.hidden = true;
+      banner.replaceChildren();
+      return;
+    }
+    banner.hidden = false;
+    banner.replaceChildren(el("p", {}, el("b", {}, alerts.length + " active condition" + (alerts.length > 1 ? "s" : ""))),
+      el("ul", {}, ...alerts.map((a) => el("li", { class: "alert", "data-kind": a.kind },
+        el("b", {}, alertNames[a.kind] || TC.text(a.kind)), " · ",
+        el("a", { href: "/ui/machines/" + encodeURIComponent(a.machine) }, a.machine),
+        a.axis ? " axis " + a.axis : "", " · since " + time(a.since) + ": " + TC.text(a.detail)))));
+  }
 
   // What the control is given: the model's value, on its way to it (a
   // served value never steps), held, or ramping to 0 (docs/api.md).
@@ -108,7 +131,10 @@
 
   async function refresh() {
     try {
-      render(await TC.lineOverview());
+      // A role that may not list alerts still sees the line.
+      const [line, alerts] = await Promise.all([TC.lineOverview(), TC.api("/alerts").catch(() => ({ alerts: [] }))]);
+      render(line);
+      renderAlerts(alerts);
     } catch (err) {
       status.replaceChildren(el("span", { class: "error" }, "Refresh failed: " + TC.problemText(err)));
     }
