@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <ctime>
@@ -183,6 +184,19 @@ StatusOr<SqliteStorage::RestoreReport> SqliteStorage::Restore(const std::string&
     return s;
   };
   if (Status s = durable::CopyBytes(file, *tmp); !s.ok()) return discard(s);
+  // The restored file as the database was (owner, mode): restored by root
+  // for a server running as its own user, it must stay that user's.
+  struct stat current {};
+  if (stat(db_path.c_str(), &current) == 0) {
+    if (chown(tmp->c_str(), current.st_uid, current.st_gid) != 0 ||
+        chmod(tmp->c_str(), current.st_mode & 07777) != 0) {
+      return discard(Status::FailedPrecondition(
+          "cannot give the restored file the owner and mode of " + db_path + " (" +
+          durable::ErrnoText() + "): run restore as that user or as root"));
+    }
+  } else if (chmod(tmp->c_str(), 0644) != 0) {
+    return discard(Status::Unavailable("cannot set the mode of " + *tmp));
+  }
   auto version = CheckBackupCopy(*tmp, file, report.program_version);
   if (!version.ok()) return discard(version.status());
   report.schema_version = *version;

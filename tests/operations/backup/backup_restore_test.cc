@@ -243,6 +243,8 @@ TEST(BackupRestoreTest, ABackupDuringIngestRestoresExactly) {
   ASSERT_EQ(kept.size(), 1U);
   EXPECT_EQ(Read(dir / kept[0]).samples, live_samples);
   EXPECT_EQ(Read(db).samples, copy.samples);
+  // The restored file has the database's mode (the copy was made 0600).
+  EXPECT_EQ(fs::status(db).permissions(), fs::status(dir / kept[0]).permissions());
   server.Reset(StartServer(db, port));
   ASSERT_GT(server.pid(), 0);
   EXPECT_EQ(StoredSamples(port), copy.samples);
