@@ -26,7 +26,9 @@ if(GIT_FOUND AND EXISTS ${PROJECT_SOURCE_DIR}/.git)
 endif()
 configure_file(${PROJECT_SOURCE_DIR}/core/version.h.in
                ${CMAKE_BINARY_DIR}/generated/core/version.h @ONLY)
-target_include_directories(thermocomp_server PUBLIC ${CMAKE_BINARY_DIR}/generated)
+# The services report it too (thermocomp_build_info on /metrics), and
+# everything above them sees it through theirs.
+target_include_directories(thermocomp_service PUBLIC ${CMAKE_BINARY_DIR}/generated)
 
 # The installed configuration is deploy/thermocomp.toml with its relative
 # paths (the development layout) made the package's absolute ones.

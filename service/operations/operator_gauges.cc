@@ -5,15 +5,8 @@
 #include <map>
 #include <system_error>
 
-#include "service/operations/alerts.h"
-
-// The build's version and git description (core/version.h.in), generated
-// into the build folder; a target without that folder on its include
-// path reports "unknown" rather than not building.
-#if __has_include("core/version.h")
 #include "core/version.h"
-#define THERMOCOMP_HAS_VERSION 1
-#endif
+#include "service/operations/alerts.h"
 
 namespace thermocomp {
 namespace {
@@ -193,13 +186,8 @@ std::string OperatorGauges(App& app) {
             "Size of the archive on disk: the SQLite file and its write-ahead log.");
   db.Add({}, static_cast<double>(DatabaseBytes(app.storage().location())));
   Family build("thermocomp_build_info", "The running build: version, git description, schema.");
-#ifdef THERMOCOMP_HAS_VERSION
-  const std::string version = build::kVersion, git = build::kGitDescribe;
-#else
-  const std::string version = "unknown", git = "unknown";
-#endif
-  build.Add({{"version", version},
-             {"git", git},
+  build.Add({{"version", build::kVersion},
+             {"git", build::kGitDescribe},
              {"schema", std::to_string(app.storage().schema_version())}},
             1);
 

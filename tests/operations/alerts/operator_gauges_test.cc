@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "core/time_format.h"
+#include "core/version.h"
 
 namespace thermocomp {
 namespace {
@@ -91,7 +92,10 @@ TEST_F(OperatorGaugesTest, BuildInfoNamesTheSchemaTheArchiveWasMigratedTo) {
   ASSERT_NE(line, std::string::npos) << text;
   const std::string info = text.substr(line + 1, text.find('\n', line + 1) - line - 1);
   EXPECT_NE(info.find(schema), std::string::npos) << info;
-  EXPECT_NE(info.find(",git=\""), std::string::npos) << info;
+  EXPECT_NE(info.find("version=\"" + std::string(build::kVersion) + "\""), std::string::npos)
+      << info;
+  EXPECT_NE(info.find(",git=\"" + std::string(build::kGitDescribe) + "\""), std::string::npos)
+      << info;
   EXPECT_EQ(info.substr(info.size() - 2), " 1") << info;
 }
 
