@@ -123,6 +123,7 @@ const std::vector<std::pair<std::regex, std::set<std::string>>>& RouteParams() {
       {std::regex("/ui/sign-in"), {"next"}},
       {std::regex("/"), {"refresh"}},
       {std::regex("/api/v1/overview"), {"limit", "offset"}},
+      {std::regex("/api/v1/audit"), {"machine", "from", "to", "action", "limit", "next"}},
       {std::regex(m + "/column-checks/requests"), {"state"}},
       {std::regex(m + "/column-checks/[0-9]+"), {"format"}},
       {std::regex(m + "/axes/[^/]+/analysis/[0-9]+"), {"format"}},
