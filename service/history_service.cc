@@ -143,18 +143,36 @@ StatusOr<TemperatureHistory> HistoryService::Temperatures(const TemperatureQuery
     values.clear();
     // Raw samples when they are few enough, else the hourly envelope (two
     // extreme points per hour), as the served offset does: a year is read
-    // as 17 520 points instead of 525 600.
+    // as 17 520 points instead of 525 600. Before the retention's horizon
+    // raw samples may be gone (only those near probe points remain), so
+    // that part always comes from the hourly rollup, which is kept for
+    // life; the part after it follows the same rule as before.
     const SampleStore::Extent extent = samples.RangeExtent(sensor.id, q.from_ms, q.to_ms);
-    const bool envelope =
-        extent.last_ms - extent.first_ms > static_cast<int64_t>(out.max_points) * 3600000 / 2;
+    const int64_t horizon = samples.RawDeletedBefore(sensor.id);
+    const bool thinned_part = q.from_ms < horizon;
+    const int64_t raw_from = thinned_part ? horizon : q.from_ms;
     auto add = [&](int64_t t, double v) {
       ts.push_back(t);
       values.push_back(v);
     };
-    if (envelope) {
-      for (const auto& [t, v] : samples.Envelope(sensor.id, q.from_ms, q.to_ms)) add(t, v);
-    } else {
-      samples.ScanRaw(sensor.id, q.from_ms, q.to_ms, add);
+    if (thinned_part) {
+      for (const auto& [t, v] :
+           samples.Envelope(sensor.id, q.from_ms, std::min(q.to_ms, horizon - 1))) {
+        add(t, v);
+      }
+    }
+    bool envelope = thinned_part;
+    if (raw_from <= q.to_ms) {
+      const SampleStore::Extent recent =
+          thinned_part ? samples.RangeExtent(sensor.id, raw_from, q.to_ms) : extent;
+      const bool recent_envelope =
+          recent.last_ms - recent.first_ms > static_cast<int64_t>(out.max_points) * 3600000 / 2;
+      if (recent_envelope) {
+        for (const auto& [t, v] : samples.Envelope(sensor.id, raw_from, q.to_ms)) add(t, v);
+      } else {
+        samples.ScanRaw(sensor.id, raw_from, q.to_ms, add);
+      }
+      envelope = envelope || recent_envelope;
     }
     out.sensors.push_back({sensor.name, sensor.location, static_cast<size_t>(extent.count),
                            envelope ? "hourly envelope" : "raw",

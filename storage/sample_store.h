@@ -1,5 +1,8 @@
-// SampleStore: raw temperature samples with their filtered values, and the
-// live filter state per sensor. Callers wrap writes in a Transaction.
+// SampleStore: raw temperature samples with their filtered values, the
+// live filter state per sensor, and each sensor's hourly rollup (count,
+// sum, min, max), which every insert keeps and which outlives the raw
+// samples: retention deletes raw samples (DeleteRaw), never the rollup.
+// Callers wrap writes in a Transaction.
 #pragma once
 
 #include <functional>
@@ -51,7 +54,48 @@ class SampleStore {
   };
   virtual Extent RangeExtent(int64_t sensor_id, int64_t from_ms, int64_t to_ms) = 0;
   virtual Status UpdateFiltered(int64_t sensor_id, int64_t ts_ms, double filtered) = 0;
+  // Samples ever received (the rollup's counts: deleted raw ones included).
   virtual int64_t CountForMachine(int64_t machine_id) = 0;
+
+  // One hour of the rollup: the raw samples received in it.
+  struct HourStats {
+    int64_t bucket_ms = 0, n = 0;  // start of the hour
+    double min = 0, mean = 0, max = 0;
+  };
+  // The rollup's hours whose start lies in [from rounded down to the hour,
+  // to], ascending; they stay when the raw samples are deleted.
+  virtual std::vector<HourStats> Hourly(int64_t sensor_id, int64_t from_ms, int64_t to_ms) = 0;
+
+  // Retention. One bounded step of deleting a sensor's raw samples with
+  // from <= ts < before: it looks at the next `limit` raw samples from
+  // `from` and deletes those farther than `keep_around_ms` from every
+  // probe point and column or positioning check of the sensor's machine.
+  // The rollup is not touched. Call again from next_from_ms until done.
+  struct RawDeletion {
+    int64_t examined = 0, deleted = 0, next_from_ms = 0;
+    bool done = false;
+  };
+  virtual StatusOr<RawDeletion> DeleteRaw(int64_t sensor_id, int64_t from_ms, int64_t before_ms,
+                                          int64_t keep_around_ms, int limit) = 0;
+  // Records that raw samples before `before_ms` may be deleted (never moves
+  // back); RawDeletedBefore is 0 for a sensor never thinned.
+  virtual Status SetRawDeletedBefore(int64_t sensor_id, int64_t before_ms) = 0;
+  virtual int64_t RawDeletedBefore(int64_t sensor_id) = 0;
+
+  // The archive file's pages, for giving back what deletions freed.
+  // auto_vacuum: 0 none, 1 full, 2 incremental.
+  struct FileSpace {
+    int64_t page_size = 0, pages = 0, free_pages = 0;
+    int auto_vacuum = 0;
+  };
+  virtual FileSpace Space() = 0;
+  // Switches the file to incremental auto-vacuum: a new file at once, an
+  // existing one by one VACUUM (rewrites the whole file; needs free disk
+  // of its size and no open transaction).
+  virtual Status EnableIncrementalVacuum() = 0;
+  // Gives at most `max_pages` free pages back to the file system (they
+  // leave the file at the next WAL checkpoint); returns how many.
+  virtual StatusOr<int64_t> ReleaseFreePages(int64_t max_pages) = 0;
 };
 
 }  // namespace thermocomp

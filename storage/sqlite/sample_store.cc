@@ -32,7 +32,7 @@ Status SqliteSampleStore::Insert(int64_t sensor_id, const std::vector<SampleRow>
   // Each hour's envelope of the new rows, written once per hour below.
   struct Hour {
     int64_t n = 0, min_ts = 0, max_ts = 0;
-    double min = 0, max = 0;
+    double min = 0, max = 0, sum = 0;
   };
   std::map<int64_t, Hour> hours;
   Statement q(db_, "INSERT INTO samples(sensor_id, ts_ms, value, filtered) VALUES (?, ?, ?, ?)");
@@ -50,13 +50,15 @@ Status SqliteSampleStore::Insert(int64_t sensor_id, const std::vector<SampleRow>
       h.max_ts = row.ts_ms;
     }
     ++h.n;
+    h.sum += row.value;
   }
   // Ties keep the earlier sample, as the migration's backfill does.
   Statement up(
       db_,
-      "INSERT INTO sample_rollup(sensor_id, bucket_ms, n, min_c, min_ts_ms, max_c, max_ts_ms)"
-      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)"
+      "INSERT INTO sample_rollup(sensor_id, bucket_ms, n, min_c, min_ts_ms, max_c, max_ts_ms,"
+      " sum_c) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)"
       " ON CONFLICT(sensor_id, bucket_ms) DO UPDATE SET n = n + excluded.n,"
+      " sum_c = sum_c + excluded.sum_c,"
       " min_ts_ms = CASE WHEN excluded.min_c < min_c OR (excluded.min_c = min_c AND"
       " excluded.min_ts_ms < min_ts_ms) THEN excluded.min_ts_ms ELSE min_ts_ms END,"
       " min_c = MIN(min_c, excluded.min_c),"
@@ -66,7 +68,7 @@ Status SqliteSampleStore::Insert(int64_t sensor_id, const std::vector<SampleRow>
   for (const auto& [bucket, h] : hours) {
     up.Reset();
     up.Bind(1, sensor_id).Bind(2, bucket).Bind(3, h.n).Bind(4, h.min).Bind(5, h.min_ts);
-    up.Bind(6, h.max).Bind(7, h.max_ts);
+    up.Bind(6, h.max).Bind(7, h.max_ts).Bind(8, h.sum);
     if (Status s = up.Run(); !s.ok()) return s;
   }
   return Status::Ok();
@@ -186,6 +188,106 @@ int64_t SqliteSampleStore::CountForMachine(int64_t machine_id) {
               " (SELECT id FROM sensors WHERE machine_id = ?)");
   q.Bind(1, machine_id);
   return q.Step() ? q.Int(0) : 0;
+}
+
+std::vector<SampleStore::HourStats> SqliteSampleStore::Hourly(int64_t sensor_id, int64_t from_ms,
+                                                              int64_t to_ms) {
+  Statement q(db_,
+              "SELECT bucket_ms, n, min_c, sum_c, max_c FROM sample_rollup"
+              " WHERE sensor_id = ? AND bucket_ms >= ? / 3600000 * 3600000 AND bucket_ms <= ?"
+              " ORDER BY bucket_ms");
+  q.Bind(1, sensor_id).Bind(2, std::max<int64_t>(from_ms, 0)).Bind(3, to_ms);
+  std::vector<HourStats> out;
+  while (q.Step()) {
+    const int64_t n = q.Int(1);
+    out.push_back(
+        {q.Int(0), n, q.Double(2), n > 0 ? q.Double(3) / static_cast<double>(n) : 0, q.Double(4)});
+  }
+  return out;
+}
+
+StatusOr<SampleStore::RawDeletion> SqliteSampleStore::DeleteRaw(int64_t sensor_id, int64_t from_ms,
+                                                                int64_t before_ms,
+                                                                int64_t keep_around_ms, int limit) {
+  RawDeletion d;
+  // The window looked at: the next `limit` raw samples, so a step costs
+  // the same however many samples near probe points it keeps.
+  Statement window(db_,
+                   "SELECT COUNT(*), MAX(ts_ms) FROM (SELECT ts_ms FROM samples"
+                   " WHERE sensor_id = ? AND ts_ms >= ? AND ts_ms < ? ORDER BY ts_ms LIMIT ?)");
+  window.Bind(1, sensor_id).Bind(2, from_ms).Bind(3, before_ms).Bind(4, int64_t{limit});
+  if (!window.Step()) return window.status().ok() ? Status::Internal("no window") : window.status();
+  d.examined = window.Int(0);
+  if (d.examined == 0) {
+    d.done = true;
+    d.next_from_ms = before_ms;
+    return d;
+  }
+  const int64_t last = window.Int(1);
+  // Kept: within keep_around of a probe point or a check of the machine
+  // (the analyses' lags and the checks' temperatures read them).
+  Statement del(db_,
+                "DELETE FROM samples WHERE sensor_id = ?1 AND ts_ms >= ?2 AND ts_ms <= ?3"
+                " AND NOT EXISTS (SELECT 1 FROM probe_points p JOIN runs r ON r.id = p.run_id"
+                "  WHERE p.ts_ms BETWEEN samples.ts_ms - ?4 AND samples.ts_ms + ?4"
+                "  AND r.machine_id = (SELECT machine_id FROM sensors WHERE id = ?1))"
+                " AND NOT EXISTS (SELECT 1 FROM column_checks c"
+                "  WHERE c.machine_id = (SELECT machine_id FROM sensors WHERE id = ?1)"
+                "  AND c.ts_ms BETWEEN samples.ts_ms - ?4 AND samples.ts_ms + ?4)"
+                " AND NOT EXISTS (SELECT 1 FROM positioning_checks c"
+                "  WHERE c.machine_id = (SELECT machine_id FROM sensors WHERE id = ?1)"
+                "  AND c.ts_ms BETWEEN samples.ts_ms - ?4 AND samples.ts_ms + ?4)");
+  del.Bind(1, sensor_id).Bind(2, from_ms).Bind(3, last).Bind(4, keep_around_ms);
+  if (Status s = del.Run(); !s.ok()) return s;
+  d.deleted = db_.Changes();
+  d.next_from_ms = last + 1;
+  d.done = d.examined < limit;
+  return d;
+}
+
+Status SqliteSampleStore::SetRawDeletedBefore(int64_t sensor_id, int64_t before_ms) {
+  Statement q(db_,
+              "INSERT INTO sample_retention(sensor_id, raw_deleted_before_ms) VALUES (?, ?)"
+              " ON CONFLICT(sensor_id) DO UPDATE SET raw_deleted_before_ms ="
+              " MAX(raw_deleted_before_ms, excluded.raw_deleted_before_ms)");
+  q.Bind(1, sensor_id).Bind(2, before_ms);
+  return q.Run();
+}
+
+int64_t SqliteSampleStore::RawDeletedBefore(int64_t sensor_id) {
+  Statement q(db_, "SELECT raw_deleted_before_ms FROM sample_retention WHERE sensor_id = ?");
+  q.Bind(1, sensor_id);
+  return q.Step() ? q.Int(0) : 0;
+}
+
+SampleStore::FileSpace SqliteSampleStore::Space() {
+  FileSpace f;
+  auto pragma = [&](const char* sql) {
+    Statement q(db_, sql);
+    return q.Step() ? q.Int(0) : 0;
+  };
+  f.page_size = pragma("PRAGMA page_size");
+  f.pages = pragma("PRAGMA page_count");
+  f.free_pages = pragma("PRAGMA freelist_count");
+  f.auto_vacuum = static_cast<int>(pragma("PRAGMA auto_vacuum"));
+  return f;
+}
+
+Status SqliteSampleStore::EnableIncrementalVacuum() {
+  // The mode is stored by the next VACUUM (at once in a file without tables).
+  if (Status s = db_.Exec("PRAGMA auto_vacuum = INCREMENTAL"); !s.ok()) return s;
+  if (Space().auto_vacuum == 2) return Status::Ok();
+  return db_.Exec("VACUUM");
+}
+
+StatusOr<int64_t> SqliteSampleStore::ReleaseFreePages(int64_t max_pages) {
+  const int64_t before = Space().free_pages;
+  Statement q(db_,
+              "PRAGMA incremental_vacuum(" + std::to_string(std::max<int64_t>(max_pages, 0)) + ")");
+  while (q.Step()) {
+  }
+  if (!q.status().ok()) return q.status();
+  return before - Space().free_pages;
 }
 
 }  // namespace thermocomp

@@ -30,6 +30,14 @@ class SqliteSampleStore final : public SampleStore {
   Extent RangeExtent(int64_t sensor_id, int64_t from_ms, int64_t to_ms) override;
   Status UpdateFiltered(int64_t sensor_id, int64_t ts_ms, double filtered) override;
   int64_t CountForMachine(int64_t machine_id) override;
+  std::vector<HourStats> Hourly(int64_t sensor_id, int64_t from_ms, int64_t to_ms) override;
+  StatusOr<RawDeletion> DeleteRaw(int64_t sensor_id, int64_t from_ms, int64_t before_ms,
+                                  int64_t keep_around_ms, int limit) override;
+  Status SetRawDeletedBefore(int64_t sensor_id, int64_t before_ms) override;
+  int64_t RawDeletedBefore(int64_t sensor_id) override;
+  FileSpace Space() override;
+  Status EnableIncrementalVacuum() override;
+  StatusOr<int64_t> ReleaseFreePages(int64_t max_pages) override;
 
  private:
   Database& db_;

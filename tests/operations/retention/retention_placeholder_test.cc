@@ -1,2 +1,0 @@
-// Placeholder until the retention tests land; removed with them.
-#include <gtest/gtest.h>
