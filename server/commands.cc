@@ -22,6 +22,7 @@
 #include "reports/analysis_report_codec.h"
 #include "reports/analysis_report_text.h"
 #include "reports/fit_report_codec.h"
+#include "server/background_work.h"
 #include "server/command_util.h"
 #include "server/demo_feed_axis.h"
 #include "server/live_simulation.h"
@@ -71,7 +72,8 @@ int Serve(const Args& a) {
   api::HttpServer http(**app);
   if (Status s = http.Start(config.listen_host, config.listen_port); !s.ok())
     return Fail(s.message());
-  (*app)->scheduler().Start(std::chrono::seconds(60));
+  BackgroundWork background(**app);
+  if (Status s = background.Start(); !s.ok()) return Fail(s.message());
   std::unique_ptr<dds::DdsBridge> bridge;
   if (dds) {
     dds::BridgeOptions options{config.dds_batch_max, config.dds_batch_max_delay_ms,
@@ -102,7 +104,7 @@ int Serve(const Args& a) {
   while (!g_stop) std::this_thread::sleep_for(std::chrono::milliseconds(200));
   (void)cli::NotifyServiceManager("STOPPING=1");
   if (bridge) bridge->Stop();
-  (*app)->scheduler().Stop();
+  background.Stop();
   http.Stop();
   log::Info("stopped");
   return 0;
