@@ -238,6 +238,14 @@ def exercise(base):
     call(base, "GET", f"{m}/temperatures?max_points=1", expect=400)
     call(base, "GET", "/api/v1/machines/nope/temperatures", expect=404)
     call(base, "GET", "/api/v1/overview", expect=200)
+    # The operator's conditions and the audit trail (docs/api.md, Alerts, Audit).
+    call(base, "GET", "/api/v1/alerts", expect=200)
+    call(base, "GET", "/api/v1/alerts?machine=sim-1", expect=400)
+    status, text = call(base, "GET", "/api/v1/audit?limit=2", expect=200)
+    if status == 200 and json.loads(text)["next"]:
+        call(base, "GET", "/api/v1/audit?limit=2&next=" + json.loads(text)["next"], expect=200)
+    call(base, "GET", f"/api/v1/audit?machine=sim-1&action=temperatures&from={ts}", expect=200)
+    call(base, "GET", "/api/v1/audit?limit=0", expect=400)
     call(base, "GET", "/api/v1/session", expect=200)
     call(base, "POST", "/api/v1/session", {"token": "x" * 20}, expect=409)
     call(base, "POST", "/api/v1/session", {"token": 5}, expect=400)
@@ -319,6 +327,7 @@ def exercise_sign_in(base):
     call(base, "GET", "/api/v1/session", expect=200,
          headers={"Authorization": "Bearer reader-token-0123456789"})
     call(base, "GET", "/api/v1/overview", expect=401)
+    call(base, "GET", "/api/v1/audit", expect=403, headers={"Authorization": "Bearer reader-token-0123456789"})
     call(base, "POST", "/api/v1/machines/sim-1/events", {"ts": "2026-01-01T00:00:00Z", "kind": "other"},
          expect=403, headers={"Authorization": "Bearer reader-token-0123456789"})
 
