@@ -50,6 +50,16 @@ install(FILES ${PROJECT_SOURCE_DIR}/deploy/cyclonedds.xml DESTINATION ${THERMOCO
 install(FILES ${PROJECT_SOURCE_DIR}/deploy/thermocomp.service DESTINATION /lib/systemd/system)
 install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/docs/operations.md
         DESTINATION share/doc/thermocomp)
+# What the plant's other services take from it: the TLS proxy's
+# configuration, the Prometheus rules and scrape example, the Grafana
+# dashboard (docs/operations.md, Exposure and TLS, Alerts).
+install(FILES ${PROJECT_SOURCE_DIR}/deploy/nginx/thermocomp.conf
+        DESTINATION share/doc/thermocomp/examples/nginx)
+install(FILES ${PROJECT_SOURCE_DIR}/deploy/prometheus/thermocomp-rules.yml
+              ${PROJECT_SOURCE_DIR}/deploy/prometheus/prometheus.yml
+        DESTINATION share/doc/thermocomp/examples/prometheus)
+install(FILES ${PROJECT_SOURCE_DIR}/deploy/grafana/thermocomp.json
+        DESTINATION share/doc/thermocomp/examples/grafana)
 
 # cpack installs what is built; it does not build every target first (the
 # tests and benchmarks take half an hour on two cores): build `thermocomp`,

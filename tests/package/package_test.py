@@ -115,6 +115,9 @@ def contents(build_dir, source_dir, version):
         "./etc/thermocomp/cyclonedds.xml": "-rw-r--r--",
         "./lib/systemd/system/thermocomp.service": "-rw-r--r--",
         "./usr/share/doc/thermocomp/operations.md": "-rw-r--r--",
+        "./usr/share/doc/thermocomp/examples/nginx/thermocomp.conf": "-rw-r--r--",
+        "./usr/share/doc/thermocomp/examples/prometheus/thermocomp-rules.yml": "-rw-r--r--",
+        "./usr/share/doc/thermocomp/examples/grafana/thermocomp.json": "-rw-r--r--",
     }
     for path, mode in expected.items():
         if path not in entries:
