@@ -51,7 +51,8 @@ HttpServer::Credentials HttpServer::CredentialsOf(const Req& req) {
 
 // The actor recorded in the audit: the token's name, or the client address.
 std::string HttpServer::Actor(const Req& req) {
-  return auth_.Decide(req.method, req.path, req.remote_addr, CredentialsOf(req).authorization)
+  return exposure()
+      ->auth.Decide(req.method, req.path, req.remote_addr, CredentialsOf(req).authorization)
       .actor;
 }
 
@@ -262,9 +263,21 @@ bool HasBody(const Req& req) {
 
 }  // namespace
 
+std::shared_ptr<const HttpServer::Exposure> HttpServer::ExposureOf(const Config& config) {
+  return std::make_shared<const Exposure>(Exposure{
+      Authorizer(config.tokens), std::make_shared<const ClientAddresses>(config.trusted_proxies),
+      config.allowed_hosts, config.access_log});
+}
+
+void HttpServer::Reload(const Config& config) {
+  std::shared_ptr<const Exposure> fresh = ExposureOf(config);
+  std::lock_guard<std::mutex> lock(exposure_mutex_);
+  exposure_ = std::move(fresh);
+}
+
 HttpServer::HttpServer(App& app)
     : app_(app),
-      auth_(app.config().tokens),
+      exposure_(ExposureOf(app.config())),
       sessions_(static_cast<size_t>(app.config().web_max_sessions),
                 static_cast<size_t>(app.config().web_max_sessions_per_token),
                 int64_t{app.config().web_session_hours} * 3600 * 1000),
@@ -312,17 +325,20 @@ std::string HttpServer::CompensationBody(const std::string& machine,
 void HttpServer::Routes() {
   auto& s = server_;
   const size_t max_body = app_.config().max_body_bytes;
-  // Who the request is from (api/client_address.h): the client a trusted
-  // proxy names, else the socket's peer.
-  auto clients = std::make_shared<const ClientAddresses>(app_.config().trusted_proxies);
-  s.set_pre_routing_handler([this, max_body, clients](const Req& req, Res& res) {
+  s.set_pre_routing_handler([this, max_body](const Req& req, Res& res) {
+    // One snapshot of what a reload may change, for the whole request.
+    const std::shared_ptr<const Exposure> exposure = this->exposure();
+    const Authorizer& auth = exposure->auth;
+    // Who the request is from (api/client_address.h): the client a trusted
+    // proxy names, else the socket's peer.
+    const ClientAddresses& clients = *exposure->clients;
     t_shed = false;
     t_facts = RequestFacts{};
     t_facts.routed = true;
     const std::string peer = req.remote_addr;
     const bool forwarded = req.has_header("X-Forwarded-For") || req.has_header("Forwarded");
     {
-      ClientAddress client = clients->Of(peer, ForwardedFor(req));
+      ClientAddress client = clients.Of(peer, ForwardedFor(req));
       t_facts.malformed_forward = client.malformed_forward;
       // Every consumer (the throttle, the audit's actor, the sign-in, the
       // log) sees the client; connection limits keep the socket's peer.
@@ -364,7 +380,7 @@ void HttpServer::Routes() {
     if (!IsProbe(req)) {
       const std::string why =
           HostRefusal(req.get_header_value("Host"), req.get_header_value_count("Host") == 1,
-                      app_.config().allowed_hosts, !auth_.open());
+                      exposure->allowed_hosts, !auth.open());
       if (!why.empty() || req.get_header_value_count("Host") > 1) {
         const std::string detail = why.empty() ? "more than one Host header" : why;
         return refuse(421, detail, {{0, "Host", detail}});
@@ -384,17 +400,17 @@ void HttpServer::Routes() {
     // is not from this host, whatever its socket says: from a proxy not
     // listed in server.trusted_proxies it is refused, so a proxy set up
     // without tokens cannot open the server to the network.
-    if (auth_.open() && forwarded && !IsProbe(req) && !clients->Trusted(peer)) {
+    if (auth.open() && forwarded && !IsProbe(req) && !clients.Trusted(peer)) {
       return refuse(403,
                     "forwarded by a proxy: without [[auth.tokens]] only clients on this host are "
                     "served (configure tokens, and server.trusted_proxies for the proxy)");
     }
     const Credentials credentials = CredentialsOf(req);
     auto decide = [&] {
-      return auth_.Decide(req.method, req.path, req.remote_addr, credentials.authorization);
+      return auth.Decide(req.method, req.path, req.remote_addr, credentials.authorization);
     };
     const std::string presented = req.get_header_value("Authorization");
-    const bool checked = !auth_.open() && !IsProbe(req) && !presented.empty();
+    const bool checked = !auth.open() && !IsProbe(req) && !presented.empty();
     AuthDecision d = checked ? Throttled(req.remote_addr, presented, decide) : decide();
     t_facts.actor = d.actor;
     if (!d.challenge.empty()) res.set_header("WWW-Authenticate", d.challenge);
@@ -430,8 +446,7 @@ void HttpServer::Routes() {
   });
   // Per request: its route's counters and latency (service/metrics.h)
   // and, unless server.access_log is off, one access log line.
-  const bool access_log = app_.config().access_log;
-  s.set_logger([this, access_log](const Req& req, const Res& res) {
+  s.set_logger([this](const Req& req, const Res& res) {
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                                       GuardedServer::RequestStarted())
                             .count();
@@ -439,7 +454,7 @@ void HttpServer::Routes() {
     app_.metrics().ObserveRequest(route, req.method, res.status, secs);
     if (res.status >= 500 && !t_shed)
       log::Error("request failed", "method=" + req.method + " path=" + Quoted(req.path));
-    if (access_log && log::Enabled(log::Level::kInfo)) {
+    if (log::Enabled(log::Level::kInfo) && exposure()->access_log) {
       static const std::string kUnmatched = RouteTable::kUnmatchedName;
       static const RequestFacts kUnrouted;
       const auto& names = server_.routes().templates();

@@ -5,6 +5,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <shared_mutex>
 #include <string>
@@ -18,6 +19,7 @@
 
 #include "api/auth.h"
 #include "api/auth_throttle.h"
+#include "api/client_address.h"
 #include "api/guarded_server.h"
 #include "api/web/web_sessions.h"
 
@@ -40,6 +42,13 @@ class HttpServer {
   Status Start(const std::string& host, int port);
   void Stop();
   int port() const { return port_; }
+  // Takes what may change while serving from a configuration read again
+  // (SIGHUP; docs/operations.md, Reload): the tokens, server.allowed_hosts,
+  // server.trusted_proxies and server.access_log. Requests in flight finish
+  // with what they started with; signed-in sessions stay (a session whose
+  // token was removed is refused from its next request on). Everything
+  // else takes effect at the next start.
+  void Reload(const Config& config);
   // One request from an in-memory stream, without a socket (fuzzing).
   bool ServeOne(httplib::Stream& stream) { return server_.ServeOne(stream); }
 
@@ -81,8 +90,21 @@ class HttpServer {
   // credentials").
   AuthDecision Throttled(const std::string& client, const std::string& presented,
                          const std::function<AuthDecision()>& check);
+  // What Reload replaces, read by each request as one snapshot.
+  struct Exposure {
+    Authorizer auth;
+    std::shared_ptr<const ClientAddresses> clients;
+    std::vector<std::string> allowed_hosts;
+    bool access_log = true;
+  };
+  static std::shared_ptr<const Exposure> ExposureOf(const Config& config);
+  std::shared_ptr<const Exposure> exposure() const {
+    std::lock_guard<std::mutex> lock(exposure_mutex_);
+    return exposure_;
+  }
   App& app_;
-  Authorizer auth_;
+  mutable std::mutex exposure_mutex_;
+  std::shared_ptr<const Exposure> exposure_;
   WebSessions sessions_;
   AuthThrottle auth_throttle_;
   std::shared_mutex rendered_mutex_;

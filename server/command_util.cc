@@ -189,5 +189,9 @@ std::atomic<bool> g_stop{false};
 void OnSignal(int) {
   g_stop = true;
 }
+std::atomic<bool> g_reload{false};
+void OnReload(int) {
+  g_reload = true;
+}
 
 }  // namespace thermocomp::cli

@@ -79,6 +79,9 @@ std::string Describe(const IngestResult& r);
 // Set by SIGINT/SIGTERM in long-running commands.
 extern std::atomic<bool> g_stop;
 void OnSignal(int);
+// SIGHUP: read the configuration again (serve).
+extern std::atomic<bool> g_reload;
+void OnReload(int);
 
 int Import(const Args& a);
 int Simulate(const Args& a);

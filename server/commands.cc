@@ -47,6 +47,30 @@ using cli::ReadFile;
 using cli::SimulateIntoApp;
 
 // ---------------------------------------------------------------- serve
+// SIGHUP (systemctl reload): the configuration is read again and what may
+// change while serving is applied: the tokens, server.allowed_hosts,
+// server.trusted_proxies, server.access_log (api::HttpServer::Reload) and
+// log.level. Everything else waits for the next start. A file that does
+// not load, or tokens removed from a network address, change nothing.
+void ReloadConfiguration(const Args& a, const Config& running, api::HttpServer& http) {
+  (void)cli::NotifyServiceManager("RELOADING=1");
+  auto fresh = LoadWithOverrides(a);
+  std::string refusal = fresh.ok() ? api::ExposureRefusal(running.listen_host, fresh->tokens,
+                                                          fresh->allow_network_without_tokens)
+                                   : fresh.status().message();
+  if (!refusal.empty()) {
+    log::Error("configuration not reloaded", "error=\"" + refusal + "\"");
+  } else {
+    http.Reload(*fresh);
+    log::SetLevel(fresh->log_level);
+    log::Info("configuration reloaded",
+              "applied=\"auth.tokens server.allowed_hosts server.trusted_proxies "
+              "server.access_log log.level\" tokens=" +
+                  std::to_string(fresh->tokens.size()));
+  }
+  (void)cli::NotifyServiceManager("READY=1");
+}
+
 int Serve(const Args& a) {
   static const SystemClock clock;
   auto loaded = LoadWithOverrides(a);
@@ -101,7 +125,11 @@ int Serve(const Args& a) {
       !s.ok()) {
     log::Warn("cannot notify the service manager", "error=\"" + s.message() + "\"");
   }
-  while (!g_stop) std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  std::signal(SIGHUP, cli::OnReload);
+  while (!g_stop) {
+    if (cli::g_reload.exchange(false)) ReloadConfiguration(a, config, http);
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
   (void)cli::NotifyServiceManager("STOPPING=1");
   if (bridge) bridge->Stop();
   background.Stop();

@@ -31,12 +31,14 @@ inline int FreePort() {
 }
 
 // `thermocomp serve --db db --listen 127.0.0.1:port [extra...]`, returned
-// once /healthz answers; -1 if it did not start.
-inline pid_t StartServer(const std::string& db, int port, std::vector<std::string> extra = {}) {
+// once /healthz answers; -1 if it did not start. Its log (stderr) goes to
+// `log_path`.
+inline pid_t StartServer(const std::string& db, int port, std::vector<std::string> extra = {},
+                         const std::string& log_path = "/dev/null") {
   pid_t pid = fork();
   if (pid == 0) {
     freopen("/dev/null", "w", stdout);
-    freopen("/dev/null", "w", stderr);
+    freopen(log_path.c_str(), "w", stderr);
     std::vector<std::string> args = {"thermocomp", "serve",    "--db",
                                      db,           "--listen", "127.0.0.1:" + std::to_string(port),
                                      "--create"};

@@ -46,7 +46,7 @@ void HttpServer::SessionRoutes() {
     auto secret = f.String("token", JsonFields::kRequired, 512);
     if (secret && secret->empty()) errors.push_back({0, "token", "must not be empty"});
     if (!errors.empty() || !secret) return WriteProblem(res, 400, "invalid sign-in", errors);
-    if (auth_.open()) {
+    if (exposure()->auth.open()) {
       return WriteProblem(res, 409,
                           "no access tokens are configured: the pages work without signing in "
                           "(loopback clients only)");
@@ -55,7 +55,7 @@ void HttpServer::SessionRoutes() {
     // token is never refused, and a success forgets no failure.
     std::optional<AccessToken> token;
     const AuthDecision d = Throttled(req.remote_addr, "Bearer " + *secret, [&] {
-      token = auth_.FindToken(*secret);
+      token = exposure()->auth.FindToken(*secret);
       AuthDecision found;
       if (!token) {
         found.status = 401;
@@ -82,7 +82,7 @@ void HttpServer::SessionRoutes() {
     WriteJson(res, out, 201);
   });
   s.Get(path, [this](const Req& req, Res& res) {
-    if (auth_.open()) {
+    if (exposure()->auth.open()) {
       // Every loopback client may do everything (docs/api.md, Authentication).
       return WriteJson(res, Identity("open", {"local", "", "admin", ""}));
     }
@@ -95,7 +95,7 @@ void HttpServer::SessionRoutes() {
     }
     const std::string bearer = "Bearer ";
     if (c.authorization.rfind(bearer, 0) == 0) {
-      if (auto t = auth_.FindToken(c.authorization.substr(bearer.size()))) {
+      if (auto t = exposure()->auth.FindToken(c.authorization.substr(bearer.size()))) {
         return WriteJson(res, Identity("bearer", *t));
       }
     }
