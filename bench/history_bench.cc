@@ -51,9 +51,11 @@ std::unique_ptr<App> BuildYear(const Config& config, const Clock& clock) {
     }
     // The hourly envelope the inserts above bypassed, as migration 0006 fills it.
     db.Exec(
-        "INSERT INTO sample_rollup SELECT lo.sensor_id, lo.bucket, lo.n, lo.v, lo.ts, hi.v, hi.ts"
+        "INSERT INTO sample_rollup(sensor_id, bucket_ms, n, min_c, min_ts_ms, max_c, max_ts_ms,"
+        " sum_c) SELECT lo.sensor_id, lo.bucket, lo.n, lo.v, lo.ts, hi.v, hi.ts, lo.total"
         " FROM (SELECT sensor_id, ts_ms / 3600000 * 3600000 AS bucket, COUNT(*) AS n,"
-        " MIN(value) AS v, ts_ms AS ts FROM samples GROUP BY sensor_id, bucket) lo"
+        " MIN(value) AS v, ts_ms AS ts, SUM(value) AS total FROM samples"
+        " GROUP BY sensor_id, bucket) lo"
         " JOIN (SELECT sensor_id, ts_ms / 3600000 * 3600000 AS bucket, MAX(value) AS v,"
         " ts_ms AS ts FROM samples GROUP BY sensor_id, bucket) hi USING (sensor_id, bucket)");
     Statement run(db.handle(), "INSERT INTO runs(machine_id, name, first_ts_ms) VALUES (1, ?, ?)");

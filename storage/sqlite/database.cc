@@ -141,9 +141,12 @@ StatusOr<std::unique_ptr<Database>> Database::Open(const std::string& path,
   if (options.synchronous != "full" && options.synchronous != "normal") {
     return Status::InvalidArgument("database.synchronous must be \"full\" or \"normal\"");
   }
+  // auto_vacuum first: it takes effect only before the first table exists,
+  // so a new archive can give pages back after retention without a
+  // VACUUM (service/operations/retention.h); an existing one is unchanged.
   for (const std::string& pragma :
-       {std::string("PRAGMA journal_mode=WAL"), std::string("PRAGMA foreign_keys=ON"),
-        "PRAGMA synchronous=" + options.synchronous}) {
+       {std::string("PRAGMA auto_vacuum=INCREMENTAL"), std::string("PRAGMA journal_mode=WAL"),
+        std::string("PRAGMA foreign_keys=ON"), "PRAGMA synchronous=" + options.synchronous}) {
     Status s = db->Exec(pragma);
     if (!s.ok()) return s;
   }

@@ -1,6 +1,6 @@
 // What `thermocomp serve` runs beside its requests (server/background_work.h),
 // with the real binary and its configuration file: scheduled backups land
-// in backup.dir, retention switches the file to incremental auto-vacuum,
+// in backup.dir, the archive is in incremental auto-vacuum for retention,
 // and a condition reaches the webhook's receiver on loopback.
 #include "tests/app_fixture.h"  // first: Eigen before httplib.h (see api/http_server.h)
 
@@ -60,7 +60,7 @@ class ServeBackgroundTest : public ::testing::Test {
   fs::path dir_;
 };
 
-TEST_F(ServeBackgroundTest, BackupsAreWrittenAndRetentionSwitchesToIncrementalVacuum) {
+TEST_F(ServeBackgroundTest, BackupsAreWrittenAndTheArchiveGivesPagesBack) {
   const fs::path backups = dir_ / "backups";
   fs::create_directories(backups);
   const std::string config = Config("[backup]\ndir = \"" + backups.string() +
@@ -70,7 +70,8 @@ TEST_F(ServeBackgroundTest, BackupsAreWrittenAndRetentionSwitchesToIncrementalVa
   ASSERT_GT(server.pid(), 0);
   ASSERT_TRUE(WaitFor([&] { return Backups(backups).size() == 1; }))
       << "no backup in " << backups << " within " << kPatience.count() << " s";
-  // The retention's first run switches the file to incremental auto-vacuum.
+  // A new archive is made in incremental auto-vacuum (retention gives the
+  // pages of deleted samples back without rewriting the file).
   ASSERT_TRUE(WaitFor([&] {
     sqlite3* db = nullptr;
     int mode = -1;
