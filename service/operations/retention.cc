@@ -55,7 +55,15 @@ StatusOr<Retention::Outcome> Retention::Run() {
   // Each step in a session and transaction of its own: others get the
   // archive between steps.
   for (int64_t sensor : sensors) {
+    // What lies before the last run's horizon was examined then: deleted,
+    // or kept for good near a point or check. Only what crossed the horizon
+    // since is looked at, so a run costs a day of samples, not the archive.
     int64_t from = 0;
+    {
+      const std::unique_ptr<Session> session = storage_.Open();
+      from = session->samples().RawDeletedBefore(sensor);
+    }
+    if (from >= out.cutoff_ms) continue;
     bool first = true;
     for (bool done = false; !done;) {
       const std::unique_ptr<Session> session = storage_.Open();

@@ -221,6 +221,15 @@ TEST_F(RetentionTest, DeletesOldRawSamplesKeepsThoseNearProbePointsAndServesTheY
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r->sensors[0].source, "raw");
   EXPECT_EQ(r->sensors[0].points.size(), static_cast<size_t>(5 * kDay / step));
+
+  // A day later the next run looks only at the day that crossed the
+  // horizon, not again at the samples it kept near the point.
+  clock.Advance(kDay);
+  auto next_day = retention.Tick();
+  ASSERT_TRUE(next_day.ok()) << next_day.status().message();
+  EXPECT_TRUE(next_day->ran);
+  EXPECT_EQ(next_day->examined, kDay / step);
+  EXPECT_EQ(next_day->deleted, kDay / step);
 }
 
 TEST_F(RetentionTest, OffKeepsEverything) {
