@@ -403,8 +403,24 @@ def with_tokens(d, s):
     check(any(r.startswith(f"{machine} Y v{target} ") for r in row),
           f"overview shows the activated version {machine} Y v{target} {row}")
 
+    # The audit trail names the activation, and the filter narrows it to it.
+    open_page(d, s, "/ui/audit", "audit-admin")
+    entries = d.find_elements(By.CSS_SELECTOR, "#audit-entries tbody tr")
+    check(any("activate" in r.text and "admin-user" in r.text for r in entries),
+          f"the audit page lists the activation ({len(entries)} entries)")
+    d.find_element(By.ID, "audit-action").send_keys("activate")
+    d.find_element(By.CSS_SELECTOR, "#audit-filters button[type=submit]").click()
+    WebDriverWait(d, 10).until(lambda x: all(
+        "activate" in r.text for r in x.find_elements(By.CSS_SELECTOR, "#audit-entries tbody tr")))
+    check(0 < len(d.find_elements(By.CSS_SELECTOR, "#audit-entries tbody tr")) < len(entries),
+          "the action filter keeps the activations only")
+    shot(d, "audit-filtered")
+    console_errors(d, "audit")
+
     # A reader sees no write buttons, and a forged write is refused.
     sign_in(d, s, "reader")
+    open_page(d, s, "/ui/audit", "audit-reader")
+    check(bool(d.find_elements(By.ID, "not-admin")), "a reader is told the audit trail is the admins'")
     open_page(d, s, "/ui/machines/sim-1/axes/Y/models", "models-reader")
     check(not d.find_elements(By.CSS_SELECTOR, "button.activate"), "a reader sees no activate button")
     open_page(d, s, "/ui/checks", "checks-reader")
