@@ -28,6 +28,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -423,7 +424,8 @@ int Run(int machines, int days, const std::string& policy) {
       "(%s); rollup count per sensor equals acknowledged for %lld of %lld sensors; "
       "rejected requests %lld\n",
       static_cast<long long>(total_ack), static_cast<long long>(raw_rows),
-      static_cast<long long>(total_deleted), static_cast<long long>(raw_rows + total_deleted),
+      static_cast<long long>(total_deleted),
+      static_cast<long long>(raw_rows) + static_cast<long long>(total_deleted),
       raw_rows + total_deleted == total_ack ? "equal" : "NOT EQUAL",
       static_cast<long long>(sensors_checked - sensors_wrong),
       static_cast<long long>(sensors_checked), static_cast<long long>(rejected_requests));
@@ -447,8 +449,13 @@ int Run(int machines, int days, const std::string& policy) {
 }  // namespace thermocomp
 
 int main(int argc, char** argv) {
-  const int machines = argc > 1 ? std::atoi(argv[1]) : 50;
-  const int days = argc > 2 ? std::atoi(argv[2]) : 30;
-  const std::string policy = argc > 3 ? argv[3] : "propose";
-  return thermocomp::Run(machines, days, policy);
+  try {
+    const int machines = argc > 1 ? std::atoi(argv[1]) : 50;
+    const int days = argc > 2 ? std::atoi(argv[2]) : 30;
+    const std::string policy = argc > 3 ? argv[3] : "propose";
+    return thermocomp::Run(machines, days, policy);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "soak_bench: %s\n", e.what());
+    return 1;
+  }
 }
