@@ -12,7 +12,7 @@ namespace {
 // More hops than any plant's proxies add: beyond, the header is not trusted.
 constexpr size_t kMaxHops = 32;
 
-std::string_view Trim(std::string_view s) {
+std::string_view TrimSpaces(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
   return s;
@@ -61,7 +61,7 @@ ClientAddress ClientAddresses::Of(const std::string& peer,
     std::string_view rest = header;
     while (true) {
       const size_t comma = rest.find(',');
-      const std::string_view hop = Trim(rest.substr(0, comma));
+      const std::string_view hop = TrimSpaces(rest.substr(0, comma));
       if (!ParseIp(hop) || hops.size() == kMaxHops) {
         client.malformed_forward = true;
         return client;

@@ -12,7 +12,7 @@
 namespace thermocomp {
 namespace {
 
-std::string Um(double mm) {
+std::string Micrometres(double mm) {
   char text[32];
   std::snprintf(text, sizeof text, "%.1f µm", mm * 1000.0);
   return text;
@@ -128,9 +128,9 @@ std::vector<Alert> EvaluateAlerts(App& app, const std::vector<MachineWatch>& wat
         std::snprintf(ratio, sizeof ratio, "%g", config.alert_model_error_ratio);
         undated.push_back(out.size());
         out.push_back({kAlertModelGoneBad, w.name, o.axis, now,
-                       "recent error " + Um(*h.recent_rmse_mm) + " over " +
+                       "recent error " + Micrometres(*h.recent_rmse_mm) + " over " +
                            std::to_string(h.recent_points) + " probe points exceeds " + ratio +
-                           " × the validated " + Um(*h.validated_rmse_mm)});
+                           " × the validated " + Micrometres(*h.validated_rmse_mm)});
       }
     }
     if (!w.compensation) continue;

@@ -9,16 +9,16 @@
 #include <utility>
 
 #include "core/log.h"
+#include "core/time_units.h"
 
 namespace thermocomp {
 namespace {
 
 constexpr const char* kPrefix = "thermocomp-";
 constexpr const char* kSuffix = "Z.db";
-constexpr int64_t kHourMs = 3600 * 1000;
 
 // A value for a logfmt field: quoted, its own quotes escaped.
-std::string Quoted(const std::string& text) {
+std::string QuotedPath(const std::string& text) {
   std::string out = "\"";
   for (char c : text) {
     if (c == '"' || c == '\\') out += '\\';
@@ -101,7 +101,7 @@ Status BackupSchedule::Tick() {
   if (!s.ok()) {
     last_failure_ms_ = now;
     log::Error("backup failed",
-               "file=" + Quoted(path) + " error=" + Quoted(s.message()) +
+               "file=" + QuotedPath(path) + " error=" + QuotedPath(s.message()) +
                    " retry_in_s=" + std::to_string(options_.retry_after_ms / 1000));
     return s;
   }
@@ -109,7 +109,7 @@ Status BackupSchedule::Tick() {
   last_backup_ms_ = now;
   struct stat st {};
   const int64_t bytes = stat(path.c_str(), &st) == 0 ? st.st_size : -1;
-  log::Info("backup written", "file=" + Quoted(path) + " bytes=" + std::to_string(bytes) +
+  log::Info("backup written", "file=" + QuotedPath(path) + " bytes=" + std::to_string(bytes) +
                                   " ms=" + std::to_string(clock_.MonotonicMs() - started));
   return Rotate();
 }
@@ -123,10 +123,10 @@ Status BackupSchedule::Rotate() {
     std::error_code ec;
     if (std::filesystem::remove(old, ec)) {
       log::Info("backup deleted",
-                "file=" + Quoted(old.string()) + " keep=" + std::to_string(options_.keep));
+                "file=" + QuotedPath(old.string()) + " keep=" + std::to_string(options_.keep));
     } else if (ec) {
       log::Error("backup not deleted",
-                 "file=" + Quoted(old.string()) + " error=" + Quoted(ec.message()));
+                 "file=" + QuotedPath(old.string()) + " error=" + QuotedPath(ec.message()));
       result = Status::Unavailable("cannot delete " + old.string() + ": " + ec.message());
     }
   }
@@ -139,7 +139,7 @@ void BackupSchedule::Start(std::chrono::milliseconds poll) {
     std::lock_guard<std::mutex> lock(wake_mutex_);
     stopping_ = false;
   }
-  log::Info("backups scheduled", "dir=" + Quoted(options_.dir) +
+  log::Info("backups scheduled", "dir=" + QuotedPath(options_.dir) +
                                      " every_h=" + std::to_string(options_.every_h) +
                                      " keep=" + std::to_string(options_.keep));
   thread_ = std::thread([this, poll] {

@@ -25,7 +25,7 @@ std::string Escape(const std::string& value) {
   return out;
 }
 
-std::string Number(double v) {
+std::string GaugeNumber(double v) {
   char text[40];
   std::snprintf(text, sizeof text, "%.9g", v);
   return text;
@@ -47,7 +47,7 @@ class Family {
       }
       text_ += "}";
     }
-    text_ += " " + Number(value) + "\n";
+    text_ += " " + GaugeNumber(value) + "\n";
   }
   const std::string& text() const { return text_; }
 

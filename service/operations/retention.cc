@@ -4,13 +4,12 @@
 #include <vector>
 
 #include "core/log.h"
+#include "core/time_units.h"
 #include "storage/machine_store.h"
 #include "storage/sample_store.h"
 
 namespace thermocomp {
 namespace {
-
-constexpr int64_t kHourMs = 3600 * 1000;
 
 int64_t UsedBytes(const SampleStore::FileSpace& f) {
   return (f.pages - f.free_pages) * f.page_size;

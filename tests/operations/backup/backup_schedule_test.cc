@@ -23,7 +23,7 @@ constexpr int64_t kHour = 3600 * 1000;
 // 2026-11-25T06:00:00Z
 constexpr int64_t kStart = 1795586400000;
 
-std::string Slurp(const fs::path& p) {
+std::string ReadFile(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::stringstream ss;
   ss << in.rdbuf();
@@ -104,7 +104,7 @@ TEST_F(BackupScheduleTest, KeepsTheNewestAndLeavesOtherFilesAlone) {
   for (const auto& name : newest) {
     EXPECT_EQ(Machines(backups_ / name), 1) << name;  // a complete database
   }
-  for (const auto& [name, text] : foreign) EXPECT_EQ(Slurp(backups_ / name), text) << name;
+  for (const auto& [name, text] : foreign) EXPECT_EQ(ReadFile(backups_ / name), text) << name;
   EXPECT_TRUE(fs::is_directory(backups_ / "thermocomp-20200102T000000Z.db"));
   // Nothing half-written left behind.
   for (const auto& entry : fs::directory_iterator(backups_)) {
@@ -120,14 +120,14 @@ TEST_F(BackupScheduleTest, AnExistingNameIsNeverOverwritten) {
   Write(taken, "not a backup, but it has the name");
   const Status s = schedule.Tick();
   EXPECT_EQ(s.code(), Status::Code::kConflict) << s.ToString();
-  EXPECT_EQ(Slurp(taken), "not a backup, but it has the name");
+  EXPECT_EQ(ReadFile(taken), "not a backup, but it has the name");
   // Retried after the pause, under the time's new name.
   clock_.Advance(5 * 60 * 1000);
   EXPECT_FALSE(schedule.Due());
   clock_.Advance(5 * 60 * 1000);
   ASSERT_TRUE(schedule.Tick().ok());
   EXPECT_EQ(Machines(backups_ / BackupSchedule::FileName(clock_.NowMs())), 1);
-  EXPECT_EQ(Slurp(taken), "not a backup, but it has the name");
+  EXPECT_EQ(ReadFile(taken), "not a backup, but it has the name");
 }
 
 TEST_F(BackupScheduleTest, ARestartWaitsForTheNewestBackupToAge) {

@@ -10,7 +10,7 @@
 namespace thermocomp::testing {
 namespace {
 
-constexpr const char* kReaderToken = "reader-token-0123456789";
+constexpr const char* kForwardedReader = "reader-token-0123456789";
 
 class ForwardedFor : public ::testing::Test {
  protected:
@@ -20,7 +20,7 @@ class ForwardedFor : public ::testing::Test {
               "[server]\nthreads = 8\ntrusted_proxies = " + trusted_proxies + "\n" + extra_server +
                   "\n[auth]\nmax_failures = 2\nfailure_window_s = 3600\n"
                   "[[auth.tokens]]\nname = \"reader-1\"\ntoken = \"" +
-                  kReaderToken + "\"\nrole = \"reader\"\n");
+                  kForwardedReader + "\"\nrole = \"reader\"\n");
     port_ = FreePort();
     server_.Reset(StartLogged(dir_, dir_ / "thermocomp.toml", port_));
     ASSERT_GT(server_.pid(), 0) << ReadText(dir_ / "serve.log");
@@ -49,7 +49,7 @@ class ForwardedFor : public ::testing::Test {
 
 TEST_F(ForwardedFor, FromATrustedProxyTheForwardedClientIsLoggedAndThrottled) {
   Start("[\"127.0.0.1\"]");
-  ASSERT_EQ(Get("/api/v1/overview?limit=5", kReaderToken, "192.0.2.50"), 200);
+  ASSERT_EQ(Get("/api/v1/overview?limit=5", kForwardedReader, "192.0.2.50"), 200);
   auto lines = Logged({"msg=\"request\"", "path=/api/v1/overview ", "client=192.0.2.50"});
   ASSERT_EQ(lines.size(), 1U) << ReadText(dir_ / "serve.log");
   const std::string& line = lines[0];
@@ -62,7 +62,7 @@ TEST_F(ForwardedFor, FromATrustedProxyTheForwardedClientIsLoggedAndThrottled) {
   EXPECT_NE(line.find("actor=token:reader-1 "), std::string::npos) << line;
   // Never the query string or the token.
   EXPECT_EQ(line.find("limit"), std::string::npos) << line;
-  EXPECT_EQ(ReadText(dir_ / "serve.log").find(kReaderToken), std::string::npos);
+  EXPECT_EQ(ReadText(dir_ / "serve.log").find(kForwardedReader), std::string::npos);
 
   // Two failed credentials from one forwarded client throttle that client,
   // not another one behind the same proxy.
@@ -74,7 +74,7 @@ TEST_F(ForwardedFor, FromATrustedProxyTheForwardedClientIsLoggedAndThrottled) {
   EXPECT_EQ(Logged({"status=401 ", "client=192.0.2.61", "actor=anonymous"}).size(), 1U);
 
   // A header that is not a list of addresses: the peer, and the log says so.
-  ASSERT_EQ(Get("/api/v1/machines", kReaderToken, "somewhere, else"), 200);
+  ASSERT_EQ(Get("/api/v1/machines", kForwardedReader, "somewhere, else"), 200);
   lines = Logged({"path=/api/v1/machines ", "forwarded=\"malformed\""});
   ASSERT_EQ(lines.size(), 1U) << ReadText(dir_ / "serve.log");
   EXPECT_NE(lines[0].find("client=127.0.0.1"), std::string::npos) << lines[0];
@@ -82,7 +82,7 @@ TEST_F(ForwardedFor, FromATrustedProxyTheForwardedClientIsLoggedAndThrottled) {
 
 TEST_F(ForwardedFor, FromAnyOtherPeerTheHeaderIsIgnored) {
   Start("[\"192.0.2.1\"]");  // a proxy elsewhere: this peer is not it
-  ASSERT_EQ(Get("/api/v1/overview", kReaderToken, "192.0.2.50"), 200);
+  ASSERT_EQ(Get("/api/v1/overview", kForwardedReader, "192.0.2.50"), 200);
   auto lines = Logged({"msg=\"request\"", "path=/api/v1/overview "});
   ASSERT_EQ(lines.size(), 1U) << ReadText(dir_ / "serve.log");
   EXPECT_NE(lines[0].find("client=127.0.0.1"), std::string::npos) << lines[0];
@@ -119,8 +119,8 @@ TEST_F(ForwardedFor, WithoutTokensAForwardedRequestIsNotLocal) {
 
 TEST_F(ForwardedFor, TheAccessLogIsOffWhenConfigured) {
   Start("[]", "access_log = false");
-  ASSERT_EQ(Get("/api/v1/machines", kReaderToken, ""), 200);
-  ASSERT_EQ(Get("/api/v1/nothing-here", kReaderToken, ""), 404);
+  ASSERT_EQ(Get("/api/v1/machines", kForwardedReader, ""), 200);
+  ASSERT_EQ(Get("/api/v1/nothing-here", kForwardedReader, ""), 404);
   // The server is still logging: a failed request's error line would show.
   server_.Kill(SIGTERM);
   EXPECT_TRUE(LinesWith(ReadText(dir_ / "serve.log"), {"msg=\"request\""}).empty())

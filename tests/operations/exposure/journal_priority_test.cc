@@ -18,7 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Slurp(const fs::path& p) {
+std::string ReadLog(const fs::path& p) {
   std::ifstream in(p);
   std::stringstream ss;
   ss << in.rdbuf();
@@ -42,7 +42,7 @@ std::string ServeLog(const fs::path& dir, bool as_journal) {
   unsetenv("JOURNAL_STREAM");
   EXPECT_GT(server.pid(), 0);
   server.Kill(SIGTERM);
-  return Slurp(log);
+  return ReadLog(log);
 }
 
 TEST(JournalPriority, LinesCarryTheirPriorityOnlyWhenStderrIsTheJournal) {
