@@ -81,9 +81,10 @@ set(CPACK_DEBIAN_PACKAGE_SECTION misc)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 # The shared libraries' packages come from dpkg-shlibdeps (dpkg-dev), run on
 # the binary; the rest is what the program reads or its scripts call: the
-# charting library of the pages, the zone database, adduser for the user.
+# charting library of the pages, the zone database, adduser for the user,
+# procps for the unit's ExecReload (/bin/kill).
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser, libjs-dygraphs, tzdata")
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser, libjs-dygraphs, procps, tzdata")
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
     ${PROJECT_SOURCE_DIR}/deploy/debian/conffiles ${PROJECT_SOURCE_DIR}/deploy/debian/postinst

@@ -146,7 +146,7 @@ def contents(build_dir, source_dir, version):
     depends = control_field(deb, "Depends")
     print("Depends: " + depends)
     depended = {d.strip().split()[0] for d in re.split(r"[,|]", depends) if d.strip()}
-    for package in ("adduser", "libjs-dygraphs", "tzdata"):
+    for package in ("adduser", "libjs-dygraphs", "procps", "tzdata"):
         if package not in depended:
             fail("Depends lacks " + package)
 
@@ -236,6 +236,10 @@ def unit(build_dir, source_dir, version):
         shutil.copytree("/lib/systemd/system", os.path.join(root, "lib/systemd/system"),
                         symlinks=True)
         extract(deb, root)
+        # ExecReload's /bin/kill comes from procps, which Depends names: the
+        # system's own copy stands for it in the root.
+        os.makedirs(os.path.join(root, "bin"), exist_ok=True)
+        shutil.copy2("/bin/kill", os.path.join(root, "bin/kill"))
         unit_file = os.path.join(root, "lib/systemd/system/thermocomp.service")
         with open(unit_file) as f:
             text = f.read()
