@@ -158,24 +158,11 @@ int RefitScheduler::TickFeedAxes() {
 }
 
 void RefitScheduler::Start(std::chrono::milliseconds period) {
-  thread_ = std::thread([this, period] {
-    std::unique_lock<std::mutex> lock(mutex_);
-    while (!stop_) {
-      lock.unlock();
-      Tick();
-      lock.lock();
-      wake_.wait_for(lock, period, [this] { return stop_; });
-    }
-  });
+  task_.Start(period, [this] { Tick(); });
 }
 
 void RefitScheduler::Stop() {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stop_ = true;
-  }
-  wake_.notify_all();
-  if (thread_.joinable()) thread_.join();
+  task_.Stop();
 }
 
 }  // namespace thermocomp

@@ -12,12 +12,10 @@
 
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <map>
-#include <mutex>
-#include <thread>
 
 #include "core/clock.h"
+#include "core/periodic_task.h"
 #include "service/analysis_service.h"
 #include "service/check_service.h"
 #include "service/config.h"
@@ -62,10 +60,7 @@ class RefitScheduler {
   // Per "machine/axis": the newest check a failed feed fit was tried with,
   // so a refit that cannot succeed is not repeated every pass.
   std::map<std::string, int64_t> feed_failed_at_;
-  std::thread thread_;
-  std::mutex mutex_;
-  std::condition_variable wake_;
-  bool stop_ = false;
+  PeriodicTask task_;  // last: stopped before the members it uses go
 };
 
 }  // namespace thermocomp

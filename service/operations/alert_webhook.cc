@@ -133,29 +133,11 @@ int AlertMonitor::Tick() {
 }
 
 void AlertMonitor::Start(std::chrono::milliseconds period) {
-  if (thread_.joinable()) return;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stop_ = false;
-  }
-  thread_ = std::thread([this, period] {
-    std::unique_lock<std::mutex> lock(mutex_);
-    while (!stop_) {
-      lock.unlock();
-      Tick();
-      lock.lock();
-      wake_.wait_for(lock, period, [this] { return stop_; });
-    }
-  });
+  task_.Start(period, [this] { Tick(); });
 }
 
 void AlertMonitor::Stop() {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stop_ = true;
-  }
-  wake_.notify_all();
-  if (thread_.joinable()) thread_.join();
+  task_.Stop();
 }
 
 }  // namespace thermocomp

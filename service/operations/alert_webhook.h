@@ -24,6 +24,7 @@
 #include <string>
 #include <thread>
 
+#include "core/periodic_task.h"
 #include "core/status.h"
 #include "service/app.h"
 #include "service/operations/alerts.h"
@@ -97,10 +98,7 @@ class AlertMonitor {
   AlertWebhook* webhook_;
   std::mutex tick_mutex_;
   std::map<std::string, Alert> active_;  // by Alert::Key()
-  std::mutex mutex_;
-  std::condition_variable wake_;
-  bool stop_ = false;
-  std::thread thread_;
+  PeriodicTask task_;                    // last: stopped before the members it uses go
 };
 
 }  // namespace thermocomp

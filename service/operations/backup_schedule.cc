@@ -134,32 +134,15 @@ Status BackupSchedule::Rotate() {
 }
 
 void BackupSchedule::Start(std::chrono::milliseconds poll) {
-  if (thread_.joinable()) return;
-  {
-    std::lock_guard<std::mutex> lock(wake_mutex_);
-    stopping_ = false;
-  }
+  if (task_.running()) return;
   log::Info("backups scheduled", "dir=" + QuotedPath(options_.dir) +
                                      " every_h=" + std::to_string(options_.every_h) +
                                      " keep=" + std::to_string(options_.keep));
-  thread_ = std::thread([this, poll] {
-    std::unique_lock<std::mutex> lock(wake_mutex_);
-    while (!stopping_) {
-      lock.unlock();
-      (void)Tick();  // logged there; the server goes on either way
-      lock.lock();
-      wake_.wait_for(lock, poll, [this] { return stopping_; });
-    }
-  });
+  task_.Start(poll, [this] { (void)Tick(); });  // logged there; the server goes on either way
 }
 
 void BackupSchedule::Stop() {
-  {
-    std::lock_guard<std::mutex> lock(wake_mutex_);
-    stopping_ = true;
-  }
-  wake_.notify_all();
-  if (thread_.joinable()) thread_.join();
+  task_.Stop();
 }
 
 }  // namespace thermocomp

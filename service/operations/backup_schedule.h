@@ -11,15 +11,14 @@
 #pragma once
 
 #include <chrono>
-#include <condition_variable>
 #include <cstdint>
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "core/clock.h"
+#include "core/periodic_task.h"
 #include "core/status.h"
 #include "storage/storage.h"
 
@@ -64,10 +63,7 @@ class BackupSchedule {
   std::optional<int64_t> last_backup_ms_;
   int64_t last_failure_ms_ = 0;  // 0: the last attempt did not fail
   std::mutex mutex_;             // one Tick at a time
-  std::mutex wake_mutex_;
-  std::condition_variable wake_;
-  bool stopping_ = false;
-  std::thread thread_;
+  PeriodicTask task_;            // last: stopped before the members it uses go
 };
 
 }  // namespace thermocomp
