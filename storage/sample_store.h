@@ -66,17 +66,26 @@ class SampleStore {
   // to], ascending; they stay when the raw samples are deleted.
   virtual std::vector<HourStats> Hourly(int64_t sensor_id, int64_t from_ms, int64_t to_ms) = 0;
 
-  // Retention. One bounded step of deleting a sensor's raw samples with
-  // from <= ts < before: it looks at the next `limit` raw samples from
-  // `from` and deletes those farther than `keep_around_ms` from every
-  // probe point and column or positioning check of the sensor's machine.
-  // The rollup is not touched. Call again from next_from_ms until done.
+  // Retention. The times of the machine's probe points and column and
+  // positioning checks in [from, to], ascending: the samples within
+  // keep_around of them are kept (the analyses' lags and the checks'
+  // temperatures read them).
+  virtual std::vector<int64_t> KeepTimes(int64_t machine_id, int64_t from_ms, int64_t to_ms) = 0;
+  // A time window [first_ms, last_ms], both ends included.
+  struct TimeWindow {
+    int64_t first_ms = 0, last_ms = 0;
+  };
+  // One bounded step of deleting a sensor's raw samples with from <= ts <
+  // before: it looks at the next `limit` raw samples from `from` and
+  // deletes those outside every window of `kept` (ascending, disjoint), as
+  // key ranges. The rollup is not touched. Call again from next_from_ms
+  // until done.
   struct RawDeletion {
     int64_t examined = 0, deleted = 0, next_from_ms = 0;
     bool done = false;
   };
   virtual StatusOr<RawDeletion> DeleteRaw(int64_t sensor_id, int64_t from_ms, int64_t before_ms,
-                                          int64_t keep_around_ms, int limit) = 0;
+                                          const std::vector<TimeWindow>& kept, int limit) = 0;
   // Records that raw samples before `before_ms` may be deleted (never moves
   // back); RawDeletedBefore is 0 for a sensor never thinned.
   virtual Status SetRawDeletedBefore(int64_t sensor_id, int64_t before_ms) = 0;

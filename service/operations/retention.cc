@@ -1,6 +1,8 @@
 #include "service/operations/retention.h"
 
+#include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/log.h"
@@ -33,36 +35,36 @@ StatusOr<Retention::Outcome> Retention::Tick() {
   return out;
 }
 
-StatusOr<Retention::Outcome> Retention::Run() {
-  std::lock_guard<std::mutex> lock(mutex_);
-  Outcome out;
-  if (options_.raw_days <= 0) return out;
-  out.ran = true;
-  out.cutoff_ms = clock_.NowMs() - int64_t{options_.raw_days} * 24 * kHourMs;
-  const int64_t keep_ms = int64_t{options_.keep_around_h} * kHourMs;
-  const int64_t started = clock_.MonotonicMs();
-  std::vector<int64_t> sensors;
+Status Retention::ThinMachine(int64_t machine_id, const std::vector<int64_t>& sensors,
+                              int64_t cutoff_ms, int64_t keep_ms, Outcome& out) {
+  // What lies before a sensor's last horizon was examined then: deleted,
+  // or kept for good near a point or check. Only what crossed the horizon
+  // since is looked at, so a run costs a day of samples, not the archive.
+  std::vector<std::pair<int64_t, int64_t>> todo;  // sensor, from
+  std::vector<SampleStore::TimeWindow> kept;
   {
     const std::unique_ptr<Session> session = storage_.Open();
-    const SampleStore::FileSpace space = session->samples().Space();
-    out.bytes_before = UsedBytes(space);
-    for (const MachineRecord& m : session->machines().List()) {
-      for (const SensorRecord& s : m.sensors) sensors.push_back(s.id);
+    SampleStore& samples = session->samples();
+    for (int64_t sensor : sensors) {
+      const int64_t from = samples.RawDeletedBefore(sensor);
+      if (from < cutoff_ms) todo.emplace_back(sensor, from);
+    }
+    if (todo.empty()) return Status::Ok();
+    int64_t from = cutoff_ms;
+    for (const auto& t : todo) from = std::min(from, t.second);
+    // The machine's points and checks near the span, read once and merged
+    // into the windows kept: the steps delete what lies between them.
+    for (int64_t t : samples.KeepTimes(machine_id, from - keep_ms, cutoff_ms + keep_ms)) {
+      if (!kept.empty() && t - keep_ms <= kept.back().last_ms + 1) {
+        kept.back().last_ms = std::max(kept.back().last_ms, t + keep_ms);
+      } else {
+        kept.push_back({t - keep_ms, t + keep_ms});
+      }
     }
   }
-  out.sensors = static_cast<int64_t>(sensors.size());
   // Each step in a session and transaction of its own: others get the
   // archive between steps.
-  for (int64_t sensor : sensors) {
-    // What lies before the last run's horizon was examined then: deleted,
-    // or kept for good near a point or check. Only what crossed the horizon
-    // since is looked at, so a run costs a day of samples, not the archive.
-    int64_t from = 0;
-    {
-      const std::unique_ptr<Session> session = storage_.Open();
-      from = session->samples().RawDeletedBefore(sensor);
-    }
-    if (from >= out.cutoff_ms) continue;
+  for (auto [sensor, from] : todo) {
     bool first = true;
     for (bool done = false; !done;) {
       const std::unique_ptr<Session> session = storage_.Open();
@@ -72,10 +74,10 @@ StatusOr<Retention::Outcome> Retention::Run() {
       if (first) {
         // Said before the first deletion, in its transaction: a history
         // reaching before it reads the rollup.
-        if (Status s = samples.SetRawDeletedBefore(sensor, out.cutoff_ms); !s.ok()) return s;
+        if (Status s = samples.SetRawDeletedBefore(sensor, cutoff_ms); !s.ok()) return s;
         first = false;
       }
-      auto step = samples.DeleteRaw(sensor, from, out.cutoff_ms, keep_ms, options_.batch_rows);
+      auto step = samples.DeleteRaw(sensor, from, cutoff_ms, kept, options_.batch_rows);
       if (!step.ok()) return step.status();
       if (Status s = tx.Commit(); !s.ok()) return s;
       out.examined += step->examined;
@@ -83,6 +85,38 @@ StatusOr<Retention::Outcome> Retention::Run() {
       ++out.steps;
       from = step->next_from_ms;
       done = step->done;
+    }
+  }
+  return Status::Ok();
+}
+
+StatusOr<Retention::Outcome> Retention::Run() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Outcome out;
+  if (options_.raw_days <= 0) return out;
+  out.ran = true;
+  out.cutoff_ms = clock_.NowMs() - int64_t{options_.raw_days} * 24 * kHourMs;
+  const int64_t keep_ms = int64_t{options_.keep_around_h} * kHourMs;
+  const int64_t started = clock_.MonotonicMs();
+  struct MachineSensors {
+    int64_t machine_id = 0;
+    std::vector<int64_t> sensors;
+  };
+  std::vector<MachineSensors> machines;
+  {
+    const std::unique_ptr<Session> session = storage_.Open();
+    const SampleStore::FileSpace space = session->samples().Space();
+    out.bytes_before = UsedBytes(space);
+    for (const MachineRecord& m : session->machines().List()) {
+      MachineSensors& ms = machines.emplace_back();
+      ms.machine_id = m.id;
+      for (const SensorRecord& s : m.sensors) ms.sensors.push_back(s.id);
+      out.sensors += static_cast<int64_t>(m.sensors.size());
+    }
+  }
+  for (const MachineSensors& m : machines) {
+    if (Status s = ThinMachine(m.machine_id, m.sensors, out.cutoff_ms, keep_ms, out); !s.ok()) {
+      return s;
     }
   }
   // Space: switch once to incremental auto-vacuum, then give pages back.
@@ -132,34 +166,19 @@ StatusOr<Retention::Outcome> Retention::Run() {
 }
 
 void Retention::Start(std::chrono::milliseconds poll) {
-  if (thread_.joinable() || options_.raw_days <= 0) return;
-  {
-    std::lock_guard<std::mutex> lock(wake_mutex_);
-    stopping_ = false;
-  }
+  if (task_.running() || options_.raw_days <= 0) return;
   log::Info("retention scheduled", "raw_days=" + std::to_string(options_.raw_days) +
                                        " keep_around_h=" + std::to_string(options_.keep_around_h) +
                                        " every_h=" + std::to_string(options_.every_h));
-  thread_ = std::thread([this, poll] {
-    std::unique_lock<std::mutex> lock(wake_mutex_);
-    while (!stopping_) {
-      lock.unlock();
-      if (auto r = Tick(); !r.ok()) {
-        log::Error("retention failed", "error=\"" + r.status().message() + "\"");
-      }
-      lock.lock();
-      wake_.wait_for(lock, poll, [this] { return stopping_; });
+  task_.Start(poll, [this] {
+    if (auto r = Tick(); !r.ok()) {
+      log::Error("retention failed", "error=\"" + r.status().message() + "\"");
     }
   });
 }
 
 void Retention::Stop() {
-  {
-    std::lock_guard<std::mutex> lock(wake_mutex_);
-    stopping_ = true;
-  }
-  wake_.notify_all();
-  if (thread_.joinable()) thread_.join();
+  task_.Stop();
 }
 
 }  // namespace thermocomp

@@ -12,13 +12,13 @@
 #pragma once
 
 #include <chrono>
-#include <condition_variable>
 #include <cstdint>
 #include <mutex>
 #include <optional>
-#include <thread>
+#include <vector>
 
 #include "core/clock.h"
+#include "core/periodic_task.h"
 #include "core/status.h"
 #include "storage/storage.h"
 
@@ -59,15 +59,16 @@ class Retention {
   void Stop();
 
  private:
+  // Thins one machine's sensors up to cutoff_ms, adding to `out`.
+  Status ThinMachine(int64_t machine_id, const std::vector<int64_t>& sensors, int64_t cutoff_ms,
+                     int64_t keep_ms, Outcome& out);
+
   Storage& storage_;
   const Clock& clock_;
   Options options_;
   std::optional<int64_t> last_run_ms_;
-  std::mutex mutex_;  // one run at a time
-  std::mutex wake_mutex_;
-  std::condition_variable wake_;
-  bool stopping_ = false;
-  std::thread thread_;
+  std::mutex mutex_;   // one run at a time
+  PeriodicTask task_;  // last: stopped before the members it uses go
 };
 
 }  // namespace thermocomp

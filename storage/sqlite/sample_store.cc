@@ -206,9 +206,28 @@ std::vector<SampleStore::HourStats> SqliteSampleStore::Hourly(int64_t sensor_id,
   return out;
 }
 
+std::vector<int64_t> SqliteSampleStore::KeepTimes(int64_t machine_id, int64_t from_ms,
+                                                  int64_t to_ms) {
+  // The machine's runs first (its index), then each run's points: the cost
+  // follows the machine's own history, not the whole line's points in the
+  // span.
+  Statement q(db_,
+              "SELECT p.ts_ms FROM runs r JOIN probe_points p ON p.run_id = r.id"
+              " WHERE r.machine_id = ?1 AND p.ts_ms BETWEEN ?2 AND ?3"
+              " UNION ALL SELECT ts_ms FROM column_checks"
+              " WHERE machine_id = ?1 AND ts_ms BETWEEN ?2 AND ?3"
+              " UNION ALL SELECT ts_ms FROM positioning_checks"
+              " WHERE machine_id = ?1 AND ts_ms BETWEEN ?2 AND ?3 ORDER BY 1");
+  q.Bind(1, machine_id).Bind(2, from_ms).Bind(3, to_ms);
+  std::vector<int64_t> times;
+  while (q.Step()) times.push_back(q.Int(0));
+  return times;
+}
+
 StatusOr<SampleStore::RawDeletion> SqliteSampleStore::DeleteRaw(int64_t sensor_id, int64_t from_ms,
                                                                 int64_t before_ms,
-                                                                int64_t keep_around_ms, int limit) {
+                                                                const std::vector<TimeWindow>& kept,
+                                                                int limit) {
   RawDeletion d;
   // The window looked at: the next `limit` raw samples, so a step costs
   // the same however many samples near probe points it keeps.
@@ -224,22 +243,24 @@ StatusOr<SampleStore::RawDeletion> SqliteSampleStore::DeleteRaw(int64_t sensor_i
     return d;
   }
   const int64_t last = window.Int(1);
-  // Kept: within keep_around of a probe point or a check of the machine
-  // (the analyses' lags and the checks' temperatures read them).
-  Statement del(db_,
-                "DELETE FROM samples WHERE sensor_id = ?1 AND ts_ms >= ?2 AND ts_ms <= ?3"
-                " AND NOT EXISTS (SELECT 1 FROM probe_points p JOIN runs r ON r.id = p.run_id"
-                "  WHERE p.ts_ms BETWEEN samples.ts_ms - ?4 AND samples.ts_ms + ?4"
-                "  AND r.machine_id = (SELECT machine_id FROM sensors WHERE id = ?1))"
-                " AND NOT EXISTS (SELECT 1 FROM column_checks c"
-                "  WHERE c.machine_id = (SELECT machine_id FROM sensors WHERE id = ?1)"
-                "  AND c.ts_ms BETWEEN samples.ts_ms - ?4 AND samples.ts_ms + ?4)"
-                " AND NOT EXISTS (SELECT 1 FROM positioning_checks c"
-                "  WHERE c.machine_id = (SELECT machine_id FROM sensors WHERE id = ?1)"
-                "  AND c.ts_ms BETWEEN samples.ts_ms - ?4 AND samples.ts_ms + ?4)");
-  del.Bind(1, sensor_id).Bind(2, from_ms).Bind(3, last).Bind(4, keep_around_ms);
-  if (Status s = del.Run(); !s.ok()) return s;
-  d.deleted = db_.Changes();
+  // What lies between the kept windows goes, each gap one key range.
+  Statement del(db_, "DELETE FROM samples WHERE sensor_id = ? AND ts_ms >= ? AND ts_ms <= ?");
+  auto delete_range = [&](int64_t lo, int64_t hi) -> Status {
+    if (lo > hi) return Status::Ok();
+    del.Reset();
+    del.Bind(1, sensor_id).Bind(2, lo).Bind(3, hi);
+    if (Status s = del.Run(); !s.ok()) return s;
+    d.deleted += db_.Changes();
+    return Status::Ok();
+  };
+  int64_t lo = from_ms;
+  auto w = std::lower_bound(kept.begin(), kept.end(), from_ms,
+                            [](const TimeWindow& k, int64_t t) { return k.last_ms < t; });
+  for (; w != kept.end() && w->first_ms <= last; ++w) {
+    if (Status s = delete_range(lo, w->first_ms - 1); !s.ok()) return s;
+    lo = std::max(lo, w->last_ms + 1);
+  }
+  if (Status s = delete_range(lo, last); !s.ok()) return s;
   d.next_from_ms = last + 1;
   d.done = d.examined < limit;
   return d;

@@ -31,8 +31,9 @@ class SqliteSampleStore final : public SampleStore {
   Status UpdateFiltered(int64_t sensor_id, int64_t ts_ms, double filtered) override;
   int64_t CountForMachine(int64_t machine_id) override;
   std::vector<HourStats> Hourly(int64_t sensor_id, int64_t from_ms, int64_t to_ms) override;
+  std::vector<int64_t> KeepTimes(int64_t machine_id, int64_t from_ms, int64_t to_ms) override;
   StatusOr<RawDeletion> DeleteRaw(int64_t sensor_id, int64_t from_ms, int64_t before_ms,
-                                  int64_t keep_around_ms, int limit) override;
+                                  const std::vector<TimeWindow>& kept, int limit) override;
   Status SetRawDeletedBefore(int64_t sensor_id, int64_t before_ms) override;
   int64_t RawDeletedBefore(int64_t sensor_id) override;
   FileSpace Space() override;

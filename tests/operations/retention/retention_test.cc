@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -13,6 +14,7 @@
 #include "service/config.h"
 #include "service/history_service.h"
 #include "service/operations/retention.h"
+#include "storage/check_store.h"
 #include "storage/sample_store.h"
 #include "storage/session.h"
 #include "storage/sqlite/database.h"
@@ -230,6 +232,105 @@ TEST_F(RetentionTest, DeletesOldRawSamplesKeepsThoseNearProbePointsAndServesTheY
   EXPECT_TRUE(next_day->ran);
   EXPECT_EQ(next_day->examined, kDay / step);
   EXPECT_EQ(next_day->deleted, kDay / step);
+}
+
+// Which samples stay, against a reference written here sample by sample:
+// probe points (some windows overlapping), a column and a positioning check
+// of the machine keep theirs; another machine's point keeps nothing of
+// this one's; a run the next week examines only the week since.
+TEST_F(RetentionTest, KeepsExactlyTheSamplesNearTheMachinesPointsAndChecks) {
+  auto storage = SqliteStorage::OpenFile(Path("windows.db"));
+  ASSERT_TRUE(storage.ok());
+  const int64_t step = 60000;
+  const int64_t keep = 2 * kHour;
+  // Times of this machine's points and checks (minutes after kT0), and
+  // another machine's point between them.
+  const std::vector<int64_t> points = {kT0 + 600 * step, kT0 + 650 * step, kT0 + 900 * step,
+                                       kT0 + 9000 * step + 30000,  // off the minute
+                                       kT0 + 12000 * step};        // in the second run's week
+  const int64_t column_check = kT0 + 3000 * step;
+  const int64_t positioning_check = kT0 + 5000 * step;
+  const int64_t other_point = kT0 + 7000 * step;
+  (*storage)->WithConnection([&](Database& db) {
+    AddSensor(db);
+    ASSERT_TRUE(
+        db.Exec("INSERT INTO machines(id, name, created_ms, updated_ms) VALUES (2, 'm2', 1, 1);"
+                "INSERT INTO sensors(id, machine_id, name, ewma_alpha) VALUES (2, 1, 'T2', 0.2);"
+                "INSERT INTO runs(id, machine_id, name, first_ts_ms) VALUES (1, 1, 'r1', 0);"
+                "INSERT INTO runs(id, machine_id, name, first_ts_ms) VALUES (2, 2, 'r2', 0)")
+            .ok());
+    for (size_t k = 0; k < points.size(); ++k) {
+      ASSERT_TRUE(db.Exec("INSERT INTO probe_points(run_id, k, ts_ms) VALUES (1, " +
+                          std::to_string(k) + ", " + std::to_string(points[k]) + ")")
+                      .ok());
+    }
+    ASSERT_TRUE(db.Exec("INSERT INTO probe_points(run_id, k, ts_ms) VALUES (2, 0, " +
+                        std::to_string(other_point) + ")")
+                    .ok());
+  });
+  {
+    auto session = (*storage)->Open();
+    ColumnCheckRecord c;
+    c.ts_ms = column_check;
+    c.artifact = "a";
+    c.result_json = "{}";
+    ASSERT_TRUE(session->checks().InsertColumnCheck(1, c).ok());
+    PositioningCheckRecord p;
+    p.axis = "X";
+    p.ts_ms = positioning_check;
+    p.input_json = p.result_json = "{}";
+    ASSERT_TRUE(session->checks().InsertPositioningCheck(1, p).ok());
+  }
+  // Two sensors of machine 1, 20 days at one a minute.
+  const int64_t end = kT0 + 20 * kDay;
+  for (int64_t sensor : {1, 2}) {
+    std::vector<SampleRow> rows;
+    for (int64_t ts = kT0; ts < end; ts += step) rows.push_back({ts, Value(ts), Value(ts)});
+    auto session = (*storage)->Open();
+    Transaction tx(*session);
+    ASSERT_TRUE(session->samples().Insert(sensor, rows).ok());
+    ASSERT_TRUE(tx.Commit().ok());
+  }
+  std::vector<int64_t> near = points;
+  near.push_back(column_check);
+  near.push_back(positioning_check);
+  auto expected_left = [&](int64_t cutoff) {
+    int64_t n = 0;
+    for (int64_t ts = kT0; ts < end; ts += step) {
+      bool kept = ts >= cutoff;
+      for (int64_t t : near) kept = kept || (ts >= t - keep && ts <= t + keep);
+      n += kept ? 1 : 0;
+    }
+    return 2 * n;
+  };
+  auto left = [&] {
+    int64_t n = 0;
+    (*storage)->WithConnection(
+        [&](Database& db) { n = Count(db, "SELECT COUNT(*) FROM samples"); });
+    return n;
+  };
+
+  ManualClock clock(kT0 + 10 * kDay + 17 * step);
+  Retention::Options opt;
+  opt.raw_days = 3;
+  opt.keep_around_h = 2;
+  opt.batch_rows = 997;  // steps end between windows and inside them
+  opt.every_h = 24;
+  Retention retention(**storage, clock, opt);
+  auto first = retention.Tick();
+  ASSERT_TRUE(first.ok()) << first.status().message();
+  const int64_t cutoff1 = clock.NowMs() - 3 * kDay;
+  EXPECT_EQ(first->examined, 2 * ((cutoff1 - kT0 + step - 1) / step));
+  EXPECT_EQ(left(), expected_left(cutoff1));
+  EXPECT_EQ(2 * 20 * kDay / step - left(), first->deleted);
+
+  clock.Advance(7 * kDay);
+  auto second = retention.Tick();
+  ASSERT_TRUE(second.ok()) << second.status().message();
+  const int64_t cutoff2 = cutoff1 + 7 * kDay;
+  EXPECT_EQ(second->examined, 2 * (7 * kDay / step));  // only the week since
+  EXPECT_EQ(left(), expected_left(cutoff2));
+  EXPECT_EQ(2 * 20 * kDay / step - left(), first->deleted + second->deleted);
 }
 
 TEST_F(RetentionTest, OffKeepsEverything) {
