@@ -43,7 +43,7 @@ class HttpServer {
   void Stop();
   int port() const { return port_; }
   // Takes what may change while serving from a configuration read again
-  // (SIGHUP; docs/operations.md, Reload): the tokens, server.allowed_hosts,
+  // (SIGHUP; docs/operations.md, systemd): the tokens, server.allowed_hosts,
   // server.trusted_proxies and server.access_log. Requests in flight finish
   // with what they started with; signed-in sessions stay (a session whose
   // token was removed is refused from its next request on). Everything
