@@ -9,9 +9,13 @@
 #include <netinet/in.h>
 #include <sys/socket.h>
 
+#include <unistd.h>
+
 #include <regex>
 
 #include <gtest/gtest.h>
+#include <openssl/err.h>
+#include <openssl/ssl.h>
 
 #include "tests/app_fixture.h"
 #include "tests/operations/exposure/exposure_util.h"
@@ -48,6 +52,33 @@ std::unique_ptr<httplib::SSLClient> TlsClient(int port, const std::string& ca) {
     (void)bind(sock, reinterpret_cast<sockaddr*>(&from), sizeof from);
   });
   return c;
+}
+
+// A TLS handshake with the proxy allowing only `version`; the OpenSSL
+// reason when it fails, 0 when it succeeds. The client's security level is
+// 0, so it offers TLS 1.0 and 1.1 when asked: a refusal is the server's.
+int HandshakeReason(int port, int version) {
+  SSL_CTX* ctx = SSL_CTX_new(TLS_client_method());
+  SSL_CTX_set_security_level(ctx, 0);
+  SSL_CTX_set_min_proto_version(ctx, version);
+  SSL_CTX_set_max_proto_version(ctx, version);
+  SSL_CTX_set_cipher_list(ctx, "DEFAULT:@SECLEVEL=0");
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(static_cast<uint16_t>(port));
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  int reason = -1;
+  if (connect(fd, reinterpret_cast<sockaddr*>(&to), sizeof to) == 0) {
+    SSL* ssl = SSL_new(ctx);
+    SSL_set_fd(ssl, fd);
+    ERR_clear_error();
+    reason = SSL_connect(ssl) == 1 ? 0 : ERR_GET_REASON(ERR_peek_last_error());
+    SSL_free(ssl);
+  }
+  close(fd);
+  SSL_CTX_free(ctx);
+  return reason;
 }
 
 class NginxProxy : public ::testing::Test {
@@ -166,6 +197,15 @@ TEST_F(NginxProxy, PlainHttpOnTheTlsPortIsRefused) {
   EXPECT_EQ(r->status, 400);
   EXPECT_EQ(r->body.find("ready"), std::string::npos) << r->body;
   EXPECT_TRUE(LinesWith(ReadText(dir_ / "serve.log"), {"path=/readyz"}).empty());
+}
+
+// ssl_protocols TLSv1.2 TLSv1.3: the two are served, the older ones are
+// refused by the server's protocol-version alert.
+TEST_F(NginxProxy, ServesTls12And13AndRefusesOlderVersions) {
+  EXPECT_EQ(HandshakeReason(tls_port_, TLS1_3_VERSION), 0);
+  EXPECT_EQ(HandshakeReason(tls_port_, TLS1_2_VERSION), 0);
+  EXPECT_EQ(HandshakeReason(tls_port_, TLS1_1_VERSION), SSL_R_TLSV1_ALERT_PROTOCOL_VERSION);
+  EXPECT_EQ(HandshakeReason(tls_port_, TLS1_VERSION), SSL_R_TLSV1_ALERT_PROTOCOL_VERSION);
 }
 
 // The proxy refuses what the server would: its body limit is the server's.
