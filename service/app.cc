@@ -8,7 +8,10 @@
 
 namespace thermocomp {
 
-App::App(const Config& config, const Clock& clock) : config_(config), clock_(clock) {}
+App::App(const Config& config, const Clock& clock)
+    : config_(config),
+      clock_(clock),
+      probe_temperatures_(static_cast<size_t>(config.probe_cache_points)) {}
 
 App::~App() = default;
 

@@ -261,6 +261,7 @@ const std::map<std::string, Reader>& Keys() {
       {"limits.max_sensors_per_machine", Int(&Config::max_sensors_per_machine, 1, 100000)},
       {"limits.max_response_points", Int(&Config::max_response_points, 100, 100000000)},
       {"limits.overview_page_size", Int(&Config::overview_page_size, 1, 1000)},
+      {"limits.probe_cache_points", Int(&Config::probe_cache_points, 0, 10000000)},
       {"auth.max_failures", Int(&Config::auth_max_failures, 1, 100000)},
       {"auth.failure_window_s", Int(&Config::auth_failure_window_s, 1, 86400)},
       {"fit.interval_min", Int(&Config::refit_interval_min, 0, 525600)},
@@ -316,28 +317,34 @@ const std::map<std::string, Reader>& Keys() {
        Number([](Config& c) -> double& { return c.analysis.min_gain; }, 0, 0.9)},
       {"analysis.min_t", Number([](Config& c) -> double& { return c.analysis.min_t; }, 0, 100)},
       {"analysis.cv_block",
-       [](const toml::node& n, Config& c) -> std::string {
-         auto v = n.value_exact<std::string>();
-         if (!v || (*v != "day" && *v != "week" && *v != "run")) {
-           return "must be \"day\", \"week\" or \"run\"";
-         }
-         c.analysis.cv_block = *v;
-         return "";
-       }},
+       [](const toml::node& n, Config& c) -> std::
+                                              string {
+                                                auto v = n.value_exact<std::string>();
+                                                if (!v ||
+                                                    (*v != "day" && *v != "week" && *v != "run")) {
+                                                  return "must be \"day\", \"week\" or \"run\"";
+                                                }
+                                                c.analysis.cv_block = *v;
+                                                return "";
+                                              }},
       {"analysis.min_blocks",
-       [](const toml::node& n, Config& c) -> std::string {
-         auto v = n.value_exact<int64_t>();
-         if (!v || *v < 2 || *v > 1000) return "must be an integer within 2..1000";
-         c.analysis.min_blocks = static_cast<int>(*v);
-         return "";
-       }},
+       [](const toml::node& n, Config& c) -> std::
+                                              string {
+                                                auto v = n.value_exact<int64_t>();
+                                                if (!v || *v < 2 || *v > 1000)
+                                                  return "must be an integer within 2..1000";
+                                                c.analysis.min_blocks = static_cast<int>(*v);
+                                                return "";
+                                              }},
       {"analysis.forward_blocks",
-       [](const toml::node& n, Config& c) -> std::string {
-         auto v = n.value_exact<int64_t>();
-         if (!v || *v < 0 || *v > 100) return "must be an integer within 0..100";
-         c.analysis.forward_blocks = static_cast<int>(*v);
-         return "";
-       }},
+       [](const toml::node& n, Config& c) -> std::
+                                              string {
+                                                auto v = n.value_exact<int64_t>();
+                                                if (!v || *v < 0 || *v > 100)
+                                                  return "must be an integer within 0..100";
+                                                c.analysis.forward_blocks = static_cast<int>(*v);
+                                                return "";
+                                              }},
       {"analysis.equivalent_t",
        Number([](Config& c) -> double& { return c.analysis.equivalent_t; }, 0, 100)},
       {"analysis.max_coefficient_change",

@@ -75,6 +75,7 @@ struct Config {
   int max_sensors_per_machine = 256;
   int max_response_points = 200000;  // points in one temperature history response
   int overview_page_size = 200;      // machines per overview page by default (limit<=1000)
+  int probe_cache_points = 20000;    // probe points whose temperatures stay in memory
   // [auth] failed credentials per client address and per credential tried
   int auth_max_failures = 10;
   int auth_failure_window_s = 600;

@@ -20,8 +20,8 @@ namespace thermocomp {
 
 class ProbeTemperatureCache {
  public:
-  // About 30 MB with 16 sensors a machine.
-  static constexpr size_t kDefaultCapacity = 100000;
+  // About 6 MB with 16 sensors a machine (limits.probe_cache_points).
+  static constexpr size_t kDefaultCapacity = 20000;
   explicit ProbeTemperatureCache(size_t capacity = kDefaultCapacity) : capacity_(capacity) {}
 
   // Values per sensor of the machine (in its sensor order), NaN where unknown.
