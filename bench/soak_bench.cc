@@ -28,9 +28,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -40,6 +40,8 @@
 #include <vector>
 
 #include <httplib.h>
+#include <malloc.h>
+#include <sqlite3.h>
 #include <nlohmann/json.hpp>
 
 #include "api/http_server.h"
@@ -68,6 +70,18 @@ int64_t StatusKb(const char* key) {
     if (line.rfind(key, 0) == 0) return std::stoll(line.substr(std::strlen(key) + 1));
   }
   return -1;
+}
+
+// The heap the program holds (malloc's arena in use plus its mmapped
+// blocks) and SQLite's own share of it: RSS above the heap is freed memory
+// malloc has not given back (fragmentation), the heap above SQLite's is the
+// program's.
+double HeapMb() {
+  const struct mallinfo2 m = mallinfo2();
+  return static_cast<double>(m.uordblks + m.hblkhd) / (1024.0 * 1024.0);
+}
+double SqliteMb() {
+  return static_cast<double>(sqlite3_memory_used()) / (1024.0 * 1024.0);
 }
 
 int OpenFds() {
@@ -190,6 +204,7 @@ struct DayRow {
   double ingest_s = 0, refit_s = 0, retention_s = 0;
   int64_t samples = 0, points = 0, fits = 0, deleted = 0;
   int64_t rss_kb = 0, hwm_kb = 0;
+  double heap_mb = 0, sqlite_mb = 0;
   int fds = 0;
   double db_mb = 0, wal_mb = 0;
   Quantiles read;
@@ -262,8 +277,9 @@ int Run(int machines, int days, const std::string& policy) {
   int64_t total_ack = 0, total_deleted = 0, rejected_requests = 0;
   std::printf(
       "| day | ingest s | samples | points | refit s | fits | retention s | deleted | "
-      "RSS MB | HWM MB | fds | db MB | WAL MB | read p50 ms | p99 ms | max ms | reads |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "RSS MB | HWM MB | heap MB | SQLite MB | fds | db MB | WAL MB | read p50 ms | p99 ms | "
+      "max ms | reads |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int day = 1; day <= days; ++day) {
     reader.SetBucket(day);
     DayRow row;
@@ -355,6 +371,8 @@ int Run(int machines, int days, const std::string& policy) {
 
     row.rss_kb = StatusKb("VmRSS");
     row.hwm_kb = StatusKb("VmHWM");
+    row.heap_mb = HeapMb();
+    row.sqlite_mb = SqliteMb();
     row.fds = OpenFds();
     row.db_mb = FileMb(config.db_path);
     row.wal_mb = FileMb(config.db_path + "-wal");
@@ -362,12 +380,14 @@ int Run(int machines, int days, const std::string& policy) {
     row.read = Summarize(lat.ms);
     row.read_failures = lat.failures;
     std::printf(
-        "| %d | %.1f | %lld | %lld | %.1f | %lld | %.1f | %lld | %.0f | %.0f | %d | %.0f | "
+        "| %d | %.1f | %lld | %lld | %.1f | %lld | %.1f | %lld | %.0f | %.0f | %.1f | %.1f | %d | "
+        "%.0f | "
         "%.0f | %.2f | %.2f | %.1f | %zu%s |\n",
         day, row.ingest_s, static_cast<long long>(row.samples), static_cast<long long>(row.points),
         row.refit_s, static_cast<long long>(row.fits), row.retention_s,
-        static_cast<long long>(row.deleted), row.rss_kb / 1024.0, row.hwm_kb / 1024.0, row.fds,
-        row.db_mb, row.wal_mb, row.read.p50, row.read.p99, row.read.max, row.read.n,
+        static_cast<long long>(row.deleted), row.rss_kb / 1024.0, row.hwm_kb / 1024.0, row.heap_mb,
+        row.sqlite_mb, row.fds, row.db_mb, row.wal_mb, row.read.p50, row.read.p99, row.read.max,
+        row.read.n,
         row.read_failures ? (" (" + std::to_string(row.read_failures) + " failed)").c_str() : "");
     std::fflush(stdout);
     rows.push_back(row);
