@@ -1,5 +1,7 @@
 #include "service/refit_scheduler.h"
 
+#include <malloc.h>
+
 #include <algorithm>
 
 #include <nlohmann/json.hpp>
@@ -78,7 +80,12 @@ int RefitScheduler::Tick() {
                                             report.status().message() + "\"");
     }
   }
-  return fitted + TickFeedAxes();
+  const int feed_fitted = TickFeedAxes();
+  // A pass of fits and analyses peaks at tens of MB that malloc keeps
+  // afterwards (docs/benchmarks.md, "Soak"): give what is free back, once
+  // a pass, so the server's memory between passes is what it holds.
+  if (fitted + feed_fitted > 0) malloc_trim(0);
+  return fitted + feed_fitted;
 }
 
 namespace {
