@@ -17,6 +17,7 @@
 #include "service/ingest_service.h"
 #include "service/machine_service.h"
 #include "service/metrics.h"
+#include "service/mtconnect/mtconnect_board.h"
 #include "service/outcome/outcome_service.h"
 #include "service/probe_temperature_cache.h"
 #include "service/refit_scheduler.h"
@@ -67,6 +68,8 @@ class App {
   PartModelService& part_models() { return *part_models_; }
   SurfaceService& surfaces() { return *surfaces_; }
   Metrics& metrics() { return metrics_; }
+  // What the MTConnect sources last did (server/background_work.cc runs them).
+  MtconnectBoard& mtconnect_board() { return mtconnect_board_; }
   // /metrics lines the services own: fits stored, model age per axis.
   std::string ModelGauges();
 
@@ -93,6 +96,7 @@ class App {
   std::unique_ptr<PartModelService> part_models_;
   std::unique_ptr<SurfaceService> surfaces_;
   Metrics metrics_;
+  MtconnectBoard mtconnect_board_;
   ProbeTemperatureCache probe_temperatures_;
 };
 

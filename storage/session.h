@@ -25,6 +25,8 @@ class PlateStore;
 class TurningStore;
 class PartModelStore;
 class SurfaceStore;
+// What the controls applied (storage/applied_store.h), declared the same way.
+class AppliedStore;
 
 class Session {
  public:
@@ -44,6 +46,7 @@ class Session {
   virtual TurningStore& turned_parts() = 0;
   virtual PartModelStore& part_models() = 0;
   virtual SurfaceStore& surfaces() = 0;
+  virtual AppliedStore& applied() = 0;
 
   virtual Status Begin() = 0;
   virtual Status Commit() = 0;

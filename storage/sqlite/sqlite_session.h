@@ -4,6 +4,7 @@
 
 #include "storage/session.h"
 #include "storage/sqlite/analysis_store.h"
+#include "storage/sqlite/applied_store.h"
 #include "storage/sqlite/aux_store.h"
 #include "storage/sqlite/check_store.h"
 #include "storage/sqlite/database.h"
@@ -40,6 +41,7 @@ class SqliteSession final : public Session {
   TurningStore& turned_parts() override { return turned_parts_; }
   PartModelStore& part_models() override { return part_models_; }
   SurfaceStore& surfaces() override { return surfaces_; }
+  AppliedStore& applied() override { return applied_; }
 
   Status Begin() override { return db_.Begin(); }
   Status Commit() override { return db_.Commit(); }
@@ -63,6 +65,7 @@ class SqliteSession final : public Session {
   SqliteTurningStore turned_parts_;
   SqlitePartModelStore part_models_;
   SqliteSurfaceStore surfaces_;
+  SqliteAppliedStore applied_;
 };
 
 }  // namespace thermocomp

@@ -27,7 +27,8 @@ SqliteSession::SqliteSession(Database& db)
       plates_(db),
       turned_parts_(db),
       part_models_(db),
-      surfaces_(db) {
+      surfaces_(db),
+      applied_(db) {
   Resume();
 }
 

@@ -84,6 +84,42 @@ TEST_F(MigrationTest, ProbePointsStoredBeforeTheFlagWereProbedWithoutCompensatio
   EXPECT_FALSE((*db)->Exec("UPDATE probe_points SET compensated = 2").ok());
 }
 
+TEST_F(MigrationTest, SchemaFifteenGainsTheAppliedRecordsKeepingItsAxes) {
+  {
+    DatabaseOptions opt;
+    opt.migrate_to = 15;
+    auto old = Database::Open(Path(), opt);
+    ASSERT_TRUE(old.ok());
+    ASSERT_EQ((*old)->schema_version(), 15);
+    ASSERT_TRUE((*old)
+                    ->Exec("INSERT INTO machines(id, name, created_ms, updated_ms) VALUES "
+                           "(1, 'm1', 1, 1); INSERT INTO axes(id, machine_id, name) "
+                           "VALUES (7, 1, 'Y')")
+                    .ok());
+  }
+  auto db = Database::Open(Path());
+  ASSERT_TRUE(db.ok()) << db.status().ToString();
+  EXPECT_EQ((*db)->schema_version(), 16);
+  ASSERT_TRUE((*db)
+                  ->Exec("INSERT INTO applied_compensation(axis_id, sequence, applied_at_ms, via,"
+                         " actor) VALUES (7, 17, 5, 'opcua', 'token:cell-1')")
+                  .ok());
+  EXPECT_EQ(Scalar(**db, "SELECT sequence FROM applied_compensation WHERE axis_id = 7"), 17);
+  // An axis that does not exist, or a negative sequence, is refused.
+  EXPECT_FALSE((*db)
+                   ->Exec("INSERT INTO applied_compensation(axis_id, sequence, applied_at_ms, via,"
+                          " actor) VALUES (8, 1, 5, 'http', 'x')")
+                   .ok());
+  EXPECT_FALSE((*db)
+                   ->Exec("INSERT INTO applied_compensation(axis_id, sequence, applied_at_ms, via,"
+                          " actor) VALUES (7, -1, 5, 'http', 'x')")
+                   .ok());
+  EXPECT_EQ(
+      Scalar(**db,
+             "SELECT COUNT(*) FROM sqlite_master WHERE name = 'applied_compensation_by_axis'"),
+      1);
+}
+
 TEST_F(MigrationTest, ReopeningIsIdempotent) {
   { ASSERT_TRUE(Database::Open(Path()).ok()); }
   auto db = Database::Open(Path());
