@@ -14,6 +14,7 @@ packages=(
   libsqlite3-dev sqlite3 libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev zlib1g-dev libssl-dev
   libboost-math-dev libtomlplusplus-dev cyclonedds-dev cyclonedds-tools
   libcmark-gfm-dev libcmark-gfm-extensions-dev libjs-dygraphs libhowardhinnant-date-dev
+  libpugixml-dev
 )
 case $purpose in
   run) ;;

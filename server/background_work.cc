@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "api/operations/agent_get.h"
 #include "api/operations/alert_post.h"
 
 namespace thermocomp {
@@ -38,10 +39,21 @@ Status BackgroundWork::Start() {
     monitor_ = std::make_unique<AlertMonitor>(app_, webhook_.get());
     monitor_->Start(std::chrono::seconds(30));
   }
+  for (const MtconnectSourceConfig& source : config.mtconnect_sources) {
+    mtconnect_.push_back(std::make_unique<MtconnectSource>(
+        source,
+        [](const std::string& url, const std::string& path) {
+          return api::GetFromAgent(url, path);
+        },
+        app_.ingest(), app_.storage(), app_.clock(), &app_.mtconnect_board()));
+    mtconnect_.back()->Start();
+  }
   return Status::Ok();
 }
 
 void BackgroundWork::Stop() {
+  for (auto& source : mtconnect_) source->Stop();
+  mtconnect_.clear();
   if (monitor_) monitor_->Stop();
   if (webhook_) webhook_->Stop();
   if (retention_) retention_->Stop();

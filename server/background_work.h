@@ -1,15 +1,18 @@
 // BackgroundWork: what the server runs beside its requests, each on a
 // thread of its own: the refit scheduler, scheduled backups
 // (backup.dir), the retention of raw samples (retention.raw_days), and
-// the alert monitor with its webhook (alerts.webhook_url). Start() starts
+// the alert monitor with its webhook (alerts.webhook_url), and one poller
+// per [[mtconnect.sources]] (docs/mtconnect.md). Start() starts
 // them in that order; Stop() (also the destructor) stops them in reverse,
 // before the App they read goes away.
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "core/status.h"
 #include "service/app.h"
+#include "service/mtconnect/mtconnect_source.h"
 #include "service/operations/alert_webhook.h"
 #include "service/operations/backup_schedule.h"
 #include "service/operations/retention.h"
@@ -35,6 +38,7 @@ class BackgroundWork {
   std::unique_ptr<Retention> retention_;
   std::unique_ptr<AlertWebhook> webhook_;
   std::unique_ptr<AlertMonitor> monitor_;
+  std::vector<std::unique_ptr<MtconnectSource>> mtconnect_;
 };
 
 }  // namespace thermocomp

@@ -14,6 +14,8 @@
 
 #include <toml++/toml.h>
 
+#include "service/mtconnect/mtconnect_config.h"
+
 namespace thermocomp {
 namespace {
 
@@ -386,6 +388,7 @@ const std::map<std::string, Reader>& Keys() {
                            return "";
                          }},
       {"auth.tokens", ReadTokens},
+      {"mtconnect.sources", ReadMtconnectSources},
       {"web.time_zone", TimeZone},
       {"web.dygraphs_dir", Text(&Config::web_dygraphs_dir)},
       {"web.session_hours", Int(&Config::web_session_hours, 1, 24 * 30)},

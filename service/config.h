@@ -3,6 +3,7 @@
 // `thermocomp serve` runs without a file.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,18 @@ struct AccessToken {
   std::string token;
   std::string role;     // machine | reader | maintenance | admin
   std::string machine;  // for role "machine"
+};
+
+// One [[mtconnect.sources]]: a machine read from an MTConnect agent
+// (docs/mtconnect.md).
+struct MtconnectSourceConfig {
+  std::string machine;
+  std::string url;     // http://host[:port][/prefix] of the agent
+  std::string device;  // a device's name or uuid; empty: the agent's only device
+  int poll_s = 10;
+  int count = 1000;  // observations asked for per /sample
+  // A Temperature data item's id -> the machine's sensor it feeds.
+  std::map<std::string, std::string> sensors;
 };
 
 struct Config {
@@ -143,6 +156,8 @@ struct Config {
   int dds_batch_max_delay_ms = 20;
   double dds_publish_step_mm = 1e-4;
   int dds_publish_every_s = 60;
+  // [[mtconnect.sources]]; none: no agent is read
+  std::vector<MtconnectSourceConfig> mtconnect_sources;
 };
 
 // Reads `path` over `defaults`; an empty path yields the defaults.

@@ -197,6 +197,7 @@ std::string OperatorGauges(App& app) {
                           &versions, &analyses, &active, &db, &build}) {
     out += f->text();
   }
+  out += app.mtconnect_board().Gauges();  // empty without MTConnect sources
   return out;
 }
 
