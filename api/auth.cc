@@ -57,8 +57,9 @@ bool Permitted(const AccessToken& t, const std::string& method, const std::strin
     if (read)
       return rest.empty() || rest == "compensation" || rest == "column-checks/requests" ||
              IsThermalErrorTable(rest);
-    return method == "POST" && (rest == "temperatures" || rest == "probe-points" ||
-                                rest == "signals" || rest == "events" || rest == "column-checks");
+    return method == "POST" &&
+           (rest == "temperatures" || rest == "probe-points" || rest == "signals" ||
+            rest == "events" || rest == "column-checks" || rest == "compensation/applied");
   }
   return false;
 }

@@ -4,7 +4,8 @@
 // assets and signing in (/api/v1/session) needs `Authorization: Bearer
 // <token>` or a signed-in session cookie (api/web/web_sessions.h):
 //   machine      of its own machine: posts temperatures, probe points,
-//                signals, events and column-check results; reads the
+//                signals, events, column-check results and what its
+//                control applied (compensation/applied); reads the
 //                machine, its compensation and its open check requests
 //   reader       reads everything
 //   maintenance  reads everything; posts events, check requests, column

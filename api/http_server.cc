@@ -120,6 +120,7 @@ const std::vector<std::pair<std::regex, std::set<std::string>>>& RouteParams() {
       {std::regex(m + "/compensation"), {"format"}},
       {std::regex(m + "/drift"), {"axis", "from", "to", "max_points"}},
       {std::regex(m + "/compensation/outcome"), {"axis", "from", "to", "bucket"}},
+      {std::regex(m + "/compensation/applied"), {"axis", "limit"}},
       {std::regex(m + "/temperatures"), {"from", "to", "max_points"}},
       {std::regex("/ui/sign-in"), {"next"}},
       {std::regex("/"), {"refresh"}},
@@ -309,16 +310,18 @@ void HttpServer::Stop() {
 }
 
 std::string HttpServer::CompensationBody(const std::string& machine,
-                                         const std::shared_ptr<const MachineCompensation>& c) {
+                                         const std::shared_ptr<const MachineCompensation>& c,
+                                         const std::shared_ptr<const AppliedByAxis>& applied) {
   {
     std::shared_lock lock(rendered_mutex_);
-    if (auto it = rendered_.find(machine); it != rendered_.end() && it->second.first == c) {
-      return it->second.second;
+    if (auto it = rendered_.find(machine);
+        it != rendered_.end() && it->second.compensation == c && it->second.applied == applied) {
+      return it->second.body;
     }
   }
-  std::string body = JsonText(CompensationToJson(*c));
+  std::string body = JsonText(CompensationToJson(*c, applied.get()));
   std::unique_lock lock(rendered_mutex_);
-  rendered_[machine] = {c, body};
+  rendered_[machine] = {c, applied, body};
   return body;
 }
 

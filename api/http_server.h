@@ -14,6 +14,7 @@
 // service/app.h first: glibc's resolv.h (pulled in by httplib.h) defines
 // a macro `_res` that breaks Eigen's headers when they come after it.
 #include "service/app.h"
+#include "service/applied_compensation_service.h"
 
 #include <httplib.h>
 
@@ -53,9 +54,11 @@ class HttpServer {
   bool ServeOne(httplib::Stream& stream) { return server_.ServeOne(stream); }
 
  private:
-  // The JSON body of a compensation snapshot, rendered once per snapshot.
+  // The JSON body of a compensation snapshot with what the control applied,
+  // rendered once per pair of snapshots.
   std::string CompensationBody(const std::string& machine,
-                               const std::shared_ptr<const MachineCompensation>& c);
+                               const std::shared_ptr<const MachineCompensation>& c,
+                               const std::shared_ptr<const AppliedByAxis>& applied);
   // The hooks every request passes (framing, limits, auth, logging,
   // problems) and the routes, grouped per resource, one file each.
   void Routes();
@@ -108,8 +111,12 @@ class HttpServer {
   WebSessions sessions_;
   AuthThrottle auth_throttle_;
   std::shared_mutex rendered_mutex_;
-  std::map<std::string, std::pair<std::shared_ptr<const MachineCompensation>, std::string>>
-      rendered_;
+  struct Rendered {
+    std::shared_ptr<const MachineCompensation> compensation;
+    std::shared_ptr<const AppliedByAxis> applied;
+    std::string body;
+  };
+  std::map<std::string, Rendered> rendered_;
   GuardedServer server_;
   std::thread thread_;
   int port_ = 0;

@@ -108,7 +108,7 @@ json AnalysesToJson(const std::vector<AnalysisRecord>& list) {
   return {{"analyses", out}};
 }
 
-json CompensationToJson(const MachineCompensation& c) {
+json CompensationToJson(const MachineCompensation& c, const AppliedByAxis* applied) {
   json axes = json::array();
   for (const auto& a : c.axes) {
     json j = {{"axis", a.axis},
@@ -132,9 +132,24 @@ json CompensationToJson(const MachineCompensation& c) {
               {"datum_ts", a.datum_ts_ms ? json(FormatRfc3339(*a.datum_ts_ms)) : nullptr},
               {"extrapolating", a.extrapolating}};
     if (!a.valid) j["reason"] = a.reason;
+    if (applied) {
+      auto it = applied->find(a.axis_id);
+      j["applied"] = it == applied->end() ? json(nullptr) : AppliedToJson(it->second);
+    }
     axes.push_back(j);
   }
   return {{"machine", c.machine}, {"computed_at", FormatRfc3339(c.computed_at_ms)}, {"axes", axes}};
+}
+
+json AppliedToJson(const AppliedRecord& r) {
+  auto value = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+  return {{"sequence", r.sequence},
+          {"applied_at", FormatRfc3339(r.applied_at_ms)},
+          {"offset_mm", value(r.offset_mm)},
+          {"slope_um_per_m", value(r.slope_um_per_m)},
+          {"offset_at_probe_mm", value(r.offset_at_probe_mm)},
+          {"via", r.via},
+          {"actor", r.actor}};
 }
 
 namespace {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "service/app.h"  // before httplib.h, see http_server.h
+#include "service/applied_compensation_service.h"
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
@@ -21,7 +22,12 @@ std::optional<MachineDefinition> MachineFromJson(const std::string& name, const 
 // Analysis list entries, newest first: {"analyses": [{id, created_at, trigger, effects,
 // model_version}]}.
 nlohmann::json AnalysesToJson(const std::vector<AnalysisRecord>& list);
-nlohmann::json CompensationToJson(const MachineCompensation& c);
+// With `applied`, each axis carries `applied`: its newest record, or null.
+nlohmann::json CompensationToJson(const MachineCompensation& c,
+                                  const AppliedByAxis* applied = nullptr);
+// What a control applied: {sequence, applied_at, the three values (null
+// when not stated), via, actor}.
+nlohmann::json AppliedToJson(const AppliedRecord& r);
 // GET /overview: one page of machines at a glance, with the compensation
 // served now, how many machines there are (`total`) and the URL of the
 // next page (`next`, null on the last).

@@ -1,6 +1,7 @@
 #include "service/app.h"
 
 #include "core/log.h"
+#include "service/applied_compensation_service.h"
 #include "service/parts/plates/plate_service.h"
 #include "service/parts/process/part_model_service.h"
 #include "service/parts/surfaces/surface_service.h"
@@ -47,6 +48,7 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
   app->turning_ = std::make_unique<TurningService>(d, clock, c);
   app->part_models_ = std::make_unique<PartModelService>(d, clock, c);
   app->surfaces_ = std::make_unique<SurfaceService>(d, clock, c);
+  app->applied_ = std::make_unique<AppliedCompensationService>(d, clock);
   CompensationService* compensation = app->compensation_.get();
   auto changed = [compensation](const std::string& machine) { compensation->MarkChanged(machine); };
   app->ingest_->SetListener(changed);

@@ -33,6 +33,8 @@ class PlateService;
 class TurningService;
 class PartModelService;
 class SurfaceService;
+// What the controls applied (service/applied_compensation_service.h).
+class AppliedCompensationService;
 
 class App {
  public:
@@ -67,6 +69,7 @@ class App {
   TurningService& turning() { return *turning_; }
   PartModelService& part_models() { return *part_models_; }
   SurfaceService& surfaces() { return *surfaces_; }
+  AppliedCompensationService& applied() { return *applied_; }
   Metrics& metrics() { return metrics_; }
   // What the MTConnect sources last did (server/background_work.cc runs them).
   MtconnectBoard& mtconnect_board() { return mtconnect_board_; }
@@ -95,6 +98,7 @@ class App {
   std::unique_ptr<TurningService> turning_;
   std::unique_ptr<PartModelService> part_models_;
   std::unique_ptr<SurfaceService> surfaces_;
+  std::unique_ptr<AppliedCompensationService> applied_;
   Metrics metrics_;
   MtconnectBoard mtconnect_board_;
   ProbeTemperatureCache probe_temperatures_;
