@@ -24,7 +24,8 @@ void Family(
   out += "# HELP " + name + " " + help + "\n# TYPE " + name + " " + type + "\n";
   for (const auto& s : sources) {
     for (const auto& [extra, value] : series(s)) {
-      out += name + "{machine=\"" + s.machine + "\"" + extra + "} " + Number(value) + "\n";
+      out.append(name).append("{machine=\"").append(s.machine).append("\"").append(extra);
+      out.append("} ").append(Number(value)).append("\n");
     }
   }
 }

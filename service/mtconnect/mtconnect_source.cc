@@ -110,9 +110,11 @@ bool MtconnectSource::SeedFromArchive() {
     Failed("machine " + config_.machine + " is not declared: " + machine.status().message());
     return false;
   }
-  for (const auto& [item, sensor] : config_.sensors) {
+  for (const auto& mapped : config_.sensors) {
+    const std::string& item = mapped.first;
+    const std::string& sensor = mapped.second;
     const auto it = std::find_if(machine->sensors.begin(), machine->sensors.end(),
-                                 [&](const SensorRecord& r) { return r.name == sensor; });
+                                 [&sensor](const SensorRecord& r) { return r.name == sensor; });
     if (it == machine->sensors.end()) {
       log::Warn("mtconnect: sensor not declared; its samples will be refused",
                 "machine=" + config_.machine + " sensor=" + sensor);
@@ -138,9 +140,10 @@ bool MtconnectSource::Probe() {
     Failed("/probe did not answer an MTConnectDevices document");
     return false;
   }
-  for (const auto& [item, sensor] : config_.sensors) {
+  for (const auto& mapped : config_.sensors) {
+    const std::string& item = mapped.first;
     const bool declared = std::any_of(doc->items.begin(), doc->items.end(),
-                                      [&](const TemperatureItem& t) { return t.id == item; });
+                                      [&item](const TemperatureItem& t) { return t.id == item; });
     if (!declared) {
       log::Warn("mtconnect: data item is no Temperature sample of the device",
                 "machine=" + config_.machine + " data_item=" + item);
