@@ -171,7 +171,17 @@ def open_access(d, s):
     check(refreshed and d.execute_script("return window.notReloaded === true"),
           f"the overview shows a new request ({want}) without a reload")
 
+    # What the control applied: one axis reported, the others not.
+    req = urllib.request.Request(s.base + "/api/v1/machines/sim-1/compensation/applied",
+                                 data=b'{"axis": "Y", "sequence": 17, "offset_mm": -0.0123, "via": "opcua"}',
+                                 method="POST", headers={"Content-Type": "application/json"})
+    urllib.request.urlopen(req, timeout=10)
     open_page(d, s, "/ui/machines/sim-1", "machine")
+    applied = {li.get_attribute("data-axis"): li.text for li in d.find_elements(By.CSS_SELECTOR, "#applied li")}
+    check(applied.get("Y", "").startswith("Axis Y: applied by the control: sequence 17 at ")
+          and applied["Y"].endswith(" (opcua)")
+          and all(t.endswith(": not reported") for a, t in applied.items() if a != "Y"),
+          f"the machine page says what the control applied per axis {applied}")
     parts = [a.get_attribute("href") for a in d.find_elements(By.CSS_SELECTOR, "#parts-links a")]
     check([p.split("/ui/machines/sim-1/")[-1] for p in parts] ==
           ["plates", "turned-parts", "part-models", "surfaces"],

@@ -44,6 +44,9 @@
   const temps = Charts.box("temperatures", "Temperatures (°C); grey lines: start of a run, red: events (labelled with their kind)");
   let driftChart = null, tempChart = null;
   const outcome = el("section", { id: "outcome" });
+  // What each axis' control reports it applied of the served compensation
+  // (POST .../compensation/applied, the PLC directly or the OPC UA face).
+  const applied = el("section", { id: "applied" });
   const feed = el("section", { id: "feed-axes" });  // filled by machine_feed.js
   let bucket = null;  // day or week as chosen; until then by the range's span
 
@@ -308,6 +311,21 @@
     }
   }
 
+  async function loadApplied() {
+    try {
+      const c = await api("/machines/" + encodeURIComponent(machine) + "/compensation");
+      applied.replaceChildren(el("h2", {}, "Applied by the control"), el("ul", {}, c.axes.map((a) => {
+        const r = a.applied;
+        return el("li", { "data-axis": a.axis }, "Axis " + a.axis + ": " + (r
+          ? "applied by the control: sequence " + r.sequence + " at " + time(r.applied_at) + " (" + r.via + ")"
+          : "not reported"));
+      })));
+    } catch (err) {
+      applied.replaceChildren(el("div", { class: "error" }, TC.problemText(err)));
+    }
+    applied.dataset.ready = "1";
+  }
+
   // The export: every probe point, served offset and temperature sample in
   // the range (not the thinned chart), asked for window by window so that
   // the server thins nothing; one column per series, times in the plant's
@@ -413,7 +431,8 @@
 
   TC.main(el("h1", {}, info.name && info.name !== machine ? info.name + " (" + machine + ")" : machine,
     el("span", { class: "muted" }, " · " + (info.controller || "control unknown"))),
-  cards, axisTabs, links, rangeBar, note, drift.node, temps.node, outcome, feed, events);
+  cards, applied, axisTabs, links, rangeBar, note, drift.node, temps.node, outcome, feed, events);
+  await loadApplied();
   renderAxisTabs();
   if (!axes.length) {
     note.textContent = "This machine has no axes defined, so there is no drift to show.";
