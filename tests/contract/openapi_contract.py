@@ -228,6 +228,18 @@ def exercise(base):
     for fmt in ("json", "native", "sinumerik", "beckhoff", "heidenhain", "fanuc", "linuxcnc"):
         call(base, "GET", f"{m}/compensation?format={fmt}", expect=200)
     call(base, "GET", f"{m}/compensation?fromat=json", expect=400)
+    applied = {"axis": "Y", "sequence": 17, "offset_mm": -0.0123, "slope_um_per_m": 4.2,
+               "offset_at_probe_mm": -0.0119, "via": "opcua"}
+    call(base, "POST", f"{m}/compensation/applied", applied, expect=201)
+    call(base, "POST", f"{m}/compensation/applied", applied, expect=200)
+    call(base, "POST", f"{m}/compensation/applied", {"axis": "Y", "sequence": 1.5}, expect=400)
+    call(base, "POST", f"{m}/compensation/applied", {"axis": "Q", "sequence": 1}, expect=422)
+    call(base, "POST", f"{m}/compensation/applied", {"axis": "Y", "sequence": 1}, "text/plain", expect=415)
+    call(base, "POST", "/api/v1/machines/nope/compensation/applied", applied, expect=404)
+    call(base, "GET", f"{m}/compensation", expect=200)  # with the axis' applied record
+    call(base, "GET", f"{m}/compensation/applied?axis=Y&limit=10", expect=200)
+    call(base, "GET", f"{m}/compensation/applied?axis=Y&limit=0", expect=400)
+    call(base, "GET", "/api/v1/machines/nope/compensation/applied?axis=Y", expect=404)
     call(base, "GET", f"{m}/drift?axis=Y&max_points=50", expect=200)
     call(base, "GET", f"{m}/drift", expect=400)
     call(base, "GET", f"{m}/compensation/outcome", expect=200)
