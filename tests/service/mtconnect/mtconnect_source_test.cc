@@ -264,16 +264,16 @@ TEST(MtconnectConfig, SourcesAreReadAndMistakesNamed) {
 
   const std::string base = "[[mtconnect.sources]]\nmachine = \"vmc-1\"\n";
   const std::string sensors = "[mtconnect.sources.sensors]\nt = \"Tsp\"\n";
-  for (const auto& [text, why] : std::vector<std::pair<std::string, std::string>>{
-           {base + "url = \"https://agent:5000\"\n" + sensors, "url must be http://"},
-           {base + "url = \"http://agent:5000\"\n", "sensors must map at least one"},
-           {base + "url = \"http://agent:5000\"\ncount = 0\n" + sensors, "count must be"},
-           {base + "url = \"http://agent:5000\"\nspeed = 1\n" + sensors, "unknown key 'speed'"},
-           {base +
-                "url = \"http://agent:5000\"\n[mtconnect.sources.sensors]\na = \"T\"\nb = \"T\"\n",
-            "fed by two data items"},
-           {base + "url = \"http://a:1\"\n" + sensors + base + "url = \"http://a:1\"\n" + sensors,
-            "one agent per machine"}}) {
+  const std::vector<std::pair<std::string, std::string>> mistakes = {
+      {base + "url = \"https://agent:5000\"\n" + sensors, "url must be http://"},
+      {base + "url = \"http://agent:5000\"\n", "sensors must map at least one"},
+      {base + "url = \"http://agent:5000\"\ncount = 0\n" + sensors, "count must be"},
+      {base + "url = \"http://agent:5000\"\nspeed = 1\n" + sensors, "unknown key 'speed'"},
+      {base + "url = \"http://agent:5000\"\n[mtconnect.sources.sensors]\na = \"T\"\nb = \"T\"\n",
+       "fed by two data items"},
+      {base + "url = \"http://a:1\"\n" + sensors + base + "url = \"http://a:1\"\n" + sensors,
+       "one agent per machine"}};
+  for (const auto& [text, why] : mistakes) {
     auto c = load(text);
     ASSERT_FALSE(c.ok()) << text;
     EXPECT_NE(c.status().message().find("mtconnect.sources"), std::string::npos)
