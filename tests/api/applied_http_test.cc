@@ -75,7 +75,7 @@ class AppliedHttpTest : public testing::AppFixture {
   std::unique_ptr<httplib::Client> client_;
 };
 
-constexpr const char* kFullBody =
+constexpr const char* kAppliedFullBody =
     R"({"axis": "Y", "sequence": 17, "offset_mm": -0.0123, "slope_um_per_m": 4.2,)"
     R"( "offset_at_probe_mm": -0.0119, "via": "opcua"})";
 
@@ -85,7 +85,7 @@ TEST_F(AppliedHttpTest, StoredWithTheServersClockAndShownInTheCompensation) {
   EXPECT_TRUE(AxisOf(before, "Y")["applied"].is_null());
   EXPECT_TRUE(AxisOf(before, "X")["applied"].is_null());
 
-  auto r = Post(kAppliedCell1, "m1", kFullBody);
+  auto r = Post(kAppliedCell1, "m1", kAppliedFullBody);
   ASSERT_TRUE(r);
   ASSERT_EQ(r->status, 201) << r->body;
   const json stored = json::parse(r->body);
@@ -127,10 +127,10 @@ TEST_F(AppliedHttpTest, StoredWithTheServersClockAndShownInTheCompensation) {
 }
 
 TEST_F(AppliedHttpTest, TheNewestSequenceAgainIsARetryStoredOnce) {
-  ASSERT_EQ(Post(kAppliedCell1, "m1", kFullBody)->status, 201);
-  const std::string first = json::parse(Post(kAppliedCell1, "m1", kFullBody)->body).dump();
+  ASSERT_EQ(Post(kAppliedCell1, "m1", kAppliedFullBody)->status, 201);
+  const std::string first = json::parse(Post(kAppliedCell1, "m1", kAppliedFullBody)->body).dump();
   clock_.Advance(5000);
-  auto again = Post(kAppliedCell1, "m1", kFullBody);
+  auto again = Post(kAppliedCell1, "m1", kAppliedFullBody);
   ASSERT_EQ(again->status, 200) << again->body;
   EXPECT_EQ(json::parse(again->body).dump(), first);  // the stored record, its time too
   EXPECT_EQ(Rows(), 1);
@@ -143,13 +143,13 @@ TEST_F(AppliedHttpTest, TheNewestSequenceAgainIsARetryStoredOnce) {
 }
 
 TEST_F(AppliedHttpTest, OnlyTheMachinesOwnTokenAndAdminMayWrite) {
-  auto other = Post(kAppliedCell2, "m1", kFullBody);
+  auto other = Post(kAppliedCell2, "m1", kAppliedFullBody);
   EXPECT_EQ(other->status, 403) << other->body;
-  EXPECT_EQ(Post(kAppliedReader, "m1", kFullBody)->status, 403);
+  EXPECT_EQ(Post(kAppliedReader, "m1", kAppliedFullBody)->status, 403);
   EXPECT_EQ(Rows(), 0);
-  EXPECT_EQ(Post(kAppliedCell2, "m2", kFullBody)->status, 201);
-  EXPECT_EQ(Post(kAppliedAdmin, "m1", kFullBody)->status, 201);
-  EXPECT_EQ(Post(kAppliedAdmin, "nope", kFullBody)->status, 404);
+  EXPECT_EQ(Post(kAppliedCell2, "m2", kAppliedFullBody)->status, 201);
+  EXPECT_EQ(Post(kAppliedAdmin, "m1", kAppliedFullBody)->status, 201);
+  EXPECT_EQ(Post(kAppliedAdmin, "nope", kAppliedFullBody)->status, 404);
   EXPECT_EQ(Rows(), 2);
 }
 
@@ -191,12 +191,12 @@ TEST_F(AppliedHttpTest, BadBodiesAreRefusedNamingTheFieldAndStoreNothing) {
 }
 
 TEST_F(AppliedHttpTest, TheNewestRecordIsServedAgainAfterARestart) {
-  ASSERT_EQ(Post(kAppliedCell1, "m1", kFullBody)->status, 201);
+  ASSERT_EQ(Post(kAppliedCell1, "m1", kAppliedFullBody)->status, 201);
   const json before = AxisOf(Compensation("m1"), "Y")["applied"];
   Restart();
   EXPECT_EQ(AxisOf(Compensation("m1"), "Y")["applied"], before);
   // And the retry rule holds across it.
-  EXPECT_EQ(Post(kAppliedCell1, "m1", kFullBody)->status, 200);
+  EXPECT_EQ(Post(kAppliedCell1, "m1", kAppliedFullBody)->status, 200);
   EXPECT_EQ(Rows(), 1);
 }
 
