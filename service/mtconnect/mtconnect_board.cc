@@ -71,6 +71,12 @@ std::string MtconnectBoard::Gauges() const {
              [](const MtconnectSourceStatus& s) {
                return Series{{"", static_cast<double>(s.last_poll_ms) / 1000.0}};
              });
+  mb::Family(out, "thermocomp_mtconnect_last_gap_timestamp_seconds", "gauge",
+             "When the source last recorded a gap (Unix seconds; 0: none yet). The audit line "
+             "(action mtconnect_gap) names it.",
+             sources, [](const MtconnectSourceStatus& s) {
+               return Series{{"", static_cast<double>(s.last_gap_ms) / 1000.0}};
+             });
   mb::Family(out, "thermocomp_mtconnect_gaps_total", "counter",
              "Gaps recorded in the audit (action mtconnect_gap), by reason.", sources,
              [](const MtconnectSourceStatus& s) {

@@ -176,6 +176,11 @@ TEST_F(MtconnectSourceTest, SurvivesAgentRestartAndBufferWrapWithNoDuplicateAndR
       << gauges;
   EXPECT_NE(gauges.find("thermocomp_mtconnect_instance_id{machine=\"vmc-1\"} 1773560500"),
             std::string::npos);
+  EXPECT_NE(gauges.find("thermocomp_mtconnect_connected{machine=\"vmc-1\"} 1"), std::string::npos);
+  EXPECT_NE(gauges.find("thermocomp_mtconnect_next_sequence{machine=\"vmc-1\"} 19"),
+            std::string::npos);
+  EXPECT_GT(st.last_gap_ms, 0);
+  EXPECT_NE(st.last_gap.find("buffer wrapped"), std::string::npos);
 
   // The server restarts (a new source over the same archive): it starts
   // from /current again and offers nothing it stored before.
@@ -228,6 +233,15 @@ TEST_F(MtconnectWiringTest, ABrokenAgentIsSurvived) {
   EXPECT_TRUE(st.connected);
   EXPECT_TRUE(st.last_error.empty()) << st.last_error;
   EXPECT_EQ(Count("SELECT COUNT(*) FROM samples"), 2);
+  // Where the operator sees it: the server's /metrics.
+  StartHttp();
+  const auto scrape = TestClient(http_->port())->Get("/metrics");
+  ASSERT_TRUE(scrape);
+  EXPECT_NE(scrape->body.find("thermocomp_mtconnect_connected{machine=\"vmc-1\"} 1"),
+            std::string::npos);
+  EXPECT_NE(scrape->body.find(
+                "thermocomp_mtconnect_samples_total{machine=\"vmc-1\",outcome=\"refused\"} 2"),
+            std::string::npos);
 }
 
 TEST(AgentGet, BoundsTheAnswerAndRefusesWhatIsNotPlainHttp) {
