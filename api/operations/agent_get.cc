@@ -1,10 +1,12 @@
 #include "api/operations/agent_get.h"
 
-#include <httplib.h>
-
 #include <charconv>
 
+// Before cpp-httplib: the configuration brings Eigen, which glibc's
+// resolv.h (pulled in by httplib.h) breaks with its `_res` macro.
 #include "service/mtconnect/mtconnect_config.h"
+
+#include <httplib.h>
 
 namespace thermocomp::api {
 
