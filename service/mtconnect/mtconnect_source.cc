@@ -84,8 +84,12 @@ std::string MtconnectSource::Path(const std::string& request) const {
 }
 
 void MtconnectSource::Failed(const std::string& why) {
-  log::Warn("mtconnect: poll failed", "machine=" + config_.machine + " why=\"" + why + "\"");
   const std::lock_guard<std::mutex> lock(status_mutex_);
+  // Logged when it starts or changes: an agent that is down for a day is
+  // one line, not one per poll (polls_failed counts them all).
+  if (why != status_.last_error) {
+    log::Warn("mtconnect: poll failed", "machine=" + config_.machine + " why=\"" + why + "\"");
+  }
   status_.connected = false;
   status_.last_error = why;
   ++status_.polls_failed;
