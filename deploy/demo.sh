@@ -34,10 +34,16 @@ fi
 # with compensation on and off (var/simulator.log).
 ./build/thermocomp simulate --live --dds --machines sim-1,sim-2 --hidden lag@sim-2 > var/simulator.log 2>&1 &
 sim=$!
-trap 'kill $sim 2>/dev/null || true' EXIT
+# The OPC UA face beside the server (docs/opcua.md): loopback only, and as
+# the demo server has no tokens, anonymous and read-only (var/opcua.log).
+opcua_port="${THERMOCOMP_OPCUA_PORT:-4840}"
+node opcua/thermocomp-opcua.js --state-dir var/opcua --thermocomp "http://127.0.0.1:$port" \
+  --listen "127.0.0.1:$opcua_port" --allow-anonymous > var/opcua.log 2>&1 &
+face=$!
+trap 'kill $sim $face 2>/dev/null || true' EXIT
 cat <<MSG
 
-thermocomp demo on http://127.0.0.1:$port and DDS (loopback)  (Ctrl-C stops it)
+thermocomp demo on http://127.0.0.1:$port, DDS and opc.tcp://127.0.0.1:$opcua_port (loopback)  (Ctrl-C stops it)
 Pages: open http://127.0.0.1:$port/ in a browser (line overview, machines, models, checks)
 Live machines, error with compensation on vs off:  tail -f var/simulator.log
 Try:

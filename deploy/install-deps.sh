@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages thermocomp needs, and only those that are
 # missing. Works on a minimal system (no compiler).
-#   deploy/install-deps.sh run    what building and running the server needs
+#   deploy/install-deps.sh run    what building and running the server needs,
+#                                 with the OPC UA face (deploy/opcua-deps.sh)
 #   deploy/install-deps.sh test   that, plus what the tests need (the
 #                                 default): GoogleTest and Google Benchmark,
 #                                 clang with its sanitizer runtimes and
@@ -41,6 +42,8 @@ else
   $sudo apt-get update -qq
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
+# The OPC UA face (opcua/, node-opcua from npm): node, npm and its pinned tree.
+"$(dirname "$0")/opcua-deps.sh"
 # The tests also run nginx (the TLS proxy) and promtool (the alert rules),
 # unpacked from Debian's packages rather than installed: deploy/test-tools.sh.
 if [ "$purpose" = test ]; then

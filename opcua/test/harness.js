@@ -1,0 +1,178 @@
+// harness: a real thermocomp server and the real OPC UA face, each a
+// process on loopback, over a real SQLite file in a temporary directory.
+"use strict";
+const { spawn, execFileSync } = require("node:child_process");
+const fs = require("node:fs");
+const net = require("node:net");
+const os = require("node:os");
+const path = require("node:path");
+const http = require("node:http");
+
+const kBinary = process.env.THERMOCOMP_BINARY;
+const kStudy = process.env.THERMOCOMP_STUDY_CSV;
+
+function freePort() {
+  return new Promise((resolve, reject) => {
+    const s = net.createServer();
+    s.listen(0, "127.0.0.1", () => {
+      const { port } = s.address();
+      s.close(() => resolve(port));
+    });
+    s.on("error", reject);
+  });
+}
+
+// Polls `probe` until it returns a truthy value; the timeout is generous on
+// purpose (a sanitizer build on a busy machine is many times slower).
+async function waitFor(what, probe, timeoutMs = 60000) {
+  const end = Date.now() + timeoutMs;
+  let last;
+  while (Date.now() < end) {
+    try {
+      const v = await probe();
+      if (v) return v;
+    } catch (e) {
+      last = e;
+    }
+    await new Promise((r) => setTimeout(r, 50));
+  }
+  throw new Error(`timed out waiting for ${what}${last ? `: ${last.message}` : ""}`);
+}
+
+function request(port, method, p, { token, body } = {}) {
+  return new Promise((resolve, reject) => {
+    const headers = {};
+    if (token) headers.Authorization = `Bearer ${token}`;
+    let payload;
+    if (body !== undefined) {
+      payload = Buffer.from(typeof body === "string" ? body : JSON.stringify(body));
+      headers["Content-Type"] = "application/json";
+    }
+    const req = http.request({ host: "127.0.0.1", port, method, path: p === "/healthz" ? p : `/api/v1${p}`, headers }, (res) => {
+      const chunks = [];
+      res.on("data", (c) => chunks.push(c));
+      res.on("end", () => {
+        const text = Buffer.concat(chunks).toString();
+        let parsed = text;
+        try {
+          parsed = JSON.parse(text);
+        } catch (_) {
+          /* not JSON */
+        }
+        resolve({ status: res.statusCode, body: parsed });
+      });
+    });
+    req.on("error", reject);
+    if (payload) req.write(payload);
+    req.end();
+  });
+}
+
+const kTokens = {
+  feed: { name: "opcua-feed", token: "feed-token-0123456789abcdef", role: "reader" },
+  reader: { name: "quality-1", token: "reader-token-0123456789abcdef", role: "reader" },
+  cell: { name: "cell-2", token: "cell-2-token-0123456789abcdef", role: "machine", machine: "m2" },
+  admin: { name: "admin-1", token: "admin-token-0123456789abcdef", role: "admin" },
+};
+
+// A line: thermocomp with the study machine (fitted, v1 served from fresh
+// temperatures) and a second machine m2 without a model, and the face.
+class Line {
+  async start({ faceArgs = [] } = {}) {
+    if (!kBinary || !kStudy) throw new Error("THERMOCOMP_BINARY and THERMOCOMP_STUDY_CSV must be set");
+    this.dir = fs.mkdtempSync(path.join(process.env.TMPDIR || os.tmpdir(), "thermocomp-opcua-"));
+    this.db = path.join(this.dir, "line.db");
+    const config = [
+      "[compensation]",
+      "max_rate_um_per_min = 1000  # the fastest ramp: the values under test settle within a second",
+      ...Object.values(kTokens).flatMap((t) => [
+        "[[auth.tokens]]",
+        `name = "${t.name}"`,
+        `token = "${t.token}"`,
+        `role = "${t.role}"`,
+        ...(t.machine ? [`machine = "${t.machine}"`] : []),
+      ]),
+    ].join("\n");
+    fs.writeFileSync(path.join(this.dir, "thermocomp.toml"), config);
+    fs.writeFileSync(path.join(this.dir, "feed.token"), kTokens.feed.token);
+    execFileSync(kBinary, ["import", "--db", this.db, "--create", "--study", kStudy], { stdio: "ignore" });
+    this.port = await freePort();
+    this.server = spawn(kBinary, [
+      "serve", "--db", this.db, "--listen", `127.0.0.1:${this.port}`,
+      "--config", path.join(this.dir, "thermocomp.toml"),
+    ], { stdio: ["ignore", "ignore", fs.openSync(path.join(this.dir, "thermocomp.log"), "w")] });
+    await waitFor("thermocomp", async () => (await request(this.port, "GET", "/healthz")).status === 200);
+    const admin = kTokens.admin.token;
+    const put = await request(this.port, "PUT", "/machines/m2", {
+      token: admin,
+      body: {
+        name: "second", controller: "sinumerik",
+        sensors: [{ id: "T1", location: "column" }],
+        axes: [{ id: "Z", reference_position_mm: 250, model: { inputs: ["T1"], clamp_mm: 0.02 } }],
+      },
+    });
+    if (put.status !== 201) throw new Error(`PUT m2: ${put.status} ${JSON.stringify(put.body)}`);
+    const fit = await request(this.port, "POST", "/machines/fms-study/axes/Y/fit", { token: admin });
+    if (fit.status !== 201) throw new Error(`fit: ${fit.status}`);
+    await request(this.port, "POST", `/machines/fms-study/axes/Y/models/${fit.body.version}/activate`, { token: admin });
+    await this.postTemperatures(1);
+    this.opcPort = await freePort();
+    this.faceArgs = faceArgs;
+    await this.startFace();
+    return this;
+  }
+
+  async startFace() {
+    this.face = spawn(process.execPath, [
+      path.join(__dirname, "..", "thermocomp-opcua.js"),
+      "--state-dir", path.join(this.dir, "opcua"),
+      "--thermocomp", `http://127.0.0.1:${this.port}`,
+      "--listen", `127.0.0.1:${this.opcPort}`,
+      "--token-file", path.join(this.dir, "feed.token"),
+      "--poll-ms", "250",
+      ...this.faceArgs,
+    ], { stdio: ["ignore", "ignore", "pipe"] });
+    this.faceLog = "";
+    const faceLogFile = fs.openSync(path.join(this.dir, "face.log"), "a");
+    this.face.stderr.on("data", (d) => {
+      this.faceLog += d.toString();
+      fs.writeSync(faceLogFile, d);
+    });
+    await waitFor("the OPC UA face", () => this.faceLog.includes("serving opc.tcp://"));
+    this.endpoint = `opc.tcp://127.0.0.1:${this.opcPort}`;
+  }
+
+  async restartFace() {
+    this.face.kill("SIGTERM");
+    await new Promise((r) => this.face.once("exit", r));
+    await this.startFace();
+  }
+
+  // The study's eight sensors at `scale` times a fixed pattern, now.
+  async postTemperatures(scale) {
+    const ts = new Date().toISOString();
+    const values = { Tco: 1, Tcl: 2, Tx1: 3, Tx2: 1, Tenv: 0.5, Ty1: 2, Ty2: 3, Tz: 1 };
+    const samples = Object.entries(values).map(([sensor, v]) => ({ sensor, ts, value: v * scale }));
+    const r = await request(this.port, "POST", "/machines/fms-study/temperatures", {
+      token: kTokens.admin.token,
+      body: { samples },
+    });
+    if (r.status !== 200) throw new Error(`temperatures: ${r.status} ${JSON.stringify(r.body)}`);
+  }
+
+  compensation(machine) {
+    return request(this.port, "GET", `/machines/${machine}/compensation`, { token: kTokens.reader.token });
+  }
+
+  async stop() {
+    for (const p of [this.face, this.server]) {
+      if (p && p.exitCode === null) {
+        p.kill("SIGTERM");
+        await new Promise((r) => p.once("exit", r));
+      }
+    }
+    if (process.env.KEEP_TEST_DIR !== "1") fs.rmSync(this.dir, { recursive: true, force: true });
+  }
+}
+
+module.exports = { Line, kTokens, waitFor, request, freePort };

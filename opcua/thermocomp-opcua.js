@@ -1,0 +1,255 @@
+#!/usr/bin/env node
+// thermocomp-opcua: thermocomp's OPC UA face (docs/opcua.md). A separate
+// process beside the server because the maintained OPC UA stack for Debian
+// 12 is node-opcua (npm; open62541 is packaged from Debian 13 on). It reads
+// the served compensation from thermocomp's HTTP API on loopback every
+// --poll-ms, publishes it as OPC UA variables, and forwards a PLC's
+// AppliedSequence to thermocomp. It holds no data of its own but each
+// axis' Sequence counter and its certificates, under --state-dir.
+"use strict";
+const fs = require("node:fs");
+const path = require("node:path");
+const { parseArgs } = require("node:util");
+const {
+  MessageSecurityMode,
+  OPCUACertificateManager,
+  OPCUAServer,
+  SecurityPolicy,
+  StatusCodes,
+} = require("node-opcua");
+const { ThermocompHttp } = require("./src/thermocomp_http");
+const { Identities } = require("./src/identities");
+const { SequenceStore } = require("./src/sequence_store");
+const {
+  CompensationSpace,
+  defineTypes,
+  kModelPublicationDate,
+  kModelVersion,
+  kNamespaceUri,
+} = require("./src/compensation_space");
+
+const kUsage = `usage: thermocomp-opcua --state-dir DIR [--thermocomp http://127.0.0.1:8080]
+       [--listen 127.0.0.1:4840] [--token-file FILE] [--allow-anonymous] [--poll-ms 500]
+       thermocomp-opcua --export-nodeset FILE`;
+
+function log(message) {
+  process.stderr.write(`${new Date().toISOString()} thermocomp-opcua: ${message}\n`);
+}
+
+function options() {
+  const { values } = parseArgs({
+    options: {
+      "state-dir": { type: "string" },
+      thermocomp: { type: "string", default: "http://127.0.0.1:8080" },
+      listen: { type: "string", default: "127.0.0.1:4840" },
+      "token-file": { type: "string" },
+      "allow-anonymous": { type: "boolean", default: false },
+      "poll-ms": { type: "string", default: "500" },
+      "export-nodeset": { type: "string" },
+      help: { type: "boolean", default: false },
+    },
+  });
+  if (values.help) {
+    console.log(kUsage);
+    process.exit(0);
+  }
+  const listen = /^(\[[0-9a-fA-F:.]+\]|[^:]+):(\d{1,5})$/.exec(values.listen);
+  const pollMs = Number(values["poll-ms"]);
+  if (!listen || Number(listen[2]) > 65535) throw new Error(`--listen: expected host:port, got '${values.listen}'`);
+  if (!Number.isInteger(pollMs) || pollMs < 100 || pollMs > 60000) throw new Error("--poll-ms: 100 to 60000");
+  if (!values["export-nodeset"] && !values["state-dir"]) throw new Error(`--state-dir is required\n${kUsage}`);
+  let token = "";
+  if (values["token-file"]) token = fs.readFileSync(values["token-file"], "utf8").trim();
+  return {
+    stateDir: values["state-dir"],
+    thermocomp: values.thermocomp,
+    host: listen[1].replace(/^\[|\]$/g, ""),
+    port: Number(listen[2]),
+    token,
+    allowAnonymous: values["allow-anonymous"],
+    pollMs,
+    exportNodeset: values["export-nodeset"],
+  };
+}
+
+const isLoopback = (host) => host === "localhost" || host === "::1" || /^127\./.test(host);
+
+// Polls thermocomp: the machine list every 10 s, each machine's
+// compensation every pollMs; a machine not read for 3 s is marked uncertain.
+class Feed {
+  constructor({ http, space, pollMs }) {
+    Object.assign(this, { http, space, pollMs });
+    this.machines = [];
+    this.listedAt = 0;
+    this.lastRead = new Map();
+    this.lastError = new Map(); // machine -> the message last logged
+    this.stopped = false;
+  }
+
+  async tick() {
+    const now = Date.now();
+    if (now - this.listedAt > 10000 || this.machines.length === 0) {
+      try {
+        const answer = await this.http.request("GET", "/machines");
+        if (answer.status === 200) {
+          this.machines = answer.body.machines.map((m) => m.machine);
+          this.listedAt = now;
+        } else {
+          log(`GET /machines: ${answer.status}`);
+        }
+      } catch (e) {
+        log(`GET /machines: ${e.message}`);
+      }
+    }
+    await Promise.all(
+      this.machines.map(async (machine) => {
+        try {
+          const answer = await this.http.request("GET", `/machines/${encodeURIComponent(machine)}/compensation`);
+          if (answer.status !== 200) throw new Error(`status ${answer.status}`);
+          this.space.update(answer.body);
+          this.lastRead.set(machine, Date.now());
+        } catch (e) {
+          if (e.message !== this.lastError.get(machine)) log(`${machine}: ${e.message}`);
+          this.lastError.set(machine, e.message);
+          if (Date.now() - (this.lastRead.get(machine) || 0) > 3000) this.space.markUnreachable(machine);
+          return;
+        }
+        if (this.lastError.delete(machine)) log(`${machine}: read again`);
+      }),
+    );
+  }
+
+  start() {
+    const loop = async () => {
+      if (this.stopped) return;
+      const started = Date.now();
+      await this.tick();
+      if (!this.stopped) this.timer = setTimeout(loop, Math.max(0, this.pollMs - (Date.now() - started)));
+    };
+    loop();
+  }
+
+  stop() {
+    this.stopped = true;
+    clearTimeout(this.timer);
+  }
+}
+
+// A PLC's AppliedSequence, forwarded with its own token.
+async function forwardApplied(http, identities, user, machine, axis, sequence, values) {
+  const token = user ? await identities.tokenFor(user) : null;
+  if (!token) return StatusCodes.BadUserAccessDenied;
+  const answer = await http.request("POST", `/machines/${encodeURIComponent(machine)}/compensation/applied`, {
+    token,
+    body: { axis, sequence, ...(values || {}), via: "opcua" },
+  });
+  if (answer.status === 200 || answer.status === 201) {
+    log(`${machine}/${axis}: ${user} applied sequence ${sequence}`);
+    return StatusCodes.Good;
+  }
+  log(`${machine}/${axis}: applied sequence ${sequence} by ${user} refused: ${answer.status}`);
+  if (answer.status === 401 || answer.status === 403) return StatusCodes.BadUserAccessDenied;
+  if (answer.status >= 400 && answer.status < 500) return StatusCodes.BadOutOfRange;
+  return StatusCodes.BadInternalError;
+}
+
+async function main() {
+  const opts = options();
+  if (opts.exportNodeset) return exportNodeset(opts.exportNodeset);
+  const http = new ThermocompHttp({ baseUrl: opts.thermocomp, token: opts.token });
+  // What thermocomp says about the feed's own credential (or none); started
+  // beside it, the face waits up to a minute for it to listen.
+  let who;
+  for (let attempt = 0; ; ++attempt) {
+    try {
+      who = await http.request("GET", "/session");
+      break;
+    } catch (e) {
+      if (attempt >= 120) throw new Error(`thermocomp at ${opts.thermocomp}: ${e.message}`);
+      await new Promise((r) => setTimeout(r, 500));
+    }
+  }
+  const open = who.status === 200 && who.body.auth === "open";
+  if (who.status !== 200 || !["open", "bearer"].includes(who.body.auth)) {
+    throw new Error(`thermocomp at ${opts.thermocomp} refused the feed's credential (${who.status}): --token-file`);
+  }
+  if (open && !isLoopback(opts.host)) {
+    throw new Error("thermocomp has no tokens, so it can check no OPC UA user: listen on loopback only");
+  }
+  if (open && !opts.allowAnonymous) log("thermocomp has no tokens: no user can sign in (--allow-anonymous for read-only)");
+
+  fs.mkdirSync(opts.stateDir, { recursive: true, mode: 0o700 });
+  const serverCertificateManager = new OPCUACertificateManager({
+    rootFolder: path.join(opts.stateDir, "pki"),
+    automaticallyAcceptUnknownCertificate: false,
+  });
+  await serverCertificateManager.initialize();
+  const identities = new Identities({ http, namespaceIndex: 1, log });
+  const server = new OPCUAServer({
+    host: opts.host,
+    port: opts.port,
+    hostname: isLoopback(opts.host) ? opts.host : undefined,
+    serverCertificateManager,
+    securityPolicies: [SecurityPolicy.Basic256Sha256],
+    securityModes: [MessageSecurityMode.SignAndEncrypt],
+    allowAnonymous: opts.allowAnonymous,
+    userManager: {
+      isValidUserAsync: (user, password, callback) =>
+        identities.check(user, password).then((ok) => callback(null, ok), (e) => callback(e)),
+      getUserRoles: (user) => identities.roles(user),
+    },
+    serverInfo: { productUri: "urn:thermocomp:opcua", applicationName: { text: "thermocomp OPC UA" } },
+    buildInfo: { productName: "thermocomp OPC UA", manufacturerName: "thermocomp", softwareVersion: "1" },
+    maxConnectionsPerEndpoint: 64,
+    serverCapabilities: { maxSessions: 64 },
+    // Discovery stays: a restricted None endpoint that answers GetEndpoints only,
+    // which clients need to find the secure endpoint and its certificate.
+    disableDiscovery: false,
+  });
+  await server.initialize();
+  const namespace = server.engine.addressSpace.registerNamespace(kNamespaceUri);
+  namespace.version = kModelVersion;
+  namespace.publicationDate = kModelPublicationDate;
+  identities.namespaceIndex = namespace.index;
+  const sequences = new SequenceStore(path.join(opts.stateDir, "sequences.json"));
+  const space = new CompensationSpace({
+    server,
+    namespace,
+    identities,
+    sequences,
+    allowAnonymous: opts.allowAnonymous,
+    onApplied: (user, machine, axis, sequence, values) =>
+      forwardApplied(http, identities, user, machine, axis, sequence, values),
+  });
+  const feed = new Feed({ http, space, pollMs: opts.pollMs });
+  feed.start();
+  await server.start();
+  log(`serving ${server.getEndpointUrl()} (Basic256Sha256, SignAndEncrypt), from ${opts.thermocomp}`);
+  const stop = async () => {
+    feed.stop();
+    sequences.flush();
+    await server.shutdown(500);
+    http.close();
+    process.exit(0);
+  };
+  process.on("SIGTERM", stop);
+  process.on("SIGINT", stop);
+}
+
+// The types only (no instances), for PLC engineering tools to import.
+async function exportNodeset(file) {
+  const server = new OPCUAServer({ port: 0, disableDiscovery: true });
+  await server.initialize();
+  const namespace = server.engine.addressSpace.registerNamespace(kNamespaceUri);
+  namespace.version = kModelVersion;
+  namespace.publicationDate = kModelPublicationDate;
+  defineTypes(namespace);
+  fs.writeFileSync(file, namespace.toNodeset2XML());
+  await server.shutdown(0);
+  process.exit(0);
+}
+
+main().catch((e) => {
+  log(e.message);
+  process.exit(1);
+});
