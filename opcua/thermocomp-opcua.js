@@ -17,6 +17,7 @@ const {
   SecurityPolicy,
   StatusCodes,
 } = require("node-opcua");
+const { Feed } = require("./src/feed");
 const { ThermocompHttp } = require("./src/thermocomp_http");
 const { Identities } = require("./src/identities");
 const { SequenceStore } = require("./src/sequence_store");
@@ -73,67 +74,6 @@ function options() {
 }
 
 const isLoopback = (host) => host === "localhost" || host === "::1" || /^127\./.test(host);
-
-// Polls thermocomp: the machine list every 10 s, each machine's
-// compensation every pollMs; a machine not read for 3 s is marked uncertain.
-class Feed {
-  constructor({ http, space, pollMs }) {
-    Object.assign(this, { http, space, pollMs });
-    this.machines = [];
-    this.listedAt = 0;
-    this.lastRead = new Map();
-    this.lastError = new Map(); // machine -> the message last logged
-    this.stopped = false;
-  }
-
-  async tick() {
-    const now = Date.now();
-    if (now - this.listedAt > 10000 || this.machines.length === 0) {
-      try {
-        const answer = await this.http.request("GET", "/machines");
-        if (answer.status === 200) {
-          this.machines = answer.body.machines.map((m) => m.machine);
-          this.listedAt = now;
-        } else {
-          log(`GET /machines: ${answer.status}`);
-        }
-      } catch (e) {
-        log(`GET /machines: ${e.message}`);
-      }
-    }
-    await Promise.all(
-      this.machines.map(async (machine) => {
-        try {
-          const answer = await this.http.request("GET", `/machines/${encodeURIComponent(machine)}/compensation`);
-          if (answer.status !== 200) throw new Error(`status ${answer.status}`);
-          this.space.update(answer.body);
-          this.lastRead.set(machine, Date.now());
-        } catch (e) {
-          if (e.message !== this.lastError.get(machine)) log(`${machine}: ${e.message}`);
-          this.lastError.set(machine, e.message);
-          if (Date.now() - (this.lastRead.get(machine) || 0) > 3000) this.space.markUnreachable(machine);
-          return;
-        }
-        if (this.lastError.delete(machine)) log(`${machine}: read again`);
-      }),
-    );
-  }
-
-  start() {
-    const loop = async () => {
-      if (this.stopped) return;
-      const started = Date.now();
-      await this.tick();
-      if (!this.stopped) this.timer = setTimeout(loop, Math.max(0, this.pollMs - (Date.now() - started)));
-    };
-    loop();
-  }
-
-  stop() {
-    this.stopped = true;
-    clearTimeout(this.timer);
-  }
-}
 
 // A PLC's AppliedSequence, forwarded with its own token.
 async function forwardApplied(http, identities, user, machine, axis, sequence, values) {
@@ -221,7 +161,7 @@ async function main() {
     onApplied: (user, machine, axis, sequence, values) =>
       forwardApplied(http, identities, user, machine, axis, sequence, values),
   });
-  const feed = new Feed({ http, space, pollMs: opts.pollMs });
+  const feed = new Feed({ http, space, pollMs: opts.pollMs, log });
   feed.start();
   await server.start();
   log(`serving ${server.getEndpointUrl()} (Basic256Sha256, SignAndEncrypt), from ${opts.thermocomp}`);
