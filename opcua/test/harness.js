@@ -78,7 +78,8 @@ const kTokens = {
 // A line: thermocomp with the study machine (fitted, v1 served from fresh
 // temperatures) and a second machine m2 without a model, and the face.
 class Line {
-  async start({ faceArgs = [] } = {}) {
+  // beforeFace(port): more setup on the running thermocomp, before the face.
+  async start({ faceArgs = [], beforeFace = async () => {} } = {}) {
     if (!kBinary || !kStudy) throw new Error("THERMOCOMP_BINARY and THERMOCOMP_STUDY_CSV must be set");
     this.dir = fs.mkdtempSync(path.join(process.env.TMPDIR || os.tmpdir(), "thermocomp-opcua-"));
     this.db = path.join(this.dir, "line.db");
@@ -116,6 +117,7 @@ class Line {
     if (fit.status !== 201) throw new Error(`fit: ${fit.status}`);
     await request(this.port, "POST", `/machines/fms-study/axes/Y/models/${fit.body.version}/activate`, { token: admin });
     await this.postTemperatures(1);
+    await beforeFace(this.port);
     this.opcPort = await freePort();
     this.faceArgs = faceArgs;
     await this.startFace();
