@@ -21,6 +21,7 @@ const { Feed } = require("./src/feed");
 const { ThermocompHttp } = require("./src/thermocomp_http");
 const { Identities } = require("./src/identities");
 const { SequenceStore } = require("./src/sequence_store");
+const { SinumerikWriter, loadWriterConfig } = require("./src/sinumerik_writer");
 const {
   CompensationSpace,
   defineTypes,
@@ -31,6 +32,7 @@ const {
 
 const kUsage = `usage: thermocomp-opcua --state-dir DIR [--thermocomp http://127.0.0.1:8080]
        [--listen 127.0.0.1:4840] [--token-file FILE] [--allow-anonymous] [--poll-ms 500]
+       [--writer-config FILE]
        thermocomp-opcua --export-nodeset FILE`;
 
 function log(message) {
@@ -47,6 +49,7 @@ function options() {
       "allow-anonymous": { type: "boolean", default: false },
       "poll-ms": { type: "string", default: "500" },
       "export-nodeset": { type: "string" },
+      "writer-config": { type: "string" },
       help: { type: "boolean", default: false },
     },
   });
@@ -70,6 +73,8 @@ function options() {
     allowAnonymous: values["allow-anonymous"],
     pollMs,
     exportNodeset: values["export-nodeset"],
+    // The SINUMERIK writer (off without it), checked before anything starts.
+    writer: values["writer-config"] ? loadWriterConfig(values["writer-config"]) : null,
   };
 }
 
@@ -165,8 +170,15 @@ async function main() {
   feed.start();
   await server.start();
   log(`serving ${server.getEndpointUrl()} (Basic256Sha256, SignAndEncrypt), from ${opts.thermocomp}`);
+  let writer = null;
+  if (opts.writer) {
+    writer = new SinumerikWriter({ machines: opts.writer, http, stateDir: opts.stateDir, log });
+    await writer.initialize();
+    writer.start();
+  }
   const stop = async () => {
     feed.stop();
+    if (writer) await writer.stop();
     sequences.flush();
     await server.shutdown(500);
     http.close();
