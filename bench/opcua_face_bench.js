@@ -9,6 +9,7 @@
 //   THERMOCOMP_STUDY_CSV=deploy/demo/fms_datum_drift.csv \
 //   node bench/opcua_face_bench.js [changes=30] [period_s=2]
 "use strict";
+require("../opcua/src/webcrypto");
 const fs = require("node:fs");
 const path = require("node:path");
 const opcua = require("../opcua/node_modules/node-opcua");

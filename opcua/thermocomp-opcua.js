@@ -7,6 +7,7 @@
 // AppliedSequence to thermocomp. It holds no data of its own but each
 // axis' Sequence counter and its certificates, under --state-dir.
 "use strict";
+require("./src/webcrypto");
 const fs = require("node:fs");
 const path = require("node:path");
 const { parseArgs } = require("node:util");

@@ -1,6 +1,7 @@
 // opcua/nodeset/Thermocomp.NodeSet2.xml is what the face serves: exported
 // again, it is the same file, and it loads into a fresh address space.
 "use strict";
+require("../src/webcrypto");
 const test = require("node:test");
 const assert = require("node:assert/strict");
 const fs = require("node:fs");
