@@ -136,7 +136,9 @@ function nextValues(served, current, { maxStepMm, maxStepSlope }) {
   };
   if (!Number.isFinite(target.abs) || !Number.isFinite(target.slope) || !Number.isFinite(target.ref)) return null;
   const toward = (from, to, step) => {
-    if (!Number.isFinite(from) || !valid) return to; // not valid: 0 at once (the validity rule)
+    // Not valid: the target is 0 (the validity rule), reached at the same
+    // step limit: a control never sees a step, also when thermocomp stops.
+    if (!Number.isFinite(from)) return to;
     if (Math.abs(to - from) <= step) return to;
     return to > from ? from + step : from - step;
   };

@@ -5,6 +5,7 @@
 // SignAndEncrypt with a user name, the certificates exchanged through the
 // PKI folders as an administrator would.
 "use strict";
+require("../src/webcrypto");
 const test = require("node:test");
 const assert = require("node:assert/strict");
 const { spawn } = require("node:child_process");
@@ -154,7 +155,9 @@ test("the served values reach the control in its units, step by step; not valid 
     previous = w.value;
   }
   assert.ok(new Set(y.abs_value.writes.map((w) => w.value)).size >= 4, "0.02 mm in steps of 0.005 mm");
-  // m2's Z has no model: not valid, 0 and 0 at once; its reference position as served.
+  // m2's Z has no model: not valid, so 0 and 0 (it starts within one step of
+  // 0; a larger value would move there at the step limit, see below); its
+  // reference position as served.
   const m2 = (await line.compensation("m2")).body.axes.find((a) => a.axis === "Z");
   assert.equal(m2.valid, false);
   await waitFor("Z written", () => z.abs_value.writes.length > 0);
@@ -212,10 +215,14 @@ test("the step rule and the validity rule", () => {
   assert.equal(nextValues(served, { abs: 0.01, slope: 0, ref: 0 }, limits).abs, 0.012);
   assert.ok(Math.abs(nextValues(served, { abs: 0.03, slope: 0, ref: 0 }, limits).abs - 0.025) < 1e-15);
   assert.equal(nextValues(served, { abs: 0, slope: 0, ref: 0 }, limits).slope, 3e-6);
+  // Not valid: toward 0 at the same step limits, never a step.
   const invalid = nextValues({ ...served, valid: false }, { abs: 0.02, slope: 1e-5, ref: 0 }, limits);
-  assert.equal(invalid.abs, 0);
-  assert.equal(invalid.slope, 0);
+  assert.ok(Math.abs(invalid.abs - 0.015) < 1e-15);
+  assert.ok(Math.abs(invalid.slope - 5e-6) < 1e-18);
   assert.equal(invalid.ref, 100);
+  const near = nextValues({ ...served, valid: false }, { abs: 0.004, slope: -2e-6, ref: 0 }, limits);
+  assert.equal(near.abs, 0);
+  assert.equal(near.slope, 0);
   assert.equal(nextValues({ ...served, offset_mm: NaN }, { abs: 0, slope: 0, ref: 0 }, limits), null);
-  assert.equal(nextValues(undefined, { abs: 0.01, slope: 0, ref: 5 }, limits).abs, 0, "an axis not served: 0");
+  assert.equal(nextValues(undefined, { abs: 0.004, slope: 0, ref: 5 }, limits).abs, 0, "an axis not served: toward 0");
 });
