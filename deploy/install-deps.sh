@@ -32,6 +32,10 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# The OPC UA face runs on node and npm: Debian's where none is installed
+# (a newer Node.js, say from NodeSource, is used as it is).
+command -v node > /dev/null || missing+=(nodejs)
+command -v npm > /dev/null || missing+=(npm)
 if [ ${#missing[@]} -eq 0 ]; then
   echo "deploy/install-deps.sh: all packages present"
 else
@@ -42,7 +46,7 @@ else
   $sudo apt-get update -qq
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
-# The OPC UA face (opcua/, node-opcua from npm): node, npm and its pinned tree.
+# The OPC UA face's pinned tree (opcua/, node-opcua from npm).
 "$(dirname "$0")/opcua-deps.sh"
 # The tests also run nginx (the TLS proxy) and promtool (the alert rules),
 # unpacked from Debian's packages rather than installed: deploy/test-tools.sh.

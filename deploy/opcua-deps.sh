@@ -1,21 +1,16 @@
 #!/usr/bin/env bash
-# The OPC UA face's dependencies (docs/opcua.md): Debian's nodejs and npm
-# where node or npm is missing, then node-opcua and what it needs, exactly
-# as opcua/package-lock.json pins them (npm ci), into opcua/node_modules.
-# Skipped when that tree is already the lockfile's.
+# The OPC UA face's dependencies (docs/opcua.md): node-opcua and what it
+# needs, exactly as opcua/package-lock.json pins them (npm ci), into
+# opcua/node_modules, with the node and npm deploy/install-deps.sh made
+# sure of. Skipped when that tree is already the lockfile's.
 set -euo pipefail
 cd "$(dirname "$0")/../opcua"
-missing=()
-command -v node > /dev/null || missing+=(nodejs)
-command -v npm > /dev/null || missing+=(npm)
-if [ ${#missing[@]} -gt 0 ]; then
-  sudo=""
-  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
-  echo "deploy/opcua-deps.sh: installing ${missing[*]}"
-  export DEBIAN_FRONTEND=noninteractive
-  $sudo apt-get update -qq
-  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
-fi
+for tool in node npm; do
+  if ! command -v $tool > /dev/null; then
+    echo "deploy/opcua-deps.sh: $tool is missing: deploy/install-deps.sh installs Debian's" >&2
+    exit 1
+  fi
+done
 major=$(node -p 'process.versions.node.split(".")[0]')
 if [ "$major" -lt 18 ]; then
   echo "deploy/opcua-deps.sh: node $(node --version) is too old; the face needs 18 or newer" >&2
