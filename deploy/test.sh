@@ -2,8 +2,8 @@
 # The test command: installs what is missing, builds everything and runs
 # every test; then builds again with clang's AddressSanitizer and
 # UndefinedBehaviorSanitizer and runs every test there too but the
-# statistical studies (label "study": many machines each) and the pages in
-# Chromium (label "browser"), with each
+# statistical studies (label "study": many machines each), the pages in
+# Chromium (label "browser") and the OPC UA face (label "opcua"), with each
 # libFuzzer harness for a few seconds (tests/fuzz; longer runs:
 # tests/fuzz/run_fuzzers.sh); last, clang-tidy over every source not
 # recorded clean as it is now (deploy/tidy.sh, with that build's compile
@@ -31,8 +31,10 @@ stage "sanitizer build"
 # The statistical studies (label "study") ran above; under the sanitizers
 # they would take most of the run for no other check. The pages in
 # Chromium (label "browser") ran above too: they check the pages' scripts
-# against the same API the HTTP tests drive under the sanitizers here.
-(cd build-sanitize && ctest --output-on-failure -j 2 -LE "study|browser")
+# against the same API the HTTP tests drive under the sanitizers here, and
+# so does the OPC UA face (label "opcua", a Node.js program: its requests
+# are the HTTP tests' requests, the applied record's among them).
+(cd build-sanitize && ctest --output-on-failure -j 2 -LE "study|browser|opcua")
 stage "sanitizer tests"
 bash deploy/tidy.sh
 stage "clang-tidy"
