@@ -11,7 +11,6 @@
 "use strict";
 require("../opcua/src/webcrypto");
 const fs = require("node:fs");
-const path = require("node:path");
 const opcua = require("../opcua/node_modules/node-opcua");
 const { Line, kTokens, request, waitFor } = require("../opcua/test/harness");
 const { kNamespaceUri } = require("../opcua/src/compensation_space");
@@ -49,11 +48,7 @@ async function main() {
     }
   };
   await line.start({ beforeFace: extra });
-  const pki = new opcua.OPCUACertificateManager({ rootFolder: path.join(line.dir, "client-pki") });
-  const trusted = path.join(line.dir, "client-pki", "trusted", "certs");
-  fs.mkdirSync(trusted, { recursive: true });
-  fs.copyFileSync(path.join(line.dir, "opcua", "pki", "own", "certs", "certificate.pem"), path.join(trusted, "face.pem"));
-  await pki.initialize();
+  const pki = await line.clientPki();
   const clientOptions = {
     applicationName: "thermocomp-opcua-bench",
     securityMode: opcua.MessageSecurityMode.SignAndEncrypt,
@@ -74,12 +69,7 @@ async function main() {
       /* expected */
     }
     await c.disconnect();
-    const rejected = path.join(line.dir, "opcua", "pki", "rejected");
-    for (const f of fs.readdirSync(rejected)) {
-      fs.copyFileSync(path.join(rejected, f), path.join(line.dir, "opcua", "pki", "trusted", "certs", f));
-      fs.unlinkSync(path.join(rejected, f));
-    }
-    await line.restartFace();
+    await line.trustRejectedClients();
   }
   const machines = (await request(line.port, "GET", "/machines", { token: kTokens.reader.token })).body.machines;
   const axes = machines.flatMap((m) => m.axes.map((a) => [m.machine, a.id]));

@@ -144,6 +144,32 @@ class Line {
     this.endpoint = `opc.tcp://127.0.0.1:${this.opcPort}`;
   }
 
+  // A client's certificate store that trusts the face's certificate, as a
+  // PLC's engineer sets one up (docs/opcua.md §4).
+  async clientPki() {
+    const { OPCUACertificateManager } = require("node-opcua");
+    const trusted = path.join(this.dir, "client-pki", "trusted", "certs");
+    fs.mkdirSync(trusted, { recursive: true });
+    fs.copyFileSync(path.join(this.dir, "opcua", "pki", "own", "certs", "certificate.pem"), path.join(trusted, "face.pem"));
+    const pki = new OPCUACertificateManager({ rootFolder: path.join(this.dir, "client-pki") });
+    await pki.initialize();
+    return pki;
+  }
+
+  // The administrator's recipe (docs/opcua.md §4): every certificate the
+  // face refused is copied to trusted/certs and deleted from rejected/,
+  // then the face restarts. Returns the names trusted.
+  async trustRejectedClients() {
+    const rejected = path.join(this.dir, "opcua", "pki", "rejected");
+    const certs = fs.existsSync(rejected) ? fs.readdirSync(rejected) : [];
+    for (const f of certs) {
+      fs.copyFileSync(path.join(rejected, f), path.join(this.dir, "opcua", "pki", "trusted", "certs", f));
+      fs.unlinkSync(path.join(rejected, f));
+    }
+    await this.restartFace();
+    return certs;
+  }
+
   async restartFace() {
     this.face.kill("SIGTERM");
     await new Promise((r) => this.face.once("exit", r));
