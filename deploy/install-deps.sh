@@ -6,8 +6,9 @@
 #   deploy/install-deps.sh test   that, plus what the tests need (the
 #                                 default): GoogleTest and Google Benchmark,
 #                                 clang with its sanitizer runtimes and
-#                                 clang-tidy, Chromium for the pages, and
-#                                 nginx and promtool in .tools/
+#                                 clang-tidy, Chromium for the pages,
+#                                 tshark (the OPC UA face's capture test)
+#                                 and nginx and promtool in .tools/
 set -euo pipefail
 purpose=${1:-test}
 packages=(
@@ -25,6 +26,9 @@ case $purpose in
       clang libclang-rt-14-dev clang-tidy-14
       chromium chromium-driver python3-selenium
       openssl
+      # dumpcap on loopback for opcua/test/capture.test.js; the test runs as
+      # root, so dumpcap is not made setuid (preseeded below)
+      tshark
     ) ;;
   *) echo "usage: deploy/install-deps.sh [run|test]" >&2; exit 2 ;;
 esac
@@ -43,6 +47,11 @@ else
   if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
   echo "deploy/install-deps.sh: installing ${missing[*]}"
   export DEBIAN_FRONTEND=noninteractive
+  # wireshark-common would ask whether users other than root may capture:
+  # no (only root captures, in the tests).
+  if [[ " ${missing[*]} " == *" tshark "* ]]; then
+    echo 'wireshark-common wireshark-common/install-setuid boolean false' | $sudo debconf-set-selections
+  fi
   $sudo apt-get update -qq
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
