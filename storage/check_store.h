@@ -16,6 +16,10 @@ struct CheckRequestRecord {
   int64_t created_ms = 0, due_ms = 0;
   bool automatic = false;
   std::optional<int64_t> done_ms = {}, check_id = {};
+  // Set once, by the first acknowledgement (who will run the check); the
+  // name is null when it was not known (a server without tokens).
+  std::optional<int64_t> acknowledged_ms = {};
+  std::optional<std::string> acknowledged_by = {};
 };
 
 struct ColumnCheckRecord {
@@ -46,6 +50,10 @@ class CheckStore {
   virtual std::vector<CheckRequestRecord> Requests(int64_t machine_id) = 0;  // newest first
   virtual std::optional<CheckRequestRecord> Request(int64_t machine_id, int64_t id) = 0;
   virtual Status CloseRequest(int64_t id, int64_t done_ms, int64_t check_id) = 0;
+  // Records the acknowledgement of an open request not acknowledged yet;
+  // a request acknowledged before or done is left as it is.
+  virtual Status AcknowledgeRequest(int64_t id, int64_t at_ms,
+                                    const std::optional<std::string>& by) = 0;
   // Newest request or check time of the machine, for the weekly request.
   virtual std::optional<int64_t> LatestRequestOrCheck(int64_t machine_id) = 0;
 

@@ -12,6 +12,8 @@ CheckRequestRecord ReadRequest(Statement& q) {
   r.automatic = q.Int(4) != 0;
   if (!q.IsNull(5)) r.done_ms = q.Int(5);
   if (!q.IsNull(6)) r.check_id = q.Int(6);
+  if (!q.IsNull(7)) r.acknowledged_ms = q.Int(7);
+  if (!q.IsNull(8)) r.acknowledged_by = q.Text(8);
   return r;
 }
 
@@ -30,7 +32,8 @@ ColumnCheckRecord ReadColumnCheck(Statement& q) {
 }
 
 constexpr const char* kRequestColumns =
-    "SELECT id, reason, created_ms, due_ms, automatic, done_ms, check_id FROM check_requests";
+    "SELECT id, reason, created_ms, due_ms, automatic, done_ms, check_id, acknowledged_at,"
+    " acknowledged_by FROM check_requests";
 constexpr const char* kCheckColumns =
     "SELECT id, request_id, ts_ms, artifact, temperature_c, zero_x_mm, zero_y_mm, zero_z_mm,"
     " result_json FROM column_checks";
@@ -82,6 +85,23 @@ std::optional<CheckRequestRecord> SqliteCheckStore::Request(int64_t machine_id, 
 Status SqliteCheckStore::CloseRequest(int64_t id, int64_t done_ms, int64_t check_id) {
   Statement q(db_, "UPDATE check_requests SET done_ms = ?, check_id = ? WHERE id = ?");
   q.Bind(1, done_ms).Bind(2, check_id).Bind(3, id);
+  return q.Run();
+}
+
+Status SqliteCheckStore::AcknowledgeRequest(int64_t id, int64_t at_ms,
+                                            const std::optional<std::string>& by) {
+  // The conditions keep the first acknowledgement and a done request as
+  // they are, whatever the caller checked before.
+  Statement q(db_,
+              "UPDATE check_requests SET acknowledged_at = ?, acknowledged_by = ?"
+              " WHERE id = ? AND acknowledged_at IS NULL AND done_ms IS NULL");
+  q.Bind(1, at_ms);
+  if (by) {
+    q.Bind(2, *by);
+  } else {
+    q.BindNull(2);
+  }
+  q.Bind(3, id);
   return q.Run();
 }
 

@@ -20,6 +20,8 @@ class SqliteCheckStore final : public CheckStore {
   std::vector<CheckRequestRecord> Requests(int64_t machine_id) override;
   std::optional<CheckRequestRecord> Request(int64_t machine_id, int64_t id) override;
   Status CloseRequest(int64_t id, int64_t done_ms, int64_t check_id) override;
+  Status AcknowledgeRequest(int64_t id, int64_t at_ms,
+                            const std::optional<std::string>& by) override;
   std::optional<int64_t> LatestRequestOrCheck(int64_t machine_id) override;
   StatusOr<int64_t> InsertColumnCheck(int64_t machine_id, const ColumnCheckRecord& r) override;
   std::vector<ColumnCheckRecord> ColumnChecks(int64_t machine_id) override;

@@ -97,7 +97,9 @@ TEST_F(MigrationTest, SchemaFifteenGainsTheAppliedRecordsKeepingItsAxes) {
                            "VALUES (7, 1, 'Y')")
                     .ok());
   }
-  auto db = Database::Open(Path());
+  DatabaseOptions to16;
+  to16.migrate_to = 16;
+  auto db = Database::Open(Path(), to16);
   ASSERT_TRUE(db.ok()) << db.status().ToString();
   EXPECT_EQ((*db)->schema_version(), 16);
   ASSERT_TRUE((*db)
@@ -118,6 +120,33 @@ TEST_F(MigrationTest, SchemaFifteenGainsTheAppliedRecordsKeepingItsAxes) {
       Scalar(**db,
              "SELECT COUNT(*) FROM sqlite_master WHERE name = 'applied_compensation_by_axis'"),
       1);
+}
+
+TEST_F(MigrationTest, SchemaSixteenGainsAcknowledgementsKeepingItsRequests) {
+  {
+    DatabaseOptions opt;
+    opt.migrate_to = 16;
+    auto old = Database::Open(Path(), opt);
+    ASSERT_TRUE(old.ok());
+    ASSERT_TRUE((*old)
+                    ->Exec("INSERT INTO machines(id, name, created_ms, updated_ms) VALUES "
+                           "(1, 'm1', 1, 1); INSERT INTO check_requests(id, machine_id, reason,"
+                           " created_ms, due_ms) VALUES (3, 1, 'weekly', 5, 9)")
+                    .ok());
+  }
+  auto db = Database::Open(Path());
+  ASSERT_TRUE(db.ok()) << db.status().ToString();
+  EXPECT_EQ((*db)->schema_version(), 17);
+  // Requests stored before were acknowledged by nobody.
+  EXPECT_EQ(Scalar(**db,
+                   "SELECT COUNT(*) FROM check_requests WHERE id = 3 AND reason = 'weekly' AND"
+                   " acknowledged_at IS NULL AND acknowledged_by IS NULL"),
+            1);
+  ASSERT_TRUE((*db)
+                  ->Exec("UPDATE check_requests SET acknowledged_at = 7, acknowledged_by = 'anna'"
+                         " WHERE id = 3")
+                  .ok());
+  EXPECT_EQ(Scalar(**db, "SELECT acknowledged_at FROM check_requests WHERE id = 3"), 7);
 }
 
 TEST_F(MigrationTest, ReopeningIsIdempotent) {
