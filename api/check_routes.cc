@@ -63,6 +63,36 @@ void HttpServer::CheckRoutes() {
     WriteJson(res, {{"requests", out}});
   });
 
+  // The id segment takes any text, so that one that is not an id is
+  // answered 400 naming it rather than 404 as an unknown path.
+  s.Post(m + "/column-checks/requests/([^/]{1,64})/acknowledge", [this](const Req& req, Res& res) {
+    const std::string id_text = req.matches[2];
+    const bool digits =
+        id_text.size() <= 18 && id_text.find_first_not_of("0123456789") == std::string::npos;
+    if (!digits) {
+      return WriteProblem(res, 400, "invalid acknowledgement",
+                          {{0, "id", "must be the integer id of a request"}});
+    }
+    const std::string actor = Actor(req);
+    // Who acknowledges: the body's name, else the caller's token name
+    // (none without tokens, where the actor is only an address).
+    std::optional<std::string> by;
+    if (const std::string token = "token:"; actor.rfind(token, 0) == 0) {
+      by = actor.substr(token.size());
+    }
+    FieldErrors errors;
+    if (!req.body.empty()) {
+      auto body = JsonObjectBody(req, res);
+      if (!body) return;
+      JsonFields f(*body, errors);
+      if (auto named = f.String("by", JsonFields::kOptional)) by = *named;
+      if (!errors.empty()) return WriteProblem(res, 400, "invalid acknowledgement", errors);
+    }
+    auto view = app_.checks().Acknowledge(req.matches[1], std::stoll(id_text), by, actor, &errors);
+    if (!view.ok()) return WriteProblem(res, view.status(), errors);
+    WriteJson(res, RequestToJson(*view));
+  });
+
   s.Post(m + "/column-checks", [this](const Req& req, Res& res) {
     auto body = JsonObjectBody(req, res);
     if (!body) return;

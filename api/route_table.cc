@@ -62,6 +62,7 @@ std::string ParameterAfter(const std::string& previous) {
       {"artifacts", "artifact"},  {"plates", "plate"},
       {"surfaces", "surface"},    {"static", "file"},
       {"dygraphs", "file"},       {"alerts", "alert"},
+      {"requests", "id"},
   };
   auto it = names.find(previous);
   return it == names.end() ? "param" : it->second;

@@ -21,6 +21,25 @@ std::string StateOf(const CheckRequestRecord& r, int64_t now) {
   return now > r.due_ms ? "overdue" : "pending";
 }
 
+// Why `name` is not a name to record as the acknowledger, or "". `name` is
+// valid UTF-8 (the JSON reader checked it): its characters are counted by
+// their lead bytes, and C0 and C1 controls and DEL are refused.
+std::string AcknowledgerProblem(const std::string& name) {
+  size_t characters = 0;
+  for (size_t i = 0; i < name.size(); ++i) {
+    const auto byte = static_cast<unsigned char>(name[i]);
+    if ((byte & 0xC0) != 0x80) ++characters;
+    const bool c1 = byte == 0xC2 && i + 1 < name.size() &&
+                    static_cast<unsigned char>(name[i + 1]) >= 0x80 &&
+                    static_cast<unsigned char>(name[i + 1]) <= 0x9F;
+    if (byte < 0x20 || byte == 0x7F || c1) return "must not contain control characters";
+  }
+  if (characters == 0 || characters > kMaxAcknowledgerLength) {
+    return "must be 1 to " + std::to_string(kMaxAcknowledgerLength) + " characters";
+  }
+  return "";
+}
+
 // Least-squares slope of v over t, um per week.
 double PerWeek(const std::vector<ColumnCheckRecord>& checks, double ColumnCheckRecord::*v) {
   const double n = static_cast<double>(checks.size());
@@ -46,7 +65,10 @@ nlohmann::json RequestToJson(const RequestView& v) {
           {"automatic", r.automatic},
           {"state", v.state},
           {"done_at", r.done_ms ? nlohmann::json(FormatRfc3339(*r.done_ms)) : nullptr},
-          {"check_id", r.check_id ? nlohmann::json(*r.check_id) : nullptr}};
+          {"check_id", r.check_id ? nlohmann::json(*r.check_id) : nullptr},
+          {"acknowledged_at",
+           r.acknowledged_ms ? nlohmann::json(FormatRfc3339(*r.acknowledged_ms)) : nullptr},
+          {"acknowledged_by", r.acknowledged_by ? nlohmann::json(*r.acknowledged_by) : nullptr}};
 }
 
 StatusOr<bool> CheckService::PutArtifact(const std::string& name, const nlohmann::json& definition,
@@ -106,6 +128,49 @@ StatusOr<std::vector<RequestView>> CheckService::Requests(const std::string& mac
     if (state.empty() || v.state == state) out.push_back(std::move(v));
   }
   return out;
+}
+
+StatusOr<RequestView> CheckService::Acknowledge(const std::string& machine_name, int64_t id,
+                                                const std::optional<std::string>& by,
+                                                const std::string& actor, FieldErrors* errors) {
+  if (by) {
+    if (std::string problem = AcknowledgerProblem(*by); !problem.empty()) {
+      errors->push_back({0, "by", problem});
+      return Status::InvalidArgument("invalid acknowledgement");
+    }
+  }
+  const std::unique_ptr<Session> session = storage_.Open();
+  auto machine = FindMachine(*session, machine_name);
+  if (!machine.ok()) return machine.status();
+  CheckStore& store = session->checks();
+  // Read and written in one transaction, so a result arriving meanwhile
+  // cannot be acknowledged after it closed the request.
+  Transaction tx(*session);
+  if (!tx.status().ok()) return tx.status();
+  std::optional<CheckRequestRecord> request = store.Request(machine->id, id);
+  if (!request) {
+    return Status::NotFound("no column-check request " + std::to_string(id) + " for " +
+                            machine_name);
+  }
+  const int64_t now = clock_.NowMs();
+  if (request->done_ms) {
+    return Status::Conflict("column-check request " + std::to_string(id) +
+                            " is done: a column check answered it");
+  }
+  if (!request->acknowledged_ms) {
+    if (Status s = store.AcknowledgeRequest(id, now, by); !s.ok()) return s;
+    const std::string detail =
+        "request " + std::to_string(id) + (by ? " by " + *by : std::string());
+    if (Status s =
+            session->log().Audit(now, actor, "check-request-acknowledge", machine_name, 1, detail);
+        !s.ok()) {
+      return s;
+    }
+    request->acknowledged_ms = now;
+    request->acknowledged_by = by;
+  }
+  if (Status s = tx.Commit(); !s.ok()) return s;
+  return RequestView{*request, StateOf(*request, now)};
 }
 
 CheckCounts CountChecks(Session& s, int64_t machine_id, int64_t now) {

@@ -24,6 +24,9 @@
 
 namespace thermocomp {
 
+// The longest name an acknowledgement records, in characters.
+inline constexpr size_t kMaxAcknowledgerLength = 64;
+
 struct RequestView {
   CheckRequestRecord record;
   std::string state;  // pending | overdue | done
@@ -43,6 +46,17 @@ class CheckService {
                                  int64_t due_ms, const std::string& actor);
   // state: empty for all, or pending | overdue | done.
   StatusOr<std::vector<RequestView>> Requests(const std::string& machine, const std::string& state);
+  // Acknowledges request `id` of the machine: the line or maintenance has
+  // seen it and will run the check. `by` is who (1 to kMaxAcknowledgerLength
+  // characters, none a control character), nullopt when not known. The
+  // first acknowledgement is kept: acknowledging again returns the request
+  // unchanged and audits nothing. NotFound for an unknown machine or a
+  // request it does not have; Conflict when the request is done;
+  // InvalidArgument with `errors` naming "by", nothing stored, when `by` is
+  // not a name.
+  StatusOr<RequestView> Acknowledge(const std::string& machine, int64_t id,
+                                    const std::optional<std::string>& by, const std::string& actor,
+                                    FieldErrors* errors);
   // Creates the weekly request of every machine that had no request or
   // check for check_every_days; returns how many. Called by the scheduler.
   int EnsurePeriodicRequests();

@@ -1,5 +1,5 @@
 // Column and positioning checks over real HTTP on a real SQLite file:
-// request -> result -> request closed, overdue with an injected clock,
+// request -> acknowledged -> result -> request closed, overdue with an injected clock,
 // weekly requests, machine-zero change as an event, ISO 230-2 results,
 // reports and pitch tables, and malformed checks refused with nothing stored.
 #include "tests/app_fixture.h"  // first: Eigen before httplib.h (see api/http_server.h)
@@ -9,6 +9,7 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "core/time_format.h"
 #include "reports/check_report_codec.h"
 #include "reports/machine_status_codec.h"
 
@@ -404,6 +405,79 @@ TEST_F(CheckHttpTest, MalformedChecksAreRefusedAndStoreNothing) {
   EXPECT_EQ(bad_art->status, 400);
   EXPECT_EQ(Count("SELECT COUNT(*) FROM artifacts"), 1);
   EXPECT_EQ(client_->Get("/api/v1/artifacts/col-2")->status, 404);
+}
+
+// The line acknowledges a request it will run: the first acknowledgement is
+// kept, a done request is a conflict, and a request of another machine, a
+// malformed id or name is refused with nothing stored.
+TEST_F(CheckHttpTest, AcknowledgingARequestRecordsTheFirstWhileItIsOpen) {
+  FieldErrors errors;
+  ASSERT_TRUE(app_->machines().Register(VirtualMachine::Definition("m2"), "test", &errors).ok());
+  const std::string base = "/api/v1/machines/m1/column-checks/requests";
+  auto r = Post(base, {{"reason", "spindle exchanged"}});
+  ASSERT_EQ(r->status, 201) << r->body;
+  const std::string id = json::parse(r->body)["id"].dump();
+  const std::string ack = base + "/" + id + "/acknowledge";
+  json listed = Get(base)["requests"][0];
+  EXPECT_TRUE(listed["acknowledged_at"].is_null() && listed["acknowledged_by"].is_null());
+
+  auto refused = [&](const std::string& path, const std::string& body, int status,
+                     const std::string& field) {
+    auto b = client_->Post(path, body, "application/json");
+    ASSERT_TRUE(b);
+    EXPECT_EQ(b->status, status) << path << " " << body << " " << b->body;
+    EXPECT_EQ(b->get_header_value("Content-Type"), "application/problem+json");
+    if (!field.empty()) {
+      EXPECT_EQ(json::parse(b->body)["errors"][0]["field"], field) << b->body;
+    }
+  };
+  for (const json& by : {json(""), json(std::string(65, 'a')), json("line\n2"), json(7)}) {
+    refused(ack, json{{"by", by}}.dump(), 400, "by");
+  }
+  refused(ack, "[]", 400, "body");
+  refused(base + "/first/acknowledge", "", 400, "id");
+  refused(base + "/99999/acknowledge", "", 404, "");
+  refused("/api/v1/machines/m2/column-checks/requests/" + id + "/acknowledge", "", 404, "");
+  refused("/api/v1/machines/nope/column-checks/requests/" + id + "/acknowledge", "", 404, "");
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM check_requests WHERE acknowledged_at IS NOT NULL"), 0);
+
+  // 64 characters of two bytes each are a name.
+  std::string name;
+  for (int i = 0; i < 64; ++i) name += "ü";
+  r = Post(ack, {{"by", name}});
+  ASSERT_EQ(r->status, 200) << r->body;
+  const json first = json::parse(r->body);
+  EXPECT_EQ(first["id"].dump(), id);
+  EXPECT_EQ(first["state"], "pending");
+  EXPECT_EQ(first["acknowledged_by"], name);
+  EXPECT_EQ(first["acknowledged_at"], FormatRfc3339(clock_.NowMs()));
+  EXPECT_EQ(Get(base)["requests"][0], first);
+  // Again, later and by someone else: the first one is kept.
+  clock_.Advance(60000);
+  r = client_->Post(ack, "", "application/json");
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(json::parse(r->body), first);
+  EXPECT_EQ(json::parse(Post(ack, {{"by", "Ben"}})->body), first);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM audit WHERE action = 'check-request-acknowledge'"), 1);
+
+  // Without tokens and without a name nobody is named.
+  r = Post(base, {{"reason", "weekly"}});
+  const std::string second = base + "/" + json::parse(r->body)["id"].dump() + "/acknowledge";
+  r = client_->Post(second, "", "application/json");
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_TRUE(json::parse(r->body)["acknowledged_by"].is_null());
+  EXPECT_FALSE(json::parse(r->body)["acknowledged_at"].is_null());
+
+  // A result closes the oldest open request; acknowledging it is then a
+  // conflict, and what was acknowledged stays.
+  PutArtifact();
+  r = Post("/api/v1/machines/m1/column-checks", ColumnCheck("2026-03-16T06:00:00Z", 0, 0, 0));
+  ASSERT_EQ(r->status, 201) << r->body;
+  ASSERT_EQ(json::parse(r->body)["request_id"].dump(), id);
+  refused(ack, "", 409, "");
+  json done = Get(base + "?state=done")["requests"][0];
+  EXPECT_EQ(done["acknowledged_by"], name);
+  EXPECT_EQ(done["acknowledged_at"], first["acknowledged_at"]);
 }
 
 // A plant in Berlin reads its reports in Berlin time; the JSON stays UTC.

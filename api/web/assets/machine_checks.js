@@ -28,13 +28,18 @@
   const f2 = (v) => (v === null || v === undefined || !isFinite(v) ? "–" : (Math.abs(v) < 0.005 ? 0 : Number(v)).toFixed(2));
   const formats = ["csv", "sinumerik", "beckhoff", "linuxcnc"];
   let lastArtifact = null;  // the artifact of the newest check: the form's default
+  // Who said they will run a requested check, and when (the name is null
+  // when it was acknowledged on a server without tokens and gave none).
+  const acknowledged = (q) => (q.acknowledged_at
+    ? "acknowledged " + (q.acknowledged_by === null ? "" : "by " + q.acknowledged_by + " ") + "at " + time(q.acknowledged_at)
+    : "–");
 
   async function load() {
     try {
       const [reqs, hist, pos] = await Promise.all([api(path + "/column-checks/requests"), api(path + "/column-checks"), api(path + "/positioning-checks")]);
       requests.replaceChildren(reqs.requests.length
-        ? TC.table([{ label: "Request" }, { label: "State" }, { label: "Due" }, { label: "Reason" }, { label: "Done" }],
-          reqs.requests.map((q) => ["#" + q.id, el("span", { class: q.state === "overdue" ? "bad" : q.state === "pending" ? "warn" : "ok" }, q.state), time(q.due),
+        ? TC.table([{ label: "Request" }, { label: "State" }, { label: "Acknowledged" }, { label: "Due" }, { label: "Reason" }, { label: "Done" }],
+          reqs.requests.map((q) => ["#" + q.id, el("span", { class: q.state === "overdue" ? "bad" : q.state === "pending" ? "warn" : "ok" }, q.state), acknowledged(q), time(q.due),
             TC.text(q.reason) + (q.automatic ? " (automatic)" : ""), q.done_at ? time(q.done_at) + (q.check_id ? " → check #" + q.check_id : "") : "–"]), { id: "request-list" })
         : el("div", { class: "empty" }, "No column check was ever requested for this machine."));
       const checks = hist.checks;
