@@ -26,6 +26,16 @@ bool IsThermalErrorTable(const std::string& rest) {
          rest.find('/', prefix.size()) == rest.size() - suffix.size();
 }
 
+// "column-checks/requests/{id}/acknowledge": the line or maintenance says
+// it will run a requested check. Any id segment is passed on, so that the
+// route can name a malformed one (400) rather than this refusing it.
+bool IsRequestAcknowledgement(const std::string& rest) {
+  const std::string prefix = "column-checks/requests/", suffix = "/acknowledge";
+  return rest.size() > prefix.size() + suffix.size() && rest.rfind(prefix, 0) == 0 &&
+         rest.compare(rest.size() - suffix.size(), suffix.size(), suffix) == 0 &&
+         rest.find('/', prefix.size()) == rest.size() - suffix.size();
+}
+
 // The part tests quality staff record and evaluate (docs/api.md, Parts):
 // "plates...", "turned-parts...", "process-records...", "part-models...",
 // "surfaces..." under a machine.
@@ -48,18 +58,19 @@ bool Permitted(const AccessToken& t, const std::string& method, const std::strin
     // Maintenance logs what it did to a machine, requests and enters checks.
     const std::string rest = MachineOf(path).second;
     return read ||
-           (method == "POST" && (rest == "events" || rest == "column-checks" ||
-                                 rest == "column-checks/requests" || rest == "positioning-checks"));
+           (method == "POST" &&
+            (rest == "events" || rest == "column-checks" || rest == "column-checks/requests" ||
+             rest == "positioning-checks" || IsRequestAcknowledgement(rest)));
   }
   if (t.role == "machine") {
     auto [machine, rest] = MachineOf(path);
     if (machine.empty() || machine != t.machine) return false;
     if (read)
       return rest.empty() || rest == "compensation" || rest == "column-checks/requests" ||
-             IsThermalErrorTable(rest);
-    return method == "POST" &&
-           (rest == "temperatures" || rest == "probe-points" || rest == "signals" ||
-            rest == "events" || rest == "column-checks" || rest == "compensation/applied");
+             rest == "temperatures/latest" || IsThermalErrorTable(rest);
+    return method == "POST" && (rest == "temperatures" || rest == "probe-points" ||
+                                rest == "signals" || rest == "events" || rest == "column-checks" ||
+                                rest == "compensation/applied" || IsRequestAcknowledgement(rest));
   }
   return false;
 }

@@ -251,6 +251,24 @@ json TemperatureHistoryToJson(const TemperatureHistory& h) {
           {"events", events}};
 }
 
+json LatestTemperaturesToJson(const LatestTemperatures& t) {
+  auto or_null = [](const auto& v) { return v ? json(*v) : json(nullptr); };
+  json sensors = json::array();
+  for (const LatestSensorTemperature& s : t.sensors) {
+    sensors.push_back({{"sensor", s.sensor},
+                       {"location", s.location},
+                       {"temperature_c", or_null(s.temperature_c)},
+                       {"raw_c", or_null(s.raw_c)},
+                       {"ts", s.ts_ms ? json(FormatRfc3339(*s.ts_ms)) : json(nullptr)},
+                       {"age_s", or_null(s.age_s)},
+                       {"stale", s.stale}});
+  }
+  return {{"machine", t.machine},
+          {"computed_at", FormatRfc3339(t.computed_at_ms)},
+          {"stale_after_s", t.stale_after_s},
+          {"sensors", sensors}};
+}
+
 namespace {
 
 json ModelJson(const ModelRecord& r) {

@@ -35,6 +35,10 @@ nlohmann::json OverviewToJson(const OverviewPage& page,
                               const std::vector<std::shared_ptr<const MachineCompensation>>& served,
                               int64_t now_ms, const std::optional<std::string>& next);
 nlohmann::json TemperatureHistoryToJson(const TemperatureHistory& h);
+// GET .../temperatures/latest: {machine, computed_at, stale_after_s,
+// sensors: [{sensor, location, temperature_c, raw_c, ts, age_s, stale}]},
+// the values null for a sensor without samples.
+nlohmann::json LatestTemperaturesToJson(const LatestTemperatures& t);
 StatusOr<nlohmann::json> ListModels(App& app, const std::string& machine, const std::string& axis);
 StatusOr<nlohmann::json> GetModel(App& app, const std::string& machine, const std::string& axis,
                                   int version);

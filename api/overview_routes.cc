@@ -1,6 +1,6 @@
 // Routes the pages read most: the line at a glance, a page of machines at
 // a time (?limit=&offset=, by name, with total and the next page's URL),
-// and a machine's temperatures over a range.
+// a machine's temperatures over a range, and its sensors now.
 #include "api/http_server.h"  // first: Eigen before httplib.h
 
 #include <nlohmann/json.hpp>
@@ -99,6 +99,14 @@ void HttpServer::OverviewRoutes() {
     auto h = app_.history().Temperatures(q);
     if (!h.ok()) return WriteProblem(res, h.status());
     WriteJson(res, TemperatureHistoryToJson(*h));
+  });
+  // What the controls and the OPC UA face poll: every sensor now. A path of
+  // its own, taking no query parameters; routes match whole paths, so the
+  // history above does not answer it.
+  s.Get(kMachinePath + "/temperatures/latest", [this](const Req& req, Res& res) {
+    auto latest = app_.latest_temperatures().Latest(req.matches[1]);
+    if (!latest.ok()) return WriteProblem(res, latest.status());
+    WriteJson(res, LatestTemperaturesToJson(*latest));
   });
 }
 

@@ -37,6 +37,7 @@ StatusOr<std::unique_ptr<App>> App::Open(const Config& config, const Clock& cloc
   app->feed_axes_ = std::make_unique<FeedAxisService>(d, clock, c);
   app->compensation_ = std::make_unique<CompensationService>(d, clock, c);
   app->history_ = std::make_unique<HistoryService>(d, c, cache);
+  app->latest_temperatures_ = std::make_unique<LatestTemperatureService>(d, clock, c);
   app->outcomes_ = std::make_unique<OutcomeService>(d, clock, *app->history_, *app->compensation_,
                                                     app->plant_time_);
   app->scheduler_ = std::make_unique<RefitScheduler>(d, *app->fits_, clock, c, app->analyses_.get(),

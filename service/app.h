@@ -12,17 +12,18 @@
 #include "service/compensation_service.h"
 #include "service/config.h"
 #include "service/feed_axis/feed_axis_service.h"
+#include "service/feed_axis/feed_fit_service.h"
+#include "service/feed_axis/thermal_error_table.h"
 #include "service/fit_service.h"
 #include "service/history_service.h"
 #include "service/ingest_service.h"
+#include "service/latest_temperatures.h"
 #include "service/machine_service.h"
 #include "service/metrics.h"
 #include "service/mtconnect/mtconnect_board.h"
 #include "service/outcome/outcome_service.h"
 #include "service/probe_temperature_cache.h"
 #include "service/refit_scheduler.h"
-#include "service/feed_axis/thermal_error_table.h"
-#include "service/feed_axis/feed_fit_service.h"
 #include "storage/storage.h"
 
 namespace thermocomp {
@@ -60,6 +61,7 @@ class App {
   FeedAxisService& feed_axes() { return *feed_axes_; }
   CompensationService& compensation() { return *compensation_; }
   HistoryService& history() { return *history_; }
+  LatestTemperatureService& latest_temperatures() { return *latest_temperatures_; }
   OutcomeService& outcomes() { return *outcomes_; }
   RefitScheduler& scheduler() { return *scheduler_; }
   ThermalErrorTableService& thermal_errors() { return *thermal_errors_; }
@@ -89,6 +91,7 @@ class App {
   std::unique_ptr<FeedAxisService> feed_axes_;
   std::unique_ptr<CompensationService> compensation_;
   std::unique_ptr<HistoryService> history_;
+  std::unique_ptr<LatestTemperatureService> latest_temperatures_;
   PlantTime plant_time_;
   std::unique_ptr<OutcomeService> outcomes_;
   std::unique_ptr<RefitScheduler> scheduler_;

@@ -1,6 +1,7 @@
 #include "tests/app_fixture.h"  // first: Eigen before httplib.h (see api/http_server.h)
 
 #include <httplib.h>
+#include <nlohmann/json.hpp>
 
 #include "api/auth.h"
 
@@ -10,6 +11,7 @@ namespace {
 const std::string kAdmin = "admin-token-0123456789";
 const std::string kCell = "cell-token-0123456789";
 const std::string kReader = "reader-token-0123456789";
+const std::string kMaintenance = "maintenance-token-0123456789";
 
 TEST(AuthorizerTest, WithoutTokensOnlyLoopbackIsServed) {
   api::Authorizer none({});
@@ -47,6 +49,8 @@ TEST(AuthorizerTest, RolesLimitWhatATokenMayDo) {
   EXPECT_EQ(as(kCell, "GET", "/api/v1/machines/m1/drift"), 403);
   EXPECT_EQ(as(kReader, "GET", "/api/v1/machines/m1/drift"), 200);
   EXPECT_EQ(as(kReader, "POST", "/api/v1/machines/m1/temperatures"), 403);
+  EXPECT_EQ(as(kReader, "POST", "/api/v1/machines/m1/column-checks/requests/1/acknowledge"), 403);
+  EXPECT_EQ(as(kReader, "GET", "/api/v1/machines/m1/temperatures/latest"), 200);
   EXPECT_EQ(as(kAdmin, "PUT", "/api/v1/machines/m9"), 200);
   EXPECT_EQ(a.Decide("GET", "/api/v1/machines", "127.0.0.1", "Bearer " + kReader).actor,
             "token:dash");
@@ -62,13 +66,21 @@ TEST(AuthorizerTest, TheRolesTableOfTheDocsIsWhatIsEnforced) {
   const std::string m1 = "/api/v1/machines/m1";
   // machine: writes its own machine's data and check results, reads what
   // a control needs (its machine, compensation, open check requests).
-  for (const char* rest :
-       {"/temperatures", "/probe-points", "/signals", "/events", "/column-checks"}) {
+  for (const char* rest : {"/temperatures", "/probe-points", "/signals", "/events",
+                           "/column-checks", "/column-checks/requests/7/acknowledge"}) {
     EXPECT_EQ(as(kCell, "POST", m1 + rest), 200) << rest;
   }
-  for (const char* rest :
-       {"", "/compensation", "/column-checks/requests", "/axes/X/thermal-error"}) {
+  for (const char* rest : {"", "/compensation", "/column-checks/requests", "/axes/X/thermal-error",
+                           "/temperatures/latest"}) {
     EXPECT_EQ(as(kCell, "GET", m1 + rest), 200) << rest;
+  }
+  // Another machine's, and paths merely like an acknowledgement.
+  EXPECT_EQ(as(kCell, "GET", "/api/v1/machines/m2/temperatures/latest"), 403);
+  for (const std::string& path :
+       std::vector<std::string>{"/api/v1/machines/m2/column-checks/requests/7/acknowledge",
+                                m1 + "/column-checks/requests//acknowledge",
+                                m1 + "/column-checks/requests/7/8/acknowledge"}) {
+    EXPECT_EQ(as(kCell, "POST", path), 403) << path;
   }
   // The table a control reads, not its history or a path merely ending so.
   for (const char* rest : {"/axes/X/thermal-error/history", "/axes/X/Y/thermal-error",
@@ -83,8 +95,8 @@ TEST(AuthorizerTest, TheRolesTableOfTheDocsIsWhatIsEnforced) {
   // maintenance: reads everything; requests, records and logs checks and
   // events; neither feeds data nor changes models or definitions.
   EXPECT_EQ(as(maint, "GET", m1 + "/drift"), 200);
-  for (const char* rest :
-       {"/events", "/column-checks/requests", "/column-checks", "/positioning-checks"}) {
+  for (const char* rest : {"/events", "/column-checks/requests", "/column-checks",
+                           "/positioning-checks", "/column-checks/requests/7/acknowledge"}) {
     EXPECT_EQ(as(maint, "POST", m1 + rest), 200) << rest;
   }
   for (const char* rest :
@@ -98,7 +110,10 @@ TEST(AuthorizerTest, TheRolesTableOfTheDocsIsWhatIsEnforced) {
 class AuthHttpTest : public testing::AppFixture {
  protected:
   void Configure(Config& c) override {
-    c.tokens = {{"admin", kAdmin, "admin", ""}, {"cell-1", kCell, "machine", "m1"}};
+    c.tokens = {{"admin", kAdmin, "admin", ""},
+                {"cell-1", kCell, "machine", "m1"},
+                {"dash", kReader, "reader", ""},
+                {"fitter", kMaintenance, "maintenance", ""}};
   }
 };
 
@@ -131,6 +146,48 @@ TEST_F(AuthHttpTest, TokensAreEnforcedAndAudited) {
       1);
   EXPECT_EQ(c.Get("/healthz")->status, 200);
   EXPECT_EQ(c.Get("/metrics")->status, 401);
+}
+
+// What the OPC UA face does with a machine's token: acknowledge that
+// machine's check requests (named by the token unless the body names
+// someone) and read its temperatures now; another machine's neither, and a
+// reader only reads.
+TEST_F(AuthHttpTest, AMachineTokenAcknowledgesAndReadsItsOwnMachineOnly) {
+  StartHttp();
+  httplib::Client c("127.0.0.1", http_->port());
+  FieldErrors errors;
+  std::string ack[2];
+  for (int i = 0; i < 2; ++i) {
+    const std::string m = "m" + std::to_string(i + 1);
+    ASSERT_TRUE(app_->machines().Register(VirtualMachine::Definition(m), "test", &errors).ok());
+    auto id = app_->checks().RequestCheck(m, "spindle exchanged", clock_.NowMs() + 3600000, "t");
+    ASSERT_TRUE(id.ok());
+    ack[i] =
+        "/api/v1/machines/" + m + "/column-checks/requests/" + std::to_string(*id) + "/acknowledge";
+  }
+  const httplib::Headers cell = {{"Authorization", "Bearer " + kCell}};
+  const httplib::Headers reader = {{"Authorization", "Bearer " + kReader}};
+  const httplib::Headers fitter = {{"Authorization", "Bearer " + kMaintenance}};
+  EXPECT_EQ(c.Post(ack[0], reader, "", "application/json")->status, 403);
+  EXPECT_EQ(c.Post(ack[1], cell, "", "application/json")->status, 403);
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM check_requests WHERE acknowledged_at IS NOT NULL"), 0);
+  auto r = c.Post(ack[0], cell, "", "application/json");
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(nlohmann::json::parse(r->body)["acknowledged_by"], "cell-1");
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM audit WHERE actor = 'token:cell-1' AND action = "
+                  "'check-request-acknowledge' AND machine = 'm1'"),
+            1);
+  r = c.Post(ack[1], fitter, R"({"by": "Anna"})", "application/json");
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(nlohmann::json::parse(r->body)["acknowledged_by"], "Anna");
+
+  const std::string latest = "/temperatures/latest";
+  EXPECT_EQ(c.Get("/api/v1/machines/m1" + latest, cell)->status, 200);
+  EXPECT_EQ(c.Get("/api/v1/machines/m2" + latest, cell)->status, 403);
+  EXPECT_EQ(c.Get("/api/v1/machines/m2" + latest, reader)->status, 200);
+  EXPECT_EQ(c.Get("/api/v1/machines/m1" + latest)->status, 401);
+  // The history stays for people, not for the machine's token.
+  EXPECT_EQ(c.Get("/api/v1/machines/m1/temperatures", cell)->status, 403);
 }
 
 }  // namespace

@@ -1,10 +1,15 @@
 // What a control reads over HTTP besides the values: the status word and
 // state in the JSON, samples dated into the future refused naming `ts`
-// (and counted), and an axis travel that is stored only when it is one.
+// (and counted), an axis travel that is stored only when it is one, and
+// every sensor's temperature now (.../temperatures/latest).
 #include "tests/app_fixture.h"  // first: Eigen before httplib.h (see api/http_server.h)
+
+#include <utility>
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
+
+#include "core/time_format.h"
 
 namespace thermocomp {
 namespace {
@@ -106,6 +111,69 @@ TEST_F(ServedValueHttpTest, ATravelIsStoredOnlyWhenItIsOne) {
   const json c = json::parse(client_->Get("/api/v1/machines/m1/compensation")->body);
   EXPECT_EQ(c["axes"][0]["travel_mm"], json::array({0.0, 1000.0}));
   EXPECT_EQ(c["axes"][0]["clamp_mm"], 0.002) << Axis() << c;
+}
+
+// What controls and the OPC UA face poll: each configured sensor's
+// filtered value (the EWMA, by hand), raw value and age, stale by the
+// clock once older than stale_after_s, null without samples; no query
+// parameters, and the history beside it unchanged.
+TEST_F(ServedValueHttpTest, LatestTemperaturesAreTheFilteredValuesAndGoStaleOnTheClock) {
+  MachineRecord m;
+  m.name = "m2";
+  m.sensors = {{0, "Ta", "spindle", 0.2}, {0, "Tb", "bed", 0.5}};
+  ASSERT_TRUE(app_->machines().Register(m, "test", nullptr).ok());
+  const int64_t now = clock_.NowMs();
+  json samples = json::array();
+  const std::pair<int64_t, double> points[] = {{120, 20.0}, {60, 22.0}, {0, 25.0}};
+  for (const auto& [ago_s, value] : points) {
+    samples.push_back({{"sensor", "Ta"}, {"ts", now - ago_s * 1000}, {"value", value}});
+  }
+  auto r = client_->Post("/api/v1/machines/m2/temperatures", json{{"samples", samples}}.dump(),
+                         "application/json");
+  ASSERT_EQ(r->status, 200) << r->body;
+  const double filtered = 0.2 * 25.0 + 0.8 * (0.2 * 22.0 + 0.8 * 20.0);  // 21.32
+  auto latest = [&] {
+    auto got = client_->Get("/api/v1/machines/m2/temperatures/latest");
+    EXPECT_EQ(got->status, 200) << got->body;
+    return json::parse(got->body);
+  };
+  json j = latest();
+  EXPECT_EQ(j["machine"], "m2");
+  EXPECT_EQ(j["computed_at"], FormatRfc3339(now));
+  EXPECT_EQ(j["stale_after_s"], 300);
+  ASSERT_EQ(j["sensors"].size(), 2u);
+  const json& a = j["sensors"][0];
+  EXPECT_EQ(a["sensor"], "Ta");
+  EXPECT_EQ(a["location"], "spindle");
+  EXPECT_NEAR(a["temperature_c"].get<double>(), filtered, 1e-9);
+  EXPECT_EQ(a["raw_c"], 25.0);
+  EXPECT_EQ(a["ts"], FormatRfc3339(now));
+  EXPECT_EQ(a["age_s"], 0.0);
+  EXPECT_EQ(a["stale"], false);
+  EXPECT_EQ(j["sensors"][1], json({{"sensor", "Tb"},
+                                   {"location", "bed"},
+                                   {"temperature_c", nullptr},
+                                   {"raw_c", nullptr},
+                                   {"ts", nullptr},
+                                   {"age_s", nullptr},
+                                   {"stale", true}}));
+  // Fresh up to stale_after_s by the sample's time, stale beyond.
+  clock_.Advance(300000);
+  j = latest();
+  EXPECT_EQ(j["sensors"][0]["age_s"], 300.0);
+  EXPECT_EQ(j["sensors"][0]["stale"], false);
+  clock_.Advance(1);
+  j = latest();
+  EXPECT_EQ(j["sensors"][0]["stale"], true);
+  EXPECT_NEAR(j["sensors"][0]["temperature_c"].get<double>(), filtered, 1e-9);
+
+  r = client_->Get("/api/v1/machines/m2/temperatures/latest?max_points=5");
+  EXPECT_EQ(r->status, 400) << r->body;
+  EXPECT_EQ(json::parse(r->body)["errors"][0]["field"], "max_points");
+  EXPECT_EQ(client_->Get("/api/v1/machines/nope/temperatures/latest")->status, 404);
+  r = client_->Get("/api/v1/machines/m2/temperatures?max_points=5");
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(json::parse(r->body)["sensors"][0]["points"].size(), 3u);
 }
 
 }  // namespace

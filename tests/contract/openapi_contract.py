@@ -249,6 +249,9 @@ def exercise(base):
     call(base, "GET", f"{m}/temperatures?max_points=20", expect=200)
     call(base, "GET", f"{m}/temperatures?max_points=1", expect=400)
     call(base, "GET", "/api/v1/machines/nope/temperatures", expect=404)
+    call(base, "GET", f"{m}/temperatures/latest", expect=200)
+    call(base, "GET", f"{m}/temperatures/latest?max_points=20", expect=400)
+    call(base, "GET", "/api/v1/machines/nope/temperatures/latest", expect=404)
     call(base, "GET", "/api/v1/overview", expect=200)
     # The operator's conditions and the audit trail (docs/api.md, Alerts, Audit).
     call(base, "GET", "/api/v1/alerts", expect=200)
@@ -271,7 +274,15 @@ def exercise(base):
     call(base, "PUT", "/api/v1/artifacts/col-9", {"points": "x"}, expect=400)
     call(base, "GET", "/api/v1/artifacts/col-9", expect=200)
     call(base, "GET", "/api/v1/artifacts/no-such", expect=404)
-    call(base, "POST", m + "/column-checks/requests", {"reason": "after collision"}, expect=201)
+    status, text = call(base, "POST", m + "/column-checks/requests", {"reason": "after collision"},
+                        expect=201)
+    ack = f"{m}/column-checks/requests/{json.loads(text)['id'] if status == 201 else 1}/acknowledge"
+    call(base, "POST", ack, {"by": "line 2"}, expect=200)
+    call(base, "POST", ack, "", expect=200)
+    call(base, "POST", ack, {"by": ""}, expect=400)
+    call(base, "POST", ack, {"by": "x"}, "text/plain", expect=415)
+    call(base, "POST", m + "/column-checks/requests/one/acknowledge", "", expect=400)
+    call(base, "POST", m + "/column-checks/requests/99999/acknowledge", "", expect=404)
     call(base, "POST", m + "/column-checks/requests", {"reason": 5}, expect=400)
     call(base, "GET", m + "/column-checks/requests", expect=200)
     call(base, "GET", m + "/column-checks/requests?state=pending", expect=200)
@@ -281,6 +292,9 @@ def exercise(base):
              "points": [{"id": "P1", "scheme": "a", "x": 100.0, "y": 400.0, "z": 0.0}]}
     status, text = call(base, "POST", m + "/column-checks", check, expect=201)
     check_id = json.loads(text)["id"] if status == 201 else 1
+    answered = json.loads(text).get("request_id") if status == 201 else None
+    if answered:
+        call(base, "POST", f"{m}/column-checks/requests/{answered}/acknowledge", "", expect=409)
     call(base, "POST", m + "/column-checks", check, expect=200)
     call(base, "POST", m + "/column-checks", dict(check, artifact="nope"), expect=422)
     call(base, "GET", m + "/column-checks", expect=200)
