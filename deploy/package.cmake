@@ -4,7 +4,10 @@
 # The package puts the program in /usr/bin, the configuration in
 # /etc/thermocomp (conffiles), the systemd unit in /lib/systemd/system
 # (Debian 12 keeps units there) and the data in /var/lib/thermocomp, which
-# its postinst creates for the system user "thermocomp".
+# its postinst creates for the system user "thermocomp". The OPC UA face
+# goes to /usr/share/thermocomp/opcua with the node-opcua tree
+# deploy/opcua-deps.sh installed (npm ci, before cpack), and its unit
+# beside the server's, installed but not enabled.
 
 set(THERMOCOMP_PACKAGE_PREFIX /usr)
 set(THERMOCOMP_INSTALLED_BINARY ${THERMOCOMP_PACKAGE_PREFIX}/bin/thermocomp)
@@ -47,7 +50,25 @@ install(TARGETS thermocomp RUNTIME DESTINATION bin)
 install(FILES ${CMAKE_BINARY_DIR}/package/thermocomp.toml DESTINATION ${THERMOCOMP_CONFIG_DIR}
         PERMISSIONS OWNER_READ OWNER_WRITE GROUP_READ)
 install(FILES ${PROJECT_SOURCE_DIR}/deploy/cyclonedds.xml DESTINATION ${THERMOCOMP_CONFIG_DIR})
-install(FILES ${PROJECT_SOURCE_DIR}/deploy/thermocomp.service DESTINATION /lib/systemd/system)
+install(FILES ${PROJECT_SOURCE_DIR}/deploy/thermocomp.service
+              ${PROJECT_SOURCE_DIR}/deploy/thermocomp-opcua.service
+        DESTINATION /lib/systemd/system)
+# The OPC UA face (docs/opcua.md): the program, its sources and its
+# dependencies exactly as opcua/package-lock.json pins them, run by node
+# (Depends: nodejs). Its node_modules are plain JavaScript (no native
+# module), so the tree is the same on every architecture.
+set(opcua_dir ${PROJECT_SOURCE_DIR}/opcua)
+install(CODE "
+  if(NOT EXISTS \"${opcua_dir}/node_modules/.package-lock.json\")
+    message(FATAL_ERROR \"opcua/node_modules is missing or incomplete: run deploy/opcua-deps.sh before cpack\")
+  endif()")
+install(FILES ${opcua_dir}/thermocomp-opcua.js ${opcua_dir}/package.json ${opcua_dir}/package-lock.json
+        DESTINATION share/thermocomp/opcua)
+install(DIRECTORY ${opcua_dir}/src ${opcua_dir}/nodeset DESTINATION share/thermocomp/opcua)
+# Without the TypeScript sources, declarations and source maps node never
+# loads: 4 000 of its 6 400 files, 30 of its 47 MB.
+install(DIRECTORY ${opcua_dir}/node_modules DESTINATION share/thermocomp/opcua
+        PATTERN "*.map" EXCLUDE PATTERN "*.ts" EXCLUDE PATTERN "*.mts" EXCLUDE PATTERN "*.cts" EXCLUDE)
 install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/docs/operations.md
         DESTINATION share/doc/thermocomp)
 # What the plant's other services take from it: the TLS proxy's
@@ -72,7 +93,7 @@ set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGING_INSTALL_PREFIX ${THERMOCOMP_PACKAGE_PREFIX})
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "thermal compensation server for CNC machine tools")
 set(CPACK_PACKAGE_DESCRIPTION
-    "Archives machine temperatures and probe measurements, fits a thermal-error model per axis and serves the compensation each control should apply, over HTTP and DDS.")
+    "Archives machine temperatures and probe measurements, fits a thermal-error model per axis and serves the compensation each control should apply, over HTTP, DDS and OPC UA.")
 set(THERMOCOMP_PACKAGE_MAINTAINER "thermocomp maintainers <thermocomp@localhost>"
     CACHE STRING "Maintainer field of the Debian package")
 set(CPACK_DEBIAN_PACKAGE_MAINTAINER ${THERMOCOMP_PACKAGE_MAINTAINER})
@@ -82,9 +103,10 @@ set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 # The shared libraries' packages come from dpkg-shlibdeps (dpkg-dev), run on
 # the binary; the rest is what the program reads or its scripts call: the
 # charting library of the pages, the zone database, adduser for the user,
-# procps for the unit's ExecReload (/bin/kill).
+# procps for the unit's ExecReload (/bin/kill), and node for the OPC UA face
+# (Debian 12's nodejs is 18.19; a newer one from NodeSource satisfies it too).
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser, libjs-dygraphs, procps, tzdata")
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser, libjs-dygraphs, procps, tzdata, nodejs (>= 18.19)")
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
     ${PROJECT_SOURCE_DIR}/deploy/debian/conffiles ${PROJECT_SOURCE_DIR}/deploy/debian/postinst

@@ -12,9 +12,11 @@ contents: dpkg-deb lists what the package holds (layout, modes, Depends,
           conffiles, maintainer scripts); every shared library the program
           needs is in a package its Depends names; the extracted program
           prints the build's version and schema and reads the installed
-          configuration, whose paths are absolute.
-unit:     `systemd-analyze verify` on the unit in the extracted package;
-          exits 77 (skipped) when the tool is missing.
+          configuration, whose paths are absolute; the OPC UA face's tree
+          loads its node-opcua under node and prints its usage.
+unit:     `systemd-analyze verify` on both units in the extracted package
+          (the server's and the OPC UA face's); exits 77 (skipped) when the
+          tool is missing.
 notify:   `thermocomp serve` with NOTIFY_SOCKET on a datagram socket this
           test owns (a path, then an abstract name) sends READY=1, after
           which /readyz answers; SIGTERM sends STOPPING=1.
@@ -106,14 +108,20 @@ def contents(build_dir, source_dir, version):
     listing = run(["dpkg-deb", "-c", deb]).stdout
     entries = {}
     for line in listing.splitlines():
-        parts = line.split()
-        entries[parts[-1].rstrip("/")] = parts[0]
+        # mode owner/group size date time name[ -> target]
+        parts = line.split(None, 5)
+        entries[parts[5].split(" -> ")[0].rstrip("/")] = parts[0]
     print(listing)
     expected = {
         "./usr/bin/thermocomp": "-rwxr-xr-x",
         "./etc/thermocomp/thermocomp.toml": "-rw-r-----",
         "./etc/thermocomp/cyclonedds.xml": "-rw-r--r--",
         "./lib/systemd/system/thermocomp.service": "-rw-r--r--",
+        "./lib/systemd/system/thermocomp-opcua.service": "-rw-r--r--",
+        "./usr/share/thermocomp/opcua/thermocomp-opcua.js": "-rw-r--r--",
+        "./usr/share/thermocomp/opcua/package-lock.json": "-rw-r--r--",
+        "./usr/share/thermocomp/opcua/src/compensation_space.js": "-rw-r--r--",
+        "./usr/share/thermocomp/opcua/node_modules/node-opcua/package.json": "-rw-r--r--",
         "./usr/share/doc/thermocomp/operations.md": "-rw-r--r--",
         "./usr/share/doc/thermocomp/examples/nginx/thermocomp.conf": "-rw-r--r--",
         "./usr/share/doc/thermocomp/examples/prometheus/thermocomp-rules.yml": "-rw-r--r--",
@@ -125,10 +133,10 @@ def contents(build_dir, source_dir, version):
         if entries[path] != mode:
             fail("%s has mode %s, expected %s" % (path, entries[path], mode))
     allowed = ("./usr/bin", "./usr/share/doc/thermocomp", "./etc/thermocomp",
-               "./lib/systemd/system")
+               "./lib/systemd/system", "./usr/share/thermocomp/opcua")
     for path in entries:
         if path in (".", "./usr", "./usr/share", "./usr/share/doc", "./etc", "./lib",
-                    "./lib/systemd"):
+                    "./lib/systemd", "./usr/share/thermocomp"):
             continue
         if not any(path == a or path.startswith(a + "/") for a in allowed):
             fail("the package holds %s, outside its layout" % path)
@@ -136,6 +144,10 @@ def contents(build_dir, source_dir, version):
     # leaves what is in it), not to the file list.
     if any(p.startswith("./var") for p in entries):
         fail("the package ships ./var; postinst creates /var/lib/thermocomp")
+    # The face's tree is npm ci's: no test, no development dependency.
+    for path in entries:
+        if path.startswith("./usr/share/thermocomp/opcua/test") or "/opcua/bench" in path:
+            fail("the package ships the face's tests: " + path)
 
     if control_field(deb, "Package") != "thermocomp":
         fail("Package is not thermocomp")
@@ -146,7 +158,7 @@ def contents(build_dir, source_dir, version):
     depends = control_field(deb, "Depends")
     print("Depends: " + depends)
     depended = {d.strip().split()[0] for d in re.split(r"[,|]", depends) if d.strip()}
-    for package in ("adduser", "libjs-dygraphs", "procps", "tzdata"):
+    for package in ("adduser", "libjs-dygraphs", "procps", "tzdata", "nodejs"):
         if package not in depended:
             fail("Depends lacks " + package)
 
@@ -183,6 +195,10 @@ def contents(build_dir, source_dir, version):
         purge = postrm[postrm.index('"$1" = "purge"'):]
         if "rm -rf /var/lib/thermocomp" not in purge or "deluser" not in purge:
             fail("postrm purge keeps the data or the user")
+        if "/var/lib/thermocomp-opcua" not in purge or "/var/lib/private/thermocomp-opcua" not in purge:
+            fail("postrm purge keeps the OPC UA face's state (its private key)")
+        if "enable thermocomp-opcua" in postinst or "start thermocomp-opcua" in postinst:
+            fail("postinst enables or starts the OPC UA face, which needs its credential first")
         if "rm -rf" in postrm[:postrm.index('"$1" = "purge"')]:
             fail("postrm deletes something before purge")
 
@@ -218,6 +234,20 @@ def contents(build_dir, source_dir, version):
         r = run([binary, "backup", os.path.join(tmp, "copy.db"), "--config", toml], cwd=tmp)
         if r.returncode == 0 or "/var/lib/thermocomp/thermocomp.db" not in r.stderr:
             fail("the installed configuration did not load: " + r.stdout + r.stderr)
+
+        # The OPC UA face as installed: node loads it and every module it
+        # requires from the packaged tree (none from the source tree), then
+        # prints its usage.
+        node = shutil.which("node")
+        if node:
+            face = os.path.join(root, "usr/share/thermocomp/opcua/thermocomp-opcua.js")
+            r = run([node, face, "--help"], cwd=tmp, env={"PATH": os.environ.get("PATH", ""),
+                                                        "HOME": tmp, "NODE_PATH": ""})
+            print(r.stdout + r.stderr)
+            if r.returncode != 0 or "usage: thermocomp-opcua" not in r.stdout:
+                fail("the packaged OPC UA face does not start: " + r.stdout + r.stderr)
+        else:
+            print("node is not installed: the packaged OPC UA face was not started")
     print("package contents, Depends, conffiles, scripts and --version as expected")
 
 
@@ -236,10 +266,15 @@ def unit(build_dir, source_dir, version):
         shutil.copytree("/lib/systemd/system", os.path.join(root, "lib/systemd/system"),
                         symlinks=True)
         extract(deb, root)
-        # ExecReload's /bin/kill comes from procps, which Depends names: the
-        # system's own copy stands for it in the root.
+        # ExecReload's /bin/kill comes from procps and the face's node from
+        # nodejs, which Depends names: the system's own copies stand for
+        # them in the root.
         os.makedirs(os.path.join(root, "bin"), exist_ok=True)
         shutil.copy2("/bin/kill", os.path.join(root, "bin/kill"))
+        node = shutil.which("node")
+        if not node:
+            fail("node is not installed: the OPC UA face's unit cannot be verified")
+        shutil.copy2(os.path.realpath(node), os.path.join(root, "usr/bin/node"))
         unit_file = os.path.join(root, "lib/systemd/system/thermocomp.service")
         with open(unit_file) as f:
             text = f.read()
@@ -252,13 +287,37 @@ def unit(build_dir, source_dir, version):
         # --root: the unit's ExecStart is looked up in the extracted tree.
         # A remark (unknown key, bad value) is printed, yet the exit code
         # stays 0: both are checked.
-        r = run([tool, "verify", "--root=" + root, "/lib/systemd/system/thermocomp.service"])
-        print(r.stdout + r.stderr)
-        if r.returncode != 0:
-            fail("systemd-analyze verify exited %d" % r.returncode)
-        if "thermocomp.service" in r.stderr:
-            fail("systemd-analyze verify has remarks on the unit")
-    print("systemd-analyze verify: the unit is clean")
+        face_file = os.path.join(root, "lib/systemd/system/thermocomp-opcua.service")
+        with open(face_file) as f:
+            face = f.read()
+        # Its own user, its state directory (the certificates), loopback,
+        # the credential from a root-only file, no anonymous sessions, and
+        # stopped and restarted with the server.
+        for line in ("DynamicUser=yes", "User=thermocomp-opcua", "StateDirectory=thermocomp-opcua",
+                     "StateDirectoryMode=0700", "ProtectSystem=strict", "ProtectHome=yes",
+                     "NoNewPrivileges=yes", "Restart=on-failure", "PartOf=thermocomp.service",
+                     "Wants=thermocomp.service", "After=thermocomp.service",
+                     "LoadCredential=feed-token:/etc/thermocomp/opcua-feed.token",
+                     "ExecStart=/usr/bin/node /usr/share/thermocomp/opcua/thermocomp-opcua.js"):
+            if not re.search("^" + re.escape(line), face, re.M):
+                fail("the OPC UA face's unit lacks " + line)
+        exec_start = re.search(r"^ExecStart=((?:.*\\\n)*.*)$", face, re.M).group(1)
+        for arg in ("--state-dir /var/lib/thermocomp-opcua", "--listen 127.0.0.1:",
+                    "--token-file %d/feed-token", "--thermocomp http://127.0.0.1:"):
+            if arg not in exec_start:
+                fail("the OPC UA face's ExecStart lacks " + arg)
+        if "--allow-anonymous" in exec_start or "/home" in face or "~" in exec_start:
+            fail("the OPC UA face's unit allows anonymous sessions or uses a home directory")
+        if not os.path.exists(os.path.join(root, "usr/share/thermocomp/opcua/thermocomp-opcua.js")):
+            fail("the package lacks the program the face's unit runs")
+        for name in ("thermocomp.service", "thermocomp-opcua.service"):
+            r = run([tool, "verify", "--root=" + root, "/lib/systemd/system/" + name])
+            print(r.stdout + r.stderr)
+            if r.returncode != 0:
+                fail("systemd-analyze verify %s exited %d" % (name, r.returncode))
+            if re.search(r"thermocomp(-opcua)?\.service", r.stderr):
+                fail("systemd-analyze verify has remarks on " + name)
+    print("systemd-analyze verify: both units are clean")
 
 
 def stop_when_ready(server, sock):
