@@ -23,6 +23,7 @@ const { ThermocompHttp } = require("./src/thermocomp_http");
 const { Identities } = require("./src/identities");
 const { SequenceStore } = require("./src/sequence_store");
 const { SinumerikWriter, loadWriterConfig } = require("./src/sinumerik_writer");
+const { MachineSpace } = require("./src/machine_space");
 const {
   CompensationSpace,
   defineTypes,
@@ -99,6 +100,32 @@ async function forwardApplied(http, identities, user, machine, axis, sequence, v
   return StatusCodes.BadInternalError;
 }
 
+// A column-check request acknowledged by a caller of the Acknowledge method,
+// forwarded with the caller's own token.
+async function forwardAcknowledge(http, identities, user, machine, requestId) {
+  const token = user ? await identities.tokenFor(user) : null;
+  if (!token) return StatusCodes.BadUserAccessDenied;
+  const answer = await http.request(
+    "POST",
+    `/machines/${encodeURIComponent(machine)}/column-checks/requests/${requestId}/acknowledge`,
+    { token, body: {} },
+  );
+  log(`${machine}: column-check request ${requestId} acknowledged by ${user}: ${answer.status}`);
+  switch (answer.status) {
+    case 200:
+      return StatusCodes.Good;
+    case 401:
+    case 403:
+      return StatusCodes.BadUserAccessDenied;
+    case 404:
+      return StatusCodes.BadNotFound;
+    case 409:
+      return StatusCodes.BadInvalidState;
+    default:
+      return answer.status < 500 ? StatusCodes.BadInvalidArgument : StatusCodes.BadInternalError;
+  }
+}
+
 async function main() {
   const opts = options();
   if (opts.exportNodeset) return exportNodeset(opts.exportNodeset);
@@ -131,11 +158,17 @@ async function main() {
   });
   await serverCertificateManager.initialize();
   const identities = new Identities({ http, namespaceIndex: 1, log });
+  await identities.loadCertificateUsers(path.join(opts.stateDir, "certificate-users.json"));
+  // User certificates under the state directory too (node-opcua's default
+  // store would be in the home directory).
+  const userCertificateManager = identities.userCertificateManager(path.join(opts.stateDir, "pki-users"));
+  await userCertificateManager.initialize();
   const server = new OPCUAServer({
     host: opts.host,
     port: opts.port,
     hostname: isLoopback(opts.host) ? opts.host : undefined,
     serverCertificateManager,
+    userCertificateManager,
     securityPolicies: [SecurityPolicy.Basic256Sha256],
     securityModes: [MessageSecurityMode.SignAndEncrypt],
     allowAnonymous: opts.allowAnonymous,
@@ -167,7 +200,12 @@ async function main() {
     onApplied: (user, machine, axis, sequence, values) =>
       forwardApplied(http, identities, user, machine, axis, sequence, values),
   });
-  const feed = new Feed({ http, space, pollMs: opts.pollMs, log });
+  const machines = new MachineSpace({
+    compensation: space,
+    namespace,
+    onAcknowledge: (user, machine, requestId) => forwardAcknowledge(http, identities, user, machine, requestId),
+  });
+  const feed = new Feed({ http, space, machines, pollMs: opts.pollMs, log });
   feed.start();
   await server.start();
   log(`serving ${server.getEndpointUrl()} (Basic256Sha256, SignAndEncrypt), from ${opts.thermocomp}`);
@@ -191,7 +229,16 @@ async function main() {
 
 // The types only (no instances), for PLC engineering tools to import.
 async function exportNodeset(file) {
-  const server = new OPCUAServer({ port: 0, disableDiscovery: true });
+  // Throw-away certificate stores: node-opcua's defaults are in the home
+  // directory, and exporting needs no certificate at all.
+  const pki = fs.mkdtempSync(path.join(require("node:os").tmpdir(), "thermocomp-opcua-export-"));
+  process.on("exit", () => fs.rmSync(pki, { recursive: true, force: true }));
+  const server = new OPCUAServer({
+    port: 0,
+    disableDiscovery: true,
+    serverCertificateManager: new OPCUACertificateManager({ rootFolder: path.join(pki, "pki") }),
+    userCertificateManager: new OPCUACertificateManager({ rootFolder: path.join(pki, "pki-users") }),
+  });
   await server.initialize();
   const namespace = server.engine.addressSpace.registerNamespace(kNamespaceUri);
   namespace.version = kModelVersion;

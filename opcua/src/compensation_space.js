@@ -20,12 +20,13 @@ const {
   WellKnownRoles,
   resolveNodeId,
 } = require("node-opcua");
+const { defineMachineTypes } = require("./machine_space");
 
 const kNamespaceUri = "urn:thermocomp:ThermalCompensation";
 // The model's version in the NodeSet2 file (opcua/nodeset/): raised with
 // every change of the types.
-const kModelVersion = "1.0.0";
-const kModelPublicationDate = new Date("2026-11-25T00:00:00Z");
+const kModelVersion = "1.1.0";
+const kModelPublicationDate = new Date("2026-11-26T00:00:00Z");
 
 // The variables of an axis: browse name, data type, the value from the
 // axis' JSON in GET /machines/{m}/compensation, and whether a new value of
@@ -177,7 +178,8 @@ class CompensationSpace {
     // call the setter.
     const writeAttribute = variable.writeAttribute.bind(variable);
     variable.writeAttribute = (context, writeValue, callback) => {
-      writer = context?.session?.userIdentityToken?.userName ?? null;
+      // A user name, or a certificate user's common name.
+      writer = context?.session ? context.getUserName() : null;
       writeAttribute(context, writeValue, callback);
     };
     a.setApplied = (sequence, at) => {
@@ -261,7 +263,7 @@ function defineTypes(namespace) {
       modellingRule: "Mandatory",
     });
   }
-  return { machine, axis };
+  return { machine, axis, ...defineMachineTypes(namespace) };
 }
 
 module.exports = { CompensationSpace, defineTypes, kNamespaceUri, kModelVersion, kModelPublicationDate, kAxisVariables };

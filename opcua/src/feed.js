@@ -2,11 +2,15 @@
 // on loopback like any client's reads.
 "use strict";
 
-// Polls thermocomp: the machine list every 10 s, each machine's
-// compensation every pollMs; a machine not read for 3 s is marked uncertain.
+// Polls thermocomp: the machine list every 10 s; each machine's
+// compensation and its sensors' latest temperatures every pollMs, its
+// column-check requests at least every second (they change seldom and
+// slowly); a machine not read for 3 s is marked uncertain.
 class Feed {
-  constructor({ http, space, pollMs, log }) {
-    Object.assign(this, { http, space, pollMs, log });
+  // space: the CompensationSpace; machines: the MachineSpace (or null).
+  constructor({ http, space, machines = null, pollMs, log }) {
+    Object.assign(this, { http, space, machineSpace: machines, pollMs, log });
+    this.ticks = 0;
     this.machines = [];
     this.listedAt = 0;
     this.lastRead = new Map();
@@ -29,17 +33,43 @@ class Feed {
         this.log(`GET /machines: ${e.message}`);
       }
     }
+    const withRequests = this.ticks++ % Math.max(1, Math.floor(1000 / this.pollMs)) === 0;
     await Promise.all(
       this.machines.map(async (machine) => {
         try {
-          const answer = await this.http.request("GET", `/machines/${encodeURIComponent(machine)}/compensation`);
-          if (answer.status !== 200) throw new Error(`status ${answer.status}`);
-          this.space.update(answer.body);
+          const m = `/machines/${encodeURIComponent(machine)}`;
+          const get = async (p) => {
+            const answer = await this.http.request("GET", m + p);
+            if (answer.status !== 200) throw new Error(`GET ${p}: status ${answer.status}`);
+            return answer.body;
+          };
+          // The compensation first in importance: the others failing
+          // (logged) never holds it back.
+          const [compensation, temperatures, requests] = await Promise.allSettled([
+            get("/compensation"),
+            this.machineSpace ? get("/temperatures/latest") : null,
+            this.machineSpace && withRequests ? get("/column-checks/requests") : null,
+          ]);
+          if (compensation.status === "rejected") throw compensation.reason;
+          this.space.update(compensation.value);
+          for (const [answer, what, apply] of [
+            [temperatures, "temperatures", (v) => this.machineSpace.updateTemperatures(machine, v)],
+            [requests, "column-check requests", (v) => this.machineSpace.updateRequests(machine, v)],
+          ]) {
+            if (answer.status === "fulfilled" && answer.value) apply(answer.value);
+            const message = answer.status === "rejected" ? `${machine} ${what}: ${answer.reason.message}` : null;
+            if (message && message !== this.lastError.get(`${machine} ${what}`)) this.log(message);
+            if (message) this.lastError.set(`${machine} ${what}`, message);
+            else this.lastError.delete(`${machine} ${what}`);
+          }
           this.lastRead.set(machine, Date.now());
         } catch (e) {
           if (e.message !== this.lastError.get(machine)) this.log(`${machine}: ${e.message}`);
           this.lastError.set(machine, e.message);
-          if (Date.now() - (this.lastRead.get(machine) || 0) > 3000) this.space.markUnreachable(machine);
+          if (Date.now() - (this.lastRead.get(machine) || 0) > 3000) {
+            this.space.markUnreachable(machine);
+            this.machineSpace?.markUnreachable(machine);
+          }
           return;
         }
         if (this.lastError.delete(machine)) this.log(`${machine}: read again`);

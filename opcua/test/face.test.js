@@ -12,57 +12,17 @@ const {
   ClientMonitoredItem,
   ClientSubscription,
   DataType,
-  MessageSecurityMode,
-  OPCUAClient,
-  SecurityPolicy,
-  StatusCodes,
   TimestampsToReturn,
   UserTokenType,
 } = require("node-opcua");
-const { Line, kTokens, waitFor, freePort } = require("./harness");
-const { kNamespaceUri } = require("../src/compensation_space");
+const { Line, kTokens, waitFor, freePort, openSession, namespaceIndex, userOf } = require("./harness");
 
 let line;
 let clientPki;
 
-function client(endpointPort) {
-  return OPCUAClient.create({
-    applicationName: "thermocomp-opcua-test",
-    securityMode: MessageSecurityMode.SignAndEncrypt,
-    securityPolicy: SecurityPolicy.Basic256Sha256,
-    endpointMustExist: false,
-    connectionStrategy: { maxRetry: 0, initialDelay: 100, maxDelay: 200 },
-    clientCertificateManager: clientPki,
-    requestedSessionTimeout: 60000,
-    defaultSecureTokenLifetime: 60000,
-    keepSessionAlive: false,
-    _endpointPort: endpointPort,
-  });
-}
-
-function user(t) {
-  return { type: UserTokenType.UserName, userName: t.name, password: t.token };
-}
-
-// A connected session of `identity`, closed by the caller.
-async function open(identity, endpoint = line.endpoint) {
-  const c = client();
-  await c.connect(endpoint);
-  try {
-    const session = await c.createSession(identity);
-    return { c, session, close: async () => { await session.close(); await c.disconnect(); } };
-  } catch (e) {
-    await c.disconnect();
-    throw e;
-  }
-}
-
-async function ns(session) {
-  const uris = await session.readNamespaceArray();
-  const index = uris.indexOf(kNamespaceUri);
-  assert.ok(index > 0, `namespace ${kNamespaceUri} in ${uris}`);
-  return index;
-}
+const user = userOf;
+const open = (identity, endpoint = line.endpoint) => openSession(clientPki, endpoint, identity);
+const ns = namespaceIndex;
 
 const axisNode = (index, machine, axis, name) => `ns=${index};s=Machines/${machine}/ThermalCompensation/${axis}/${name}`;
 

@@ -203,4 +203,48 @@ class Line {
   }
 }
 
-module.exports = { Line, kTokens, waitFor, request, freePort };
+// A client of the face over Basic256Sha256 SignAndEncrypt with `pki` (a
+// Line's clientPki()), as the tests' PLC.
+function opcClient(pki) {
+  const { MessageSecurityMode, OPCUAClient, SecurityPolicy } = require("node-opcua");
+  return OPCUAClient.create({
+    applicationName: "thermocomp-opcua-test",
+    securityMode: MessageSecurityMode.SignAndEncrypt,
+    securityPolicy: SecurityPolicy.Basic256Sha256,
+    endpointMustExist: false,
+    connectionStrategy: { maxRetry: 0, initialDelay: 100, maxDelay: 200 },
+    clientCertificateManager: pki,
+    requestedSessionTimeout: 60000,
+    defaultSecureTokenLifetime: 60000,
+    keepSessionAlive: false,
+  });
+}
+
+// A connected session of `identity`; close() ends session and connection.
+async function openSession(pki, endpoint, identity) {
+  const c = opcClient(pki);
+  await c.connect(endpoint);
+  try {
+    const session = await c.createSession(identity);
+    return { c, session, close: async () => { await session.close(); await c.disconnect(); } };
+  } catch (e) {
+    await c.disconnect();
+    throw e;
+  }
+}
+
+// The index of thermocomp's namespace in the session's namespace array.
+async function namespaceIndex(session) {
+  const { kNamespaceUri } = require("../src/compensation_space");
+  const uris = await session.readNamespaceArray();
+  const index = uris.indexOf(kNamespaceUri);
+  if (index <= 0) throw new Error(`namespace ${kNamespaceUri} not in ${uris}`);
+  return index;
+}
+
+function userOf(t) {
+  const { UserTokenType } = require("node-opcua");
+  return { type: UserTokenType.UserName, userName: t.name, password: t.token };
+}
+
+module.exports = { Line, kTokens, waitFor, request, freePort, opcClient, openSession, namespaceIndex, userOf };

@@ -8,7 +8,7 @@ const fs = require("node:fs");
 const os = require("node:os");
 const path = require("node:path");
 const { execFileSync } = require("node:child_process");
-const { OPCUAServer, nodesets } = require("node-opcua");
+const { OPCUACertificateManager, OPCUAServer, nodesets } = require("node-opcua");
 
 const shipped = path.join(__dirname, "..", "nodeset", "Thermocomp.NodeSet2.xml");
 
@@ -25,7 +25,15 @@ test("the shipped NodeSet2 is the face's own types", () => {
 });
 
 test("a tool importing the NodeSet2 finds the axis type and its variables", async () => {
-  const server = new OPCUAServer({ port: 0, nodeset_filename: [nodesets.standard, shipped], disableDiscovery: true });
+  // Certificate stores in a temporary folder, not node-opcua's default in ~.
+  const dir = fs.mkdtempSync(path.join(process.env.TMPDIR || os.tmpdir(), "thermocomp-nodeset-"));
+  const server = new OPCUAServer({
+    port: 0,
+    nodeset_filename: [nodesets.standard, shipped],
+    disableDiscovery: true,
+    serverCertificateManager: new OPCUACertificateManager({ rootFolder: path.join(dir, "pki") }),
+    userCertificateManager: new OPCUACertificateManager({ rootFolder: path.join(dir, "pki-users") }),
+  });
   await server.initialize();
   try {
     const space = server.engine.addressSpace;
@@ -36,7 +44,14 @@ test("a tool importing the NodeSet2 finds the axis type and its variables", asyn
     for (const n of ["K0", "TanBeta", "P0", "Valid", "Stale", "Reason", "ModelVersion", "ComputedAt", "Sequence", "AppliedSequence"]) {
       assert.ok(names.includes(n), `${n} in ${names}`);
     }
+    const checks = space.findObjectType("ColumnChecksType", ns);
+    assert.ok(checks, "ColumnChecksType");
+    const parts = [...checks.getComponents(), ...checks.getMethods()].map((c) => c.browseName.name);
+    for (const n of ["OpenCount", "OverdueCount", "OpenRequestIds", "OpenRequestDue", "OpenRequestAcknowledged", "Acknowledge"]) {
+      assert.ok(parts.includes(n), `${n} in ${parts}`);
+    }
   } finally {
     await server.shutdown(0);
+    fs.rmSync(dir, { recursive: true, force: true });
   }
 });
