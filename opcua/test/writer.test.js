@@ -49,6 +49,8 @@ async function makeControl(initial) {
     port: controlPort,
     hostname: "127.0.0.1",
     serverCertificateManager: pki,
+    // Its user store in the test's folder too (node-opcua's default is in ~).
+    userCertificateManager: new OPCUACertificateManager({ rootFolder: path.join(dir, "control-user-pki") }),
     securityPolicies: [SecurityPolicy.Basic256Sha256],
     securityModes: [MessageSecurityMode.SignAndEncrypt],
     allowAnonymous: false,
