@@ -56,7 +56,12 @@ class Feed {
             [temperatures, "temperatures", (v) => this.machineSpace.updateTemperatures(machine, v)],
             [requests, "column-check requests", (v) => this.machineSpace.updateRequests(machine, v)],
           ]) {
-            if (answer.status === "fulfilled" && answer.value) apply(answer.value);
+            if (answer.status === "fulfilled" && answer.value) {
+              apply(answer.value);
+              this.lastRead.set(`${machine} ${what}`, Date.now());
+            } else if (answer.status === "rejected" && Date.now() - (this.lastRead.get(`${machine} ${what}`) || 0) > 3000) {
+              this.machineSpace.markUnreachable(machine); // uncertain, as the compensation would be
+            }
             const message = answer.status === "rejected" ? `${machine} ${what}: ${answer.reason.message}` : null;
             if (message && message !== this.lastError.get(`${machine} ${what}`)) this.log(message);
             if (message) this.lastError.set(`${machine} ${what}`, message);
