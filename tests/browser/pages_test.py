@@ -283,7 +283,15 @@ def open_access(d, s):
         default = d.find_element(By.ID, "check-machine").get_attribute("value")
         check(s.api(f"/machines/{default}")["automatic_column_checks"],
               f"the request form starts on a machine that runs column checks ({default})")
+    # The line acknowledges the open request (as its PLC does over OPC UA).
+    request_id = s.api("/machines/sim-1/column-checks/requests?state=pending")["requests"][0]["id"]
+    ack = urllib.request.Request(f"{s.base}/api/v1/machines/sim-1/column-checks/requests/{request_id}/acknowledge",
+                                 data=b'{"by": "line PLC"}', headers={"Content-Type": "application/json"})
+    with urllib.request.urlopen(ack, timeout=30) as r:
+        check(r.status == 200, "the request is acknowledged")
     open_page(d, s, "/ui/machines/sim-1/checks", "machine-checks")
+    check("line PLC" in d.find_element(By.ID, "request-list").text,
+          "the request list says who acknowledged the request")
     check(len(d.find_elements(By.CSS_SELECTOR, "#positioning-list tbody tr")) ==
           len(s.api("/machines/sim-1/positioning-checks")["checks"]), "positioning checks listed")
     check(len(d.find_elements(By.CSS_SELECTOR, "#column-check-list tbody tr")) ==
