@@ -3,9 +3,10 @@
 "use strict";
 
 // Polls thermocomp: the machine list every 10 s; each machine's
-// compensation and its sensors' latest temperatures every pollMs, its
-// column-check requests at least every second (they change seldom and
-// slowly); a machine not read for 3 s is marked uncertain.
+// compensation every pollMs; its sensors' latest temperatures and its
+// column-check requests about once a second (samples arrive every 15 s or
+// more, requests seldom; each read is a line in thermocomp's access log);
+// a machine not read for 3 s is marked uncertain.
 class Feed {
   // space: the CompensationSpace; machines: the MachineSpace (or null).
   constructor({ http, space, machines = null, pollMs, log }) {
@@ -33,7 +34,7 @@ class Feed {
         this.log(`GET /machines: ${e.message}`);
       }
     }
-    const withRequests = this.ticks++ % Math.max(1, Math.floor(1000 / this.pollMs)) === 0;
+    const slow = this.ticks++ % Math.max(1, Math.floor(1000 / this.pollMs)) === 0;
     await Promise.all(
       this.machines.map(async (machine) => {
         try {
@@ -47,8 +48,8 @@ class Feed {
           // (logged) never holds it back.
           const [compensation, temperatures, requests] = await Promise.allSettled([
             get("/compensation"),
-            this.machineSpace ? get("/temperatures/latest") : null,
-            this.machineSpace && withRequests ? get("/column-checks/requests") : null,
+            this.machineSpace && slow ? get("/temperatures/latest") : null,
+            this.machineSpace && slow ? get("/column-checks/requests") : null,
           ]);
           if (compensation.status === "rejected") throw compensation.reason;
           this.space.update(compensation.value);
