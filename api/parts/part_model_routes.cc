@@ -145,7 +145,10 @@ bool ParseFitRequest(const json& body, PartFitRequest& request, FieldErrors& err
 }  // namespace
 
 void HttpServer::PartModelRoutes() {
-  httplib::Server& s = server_;
+  // The guarded server's own Get and Post (api/guarded_server.h), as in
+  // api/check_routes.cc: its writes release the anonymous worker share,
+  // get a compressed body inflated, and count under their route names.
+  GuardedServer& s = server_;
   const std::string& machine = kMachinePath;
 
   s.Post(machine + "/process-records", [this](const Req& req, Res& res) {

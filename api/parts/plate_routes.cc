@@ -72,7 +72,10 @@ std::string HolesCsv(const PlateReport& r) {
 }  // namespace
 
 void HttpServer::PlateRoutes() {
-  httplib::Server& s = server_;
+  // The guarded server's own Get and Post (api/guarded_server.h), as in
+  // api/check_routes.cc: its writes release the anonymous worker share,
+  // get a compressed body inflated, and count under their route names.
+  GuardedServer& s = server_;
   const std::string plates = kMachinePath + "/plates";
 
   // The plate's name from the path, the axis from ?axis= (Y when absent).

@@ -80,7 +80,10 @@ void WriteQueryProblem(Res& res, const FieldErrors& errors) {
 }  // namespace
 
 void HttpServer::TurningRoutes() {
-  httplib::Server& s = server_;
+  // The guarded server's own Get and Post (api/guarded_server.h), as in
+  // api/check_routes.cc: its writes release the anonymous worker share,
+  // get a compressed body inflated, and count under their route names.
+  GuardedServer& s = server_;
   const std::string path = kMachinePath + "/turned-parts";
 
   s.Post(path, [this](const Req& req, Res& res) {

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/time_format.h"
+#include "tests/api/guard_test_util.h"
 
 namespace thermocomp {
 namespace {
@@ -114,6 +115,45 @@ TEST_F(FeedAxisHttpTest, AConfigurationIsPutAndReadBackWithItsDefaults) {
   EXPECT_EQ(client_->Get("/api/v1/machines/m1/axes/Y/screw")->status, 404);
   EXPECT_EQ(Put("/api/v1/machines/m1/axes/Z/screw", GoodConfig())->status, 404);
   EXPECT_EQ(Put("/api/v1/machines/m9/axes/X/screw", GoodConfig())->status, 404);
+}
+
+// The feed axis' writes go through the guarded server like every other
+// route (docs/api.md): a gzip body is inflated before the route reads it,
+// one that does not inflate is a 400 naming Content-Encoding with nothing
+// stored, and each request counts in /metrics under its route's template.
+TEST_F(FeedAxisHttpTest, ACompressedConfigurationIsInflatedAndCountedUnderItsRoute) {
+  const httplib::Headers gzip = {{"Content-Encoding", "gzip"}};
+  const std::string body = GoodConfig().dump();
+  auto corrupt = client_->Put(kScrew, gzip, body, "application/json");
+  ASSERT_TRUE(corrupt);
+  EXPECT_EQ(corrupt->status, 400) << corrupt->body;
+  EXPECT_NE(corrupt->body.find("Content-Encoding"), std::string::npos) << corrupt->body;
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM feed_axis_configs"), 0);
+
+  auto r = client_->Put(kScrew, gzip, testing::Compressed(body, 1), "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 201) << r->body;
+  json expected = GoodConfig();
+  expected["alpha_um_per_m_k"] = 11.5;
+  EXPECT_EQ(json::parse(r->body), expected);
+  EXPECT_EQ(json::parse(client_->Get(kScrew)->body), expected);
+  // A refit's body that does not inflate is refused before the refit.
+  auto fit = client_->Post(kModels + "/fit", gzip, "{}", "application/json");
+  ASSERT_TRUE(fit);
+  EXPECT_EQ(fit->status, 400) << fit->body;
+  EXPECT_NE(fit->body.find("Content-Encoding"), std::string::npos) << fit->body;
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM feed_models"), 0);
+
+  const std::string screw = "route=\"/api/v1/machines/:machine/axes/:axis/screw\"";
+  const std::string text = testing::MetricsWith(
+      *client_, {"thermocomp_http_requests_total{" + screw + ",method=\"PUT\",code=\"400\"} 1\n",
+                 "thermocomp_http_requests_total{" + screw + ",method=\"PUT\",code=\"201\"} 1\n",
+                 "thermocomp_http_requests_total{" + screw + ",method=\"GET\",code=\"200\"} 1\n",
+                 "thermocomp_http_request_duration_seconds_count{route=\"/api/v1/machines/:machine/"
+                 "axes/:axis/feed-models/fit\"} 1\n"});
+  EXPECT_NE(text.find(screw + ",method=\"PUT\",code=\"201\"} 1\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("feed-models/fit\"} 1\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("route=\"unmatched\""), std::string::npos) << text;
 }
 
 TEST_F(FeedAxisHttpTest, ASensorOutsideTheScrewIsRefused) {

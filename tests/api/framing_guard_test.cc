@@ -7,12 +7,15 @@
 #include "tests/app_fixture.h"  // first: Eigen before httplib.h (see api/http_server.h)
 
 #include <atomic>
+#include <cctype>
 #include <fstream>
 #include <thread>
+#include <vector>
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "api/route_table.h"
 #include "tests/api/guard_test_util.h"
 #include "tests/raw_http.h"
 #include "tests/test_util.h"
@@ -23,6 +26,7 @@ namespace {
 using nlohmann::json;
 using testing::Compressed;
 using testing::ConnectionFrom;
+using testing::MetricsWith;
 using testing::PeakMb;
 using testing::RawConnection;
 using testing::RawRequest;
@@ -96,6 +100,69 @@ TEST_F(FramingGuardTest, ABodyThatDoesNotInflateOrAnUnknownEncodingIsRefused) {
     EXPECT_NE(r.find("Content-Encoding"), std::string::npos) << encoding;
   }
   EXPECT_EQ(RawConnection::Status(Temperatures(csv, "identity")), 200);
+}
+
+// Every operation of the OpenAPI description is a route of the guarded
+// server: a write's body that does not inflate is refused with a 400
+// naming Content-Encoding before the route reads it (a route registered on
+// cpp-httplib's server directly would read the bytes as they came), and
+// every request counts in /metrics under its route's template, none as
+// unmatched.
+TEST_F(FramingGuardTest, EveryDocumentedOperationIsAGuardedRouteCountedUnderItsTemplate) {
+  httplib::Client client("127.0.0.1", http_->port());
+  auto spec = client.Get("/api/v1/openapi.json");
+  ASSERT_TRUE(spec);
+  ASSERT_EQ(spec->status, 200);
+  const json paths = json::parse(spec->body).at("paths");
+  ASSERT_GT(paths.size(), 40u);
+  std::vector<std::string> expected;
+  size_t writes = 0;
+  for (const auto& [documented, operations] : paths.items()) {
+    // A request path (path parameters given values their patterns take)
+    // and the pattern's template (a parameter as a group).
+    std::string path, pattern;
+    for (size_t i = 0; i < documented.size();) {
+      if (documented[i] != '{') {
+        path += documented[i];
+        pattern += documented[i++];
+        continue;
+      }
+      const size_t close = documented.find('}', i);
+      const std::string name = documented.substr(i + 1, close - i - 1);
+      path += name == "axis" ? "X" : name == "version" || name == "id" ? "1" : "p1";
+      pattern += "([^/]+)";
+      i = close + 1;
+    }
+    const std::string route = "route=\"" + api::RouteTable::TemplateOf(pattern) + "\"";
+    expected.push_back("thermocomp_http_request_duration_seconds_count{" + route + "} ");
+    for (const auto& [method, operation] : operations.items()) {
+      std::string verb = method;
+      for (char& c : verb) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      SCOPED_TRACE(::testing::Message() << verb << ' ' << documented);
+      if (verb == "GET") {
+        EXPECT_TRUE(client.Get(path));
+        continue;
+      }
+      if (verb != "POST" && verb != "PUT" && verb != "PATCH" && verb != "DELETE") continue;
+      ++writes;
+      // "{}" is no gzip stream.
+      std::string request = verb;
+      request.append(" ").append(path).append(
+          " HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
+          "Content-Encoding: gzip\r\nContent-Length: 2\r\nConnection: close\r\n\r\n{}");
+      const std::string r = RawRequest(http_->port(), request);
+      EXPECT_EQ(RawConnection::Status(r), 400) << r;
+      EXPECT_NE(RawConnection::Body(r).find("Content-Encoding"), std::string::npos) << r;
+      std::string counted = "thermocomp_http_requests_total{" + route;
+      counted.append(",method=\"").append(verb).append("\",code=\"400\"} ");
+      expected.push_back(counted);
+    }
+  }
+  EXPECT_GT(writes, 20u);
+  EXPECT_EQ(Samples(), 0);
+  const std::string text = MetricsWith(client, expected);
+  for (const std::string& e : expected) EXPECT_NE(text.find(e), std::string::npos) << e;
+  EXPECT_EQ(text.find("route=\"unmatched\""), std::string::npos) << text;
 }
 
 TEST_F(FramingGuardTest, RangesAreIgnoredEveryResponseIsWhole) {

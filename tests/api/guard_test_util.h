@@ -1,7 +1,9 @@
 // Helpers of the tests that attack the server's connection handling
 // (connection_guard_test, framing_guard_test, auth_throttle_test): the
-// process's peak memory, gzip bodies made with zlib, and raw connections
-// from another loopback address (127.0.0.2 and up are this host too).
+// process's peak memory, gzip bodies made with zlib, raw connections from
+// another loopback address (127.0.0.2 and up are this host too), and the
+// server's /metrics once given series are in (also the feed-axis and
+// parts routes' tests).
 #pragma once
 
 #include <arpa/inet.h>
@@ -16,6 +18,8 @@
 #include <fstream>
 #include <string>
 #include <string_view>
+#include <thread>
+#include <vector>
 
 namespace thermocomp::testing {
 
@@ -108,5 +112,23 @@ class ConnectionFrom {
   bool closed_ = false;
   std::string received_;
 };
+
+// The text of GET /metrics from `client` (an httplib::Client) once it
+// holds every line of `expected`, or the last one after a minute: a
+// request is counted once its response is written, so a scrape on another
+// connection may come first.
+template <class Client>
+std::string MetricsWith(Client& client, const std::vector<std::string>& expected) {
+  std::string text;
+  for (int i = 0; i < 600; ++i) {
+    auto r = client.Get("/metrics");
+    text = r ? r->body : "";
+    bool all = true;
+    for (const std::string& e : expected) all = all && text.find(e) != std::string::npos;
+    if (all) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return text;
+}
 
 }  // namespace thermocomp::testing

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/time_format.h"
+#include "tests/api/guard_test_util.h"
 #include "tests/app_fixture.h"
 #include "tests/parts/plates/plate_fixture.h"
 
@@ -133,6 +134,43 @@ TEST_F(PlateHttpTest, ImportListReport) {
   res = client_->Get("/api/v1/machines/nope/plates");
   ASSERT_TRUE(res);
   EXPECT_EQ(res->status, 404);
+}
+
+// The plate's import goes through the guarded server like every other
+// route (docs/api.md): a gzip CMM file is inflated and imported like the
+// plain one, one that does not inflate is a 400 naming Content-Encoding
+// with nothing stored, and each request counts in /metrics under its
+// route's template.
+TEST_F(PlateHttpTest, ACompressedFileIsInflatedAndCountedUnderItsRoute) {
+  const httplib::Headers gzip = {{"Content-Encoding", "gzip"}};
+  auto res = client_->Post("/api/v1/machines/m1/plates/p1", gzip, plate_.Csv(), "text/csv");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 400) << res->body;
+  EXPECT_NE(res->body.find("Content-Encoding"), std::string::npos) << res->body;
+  ExpectNothingStored();
+
+  res =
+      client_->Post("/api/v1/machines/m1/plates/p1", gzip, Compressed(plate_.Csv(), 1), "text/csv");
+  ASSERT_TRUE(res);
+  ASSERT_EQ(res->status, 201) << res->body;
+  auto plain = Post("/api/v1/machines/m1/plates/p2", plate_.Csv());
+  ASSERT_TRUE(plain);
+  ASSERT_EQ(plain->status, 201) << plain->body;
+  json compressed = json::parse(res->body), uncompressed = json::parse(plain->body);
+  EXPECT_EQ(compressed["holes"].size(), 40u);
+  for (json* report : {&compressed, &uncompressed}) {  // the same report but for its name
+    report->erase("plate");
+    (*report)["summary"].erase("plate");
+  }
+  EXPECT_TRUE(compressed == uncompressed) << "the inflated file was read differently";
+
+  const std::string plate = "route=\"/api/v1/machines/:machine/plates/:plate\"";
+  const std::string text = MetricsWith(
+      *client_, {"thermocomp_http_requests_total{" + plate + ",method=\"POST\",code=\"400\"} 1\n",
+                 "thermocomp_http_requests_total{" + plate + ",method=\"POST\",code=\"201\"} 2\n"});
+  EXPECT_NE(text.find(plate + ",method=\"POST\",code=\"201\"} 2\n"), std::string::npos) << text;
+  EXPECT_NE(text.find(plate + ",method=\"POST\",code=\"400\"} 1\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("route=\"unmatched\""), std::string::npos) << text;
 }
 
 struct BadFile {
