@@ -24,13 +24,10 @@ const {
   ClientMonitoredItem,
   ClientSubscription,
   DataType,
-  MessageSecurityMode,
-  OPCUAClient,
   SecurityPolicy,
   TimestampsToReturn,
-  UserTokenType,
 } = require("node-opcua");
-const { Line, kTokens, waitFor } = require("./harness");
+const { Line, kTokens, waitFor, openSession, namespaceIndex, userOf } = require("./harness");
 const { kNamespaceUri } = require("../src/compensation_space");
 
 const kSkip = process.env.THERMOCOMP_SKIP_CAPTURE === "1";
@@ -188,33 +185,8 @@ let clientPki;
 let dumpcap;
 let tshark;
 
-function client() {
-  return OPCUAClient.create({
-    applicationName: "thermocomp-opcua-capture-test",
-    securityMode: MessageSecurityMode.SignAndEncrypt,
-    securityPolicy: SecurityPolicy.Basic256Sha256,
-    endpointMustExist: false,
-    connectionStrategy: { maxRetry: 0, initialDelay: 100, maxDelay: 200 },
-    clientCertificateManager: clientPki,
-    requestedSessionTimeout: 60000,
-    defaultSecureTokenLifetime: 60000,
-    keepSessionAlive: false,
-  });
-}
-
-const user = (t) => ({ type: UserTokenType.UserName, userName: t.name, password: t.token });
-
-async function open(identity) {
-  const c = client();
-  await c.connect(line.endpoint);
-  try {
-    const session = await c.createSession(identity);
-    return { session, close: async () => { await session.close(); await c.disconnect(); } };
-  } catch (e) {
-    await c.disconnect();
-    throw e;
-  }
-}
+const user = userOf;
+const open = (identity) => openSession(clientPki, line.endpoint, identity);
 
 const axisNode = (index, machine, axis, name) => `ns=${index};s=Machines/${machine}/ThermalCompensation/${axis}/${name}`;
 
@@ -250,9 +222,7 @@ test("no value read, user, password or node id crosses loopback in clear text", 
     // A reader: browse, read an axis' values and subscribe to K0.
     const s = await open(user(kTokens.reader));
     try {
-      const uris = await s.session.readNamespaceArray();
-      const index = uris.indexOf(kNamespaceUri);
-      assert.ok(index > 0, `namespace ${kNamespaceUri} in ${uris}`);
+      const index = await namespaceIndex(s.session);
       const browsed = await s.session.browse(`ns=${index};s=Machines`);
       assert.deepEqual(browsed.references.map((r) => r.browseName.name).sort(), ["fms-study", "m2"]);
       const names = ["K0", "TanBeta", "P0", "OffsetAtProbe", "ClampMm", "Valid", "State", "Status", "Reason", "ModelVersion", "Sequence"];
@@ -290,7 +260,7 @@ test("no value read, user, password or node id crosses loopback in clear text", 
     // A machine's user writes the AppliedSequence of its axis.
     const m = await open(user(kTokens.cell));
     try {
-      const index = (await m.session.readNamespaceArray()).indexOf(kNamespaceUri);
+      const index = await namespaceIndex(m.session);
       const k0 = await m.session.read({ nodeId: axisNode(index, "m2", "Z", "K0") });
       doubles.set("m2/Z/K0 as cell-2", k0.value.value);
       const sequence = (await m.session.read({ nodeId: axisNode(index, "m2", "Z", "Sequence") })).value.value;
