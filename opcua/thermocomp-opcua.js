@@ -82,6 +82,19 @@ function options() {
 
 const isLoopback = (host) => host === "localhost" || host === "::1" || /^127\./.test(host);
 
+// The OPC UA status of thermocomp's answer to a forwarded write or call:
+// refusals a PLC should not retry apart from those that pass (busy, shed).
+function statusOf(httpStatus, invalid) {
+  if (httpStatus === 200 || httpStatus === 201) return StatusCodes.Good;
+  if (httpStatus === 401 || httpStatus === 403) return StatusCodes.BadUserAccessDenied;
+  if (httpStatus === 429) return StatusCodes.BadTooManyOperations;
+  if (httpStatus === 503) return StatusCodes.BadResourceUnavailable;
+  if (httpStatus === 404) return StatusCodes.BadNotFound;
+  if (httpStatus === 409) return StatusCodes.BadInvalidState;
+  if (httpStatus >= 400 && httpStatus < 500) return invalid;
+  return StatusCodes.BadInternalError;
+}
+
 // A PLC's AppliedSequence, forwarded with its own token.
 async function forwardApplied(http, identities, user, machine, axis, sequence, values) {
   const token = user ? await identities.tokenFor(user) : null;
@@ -90,14 +103,9 @@ async function forwardApplied(http, identities, user, machine, axis, sequence, v
     token,
     body: { axis, sequence, ...(values || {}), via: "opcua" },
   });
-  if (answer.status === 200 || answer.status === 201) {
-    log(`${machine}/${axis}: ${user} applied sequence ${sequence}`);
-    return StatusCodes.Good;
-  }
-  log(`${machine}/${axis}: applied sequence ${sequence} by ${user} refused: ${answer.status}`);
-  if (answer.status === 401 || answer.status === 403) return StatusCodes.BadUserAccessDenied;
-  if (answer.status >= 400 && answer.status < 500) return StatusCodes.BadOutOfRange;
-  return StatusCodes.BadInternalError;
+  const status = statusOf(answer.status, StatusCodes.BadOutOfRange);
+  log(`${machine}/${axis}: applied sequence ${sequence} from ${user}: thermocomp answered ${answer.status}`);
+  return status;
 }
 
 // A column-check request acknowledged by a caller of the Acknowledge method,
@@ -110,20 +118,8 @@ async function forwardAcknowledge(http, identities, user, machine, requestId) {
     `/machines/${encodeURIComponent(machine)}/column-checks/requests/${requestId}/acknowledge`,
     { token, body: {} },
   );
-  log(`${machine}: column-check request ${requestId} acknowledged by ${user}: ${answer.status}`);
-  switch (answer.status) {
-    case 200:
-      return StatusCodes.Good;
-    case 401:
-    case 403:
-      return StatusCodes.BadUserAccessDenied;
-    case 404:
-      return StatusCodes.BadNotFound;
-    case 409:
-      return StatusCodes.BadInvalidState;
-    default:
-      return answer.status < 500 ? StatusCodes.BadInvalidArgument : StatusCodes.BadInternalError;
-  }
+  log(`${machine}: acknowledgement of column-check request ${requestId} from ${user}: thermocomp answered ${answer.status}`);
+  return statusOf(answer.status, StatusCodes.BadInvalidArgument);
 }
 
 async function main() {
@@ -174,7 +170,7 @@ async function main() {
     allowAnonymous: opts.allowAnonymous,
     userManager: {
       isValidUserAsync: (user, password, callback) =>
-        identities.check(user, password).then((ok) => callback(null, ok), (e) => callback(e)),
+        identities.signIn(user, password).then((ok) => callback(null, ok), (e) => callback(e)),
       getUserRoles: (user) => identities.roles(user),
     },
     serverInfo: { productUri: "urn:thermocomp:opcua", applicationName: { text: "thermocomp OPC UA" } },

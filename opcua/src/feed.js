@@ -53,15 +53,16 @@ class Feed {
           ]);
           if (compensation.status === "rejected") throw compensation.reason;
           this.space.update(compensation.value);
-          for (const [answer, what, apply] of [
-            [temperatures, "temperatures", (v) => this.machineSpace.updateTemperatures(machine, v)],
-            [requests, "column-check requests", (v) => this.machineSpace.updateRequests(machine, v)],
+          for (const [answer, what, part, apply] of [
+            [temperatures, "temperatures", "temperatures", (v) => this.machineSpace.updateTemperatures(machine, v)],
+            [requests, "column-check requests", "checks", (v) => this.machineSpace.updateRequests(machine, v)],
           ]) {
-            if (answer.status === "fulfilled" && answer.value) {
+            if (answer.status === "fulfilled" && answer.value === null) continue; // not read this tick
+            if (answer.status === "fulfilled") {
               apply(answer.value);
               this.lastRead.set(`${machine} ${what}`, Date.now());
-            } else if (answer.status === "rejected" && Date.now() - (this.lastRead.get(`${machine} ${what}`) || 0) > 3000) {
-              this.machineSpace.markUnreachable(machine); // uncertain, as the compensation would be
+            } else if (Date.now() - (this.lastRead.get(`${machine} ${what}`) || 0) > 3000) {
+              this.machineSpace.markUnreachable(machine, part); // uncertain, as the compensation would be
             }
             const message = answer.status === "rejected" ? `${machine} ${what}: ${answer.reason.message}` : null;
             if (message && message !== this.lastError.get(`${machine} ${what}`)) this.log(message);

@@ -3,17 +3,21 @@
 // token (GET /session) and says its role, so the face keeps no user list of
 // its own and a token revoked in thermocomp's config stops working here too.
 // Certificate users: an X.509 user certificate trusted in the face's user
-// store (--state-dir/pki-users) whose common name is a token's name listed
-// in --state-dir/certificate-users.json ({"<name>": "<token>"}, mode 0600);
-// the face signs in to thermocomp with that token for them. A trusted
-// certificate whose name is not listed is refused, so trusting a
-// certificate never grants by itself a role someone else holds.
+// store (--state-dir/pki-users) and listed, by its common name and its
+// SHA-256 fingerprint, in --state-dir/certificate-users.json ({"<name>":
+// {"token": "<token>", "sha256": "<fingerprint>"}}, mode 0600); the face
+// signs in to thermocomp with that token for them. Any other certificate
+// is refused, even one trusted through a CA or with a listed name, so
+// trusting a certificate never grants by itself a role someone else holds.
+// A token is rechecked with thermocomp every minute while it is in use;
+// only thermocomp's refusal ends it, not a failed or slow answer.
 // Roles map to OPC UA roles (docs/opcua.md, "Security"):
 //   reader, maintenance, quality -> Observer: read every machine
 //   admin                        -> ConfigureAdmin: read all, write AppliedSequence
 //   machine (of machine m)       -> the role "Machine/m": read m only, write
 //                                   m's AppliedSequence only
 "use strict";
+const crypto = require("node:crypto");
 const fs = require("node:fs");
 const { NodeId, OPCUACertificateManager, StatusCodes, WellKnownRoles, makeRoles, resolveNodeId } = require("node-opcua");
 const { exploreCertificate } = require("node-opcua-crypto");
@@ -27,7 +31,8 @@ class Identities {
     this.namespaceIndex = namespaceIndex;
     this.log = log;
     this.users = new Map(); // user name -> {token, role, machine, checkedAt}
-    this.certificateUsers = new Map(); // common name -> token
+    this.certificateUsers = new Map(); // common name -> {token, sha256}
+    this.refreshing = new Set(); // user names being rechecked
   }
 
   // Reads certificate-users.json (absent: no certificate users) and checks
@@ -42,19 +47,28 @@ class Identities {
     } catch (e) {
       throw new Error(`${file}: ${e.message}`);
     }
-    if (!parsed || typeof parsed !== "object" || Array.isArray(parsed)) throw new Error(`${file}: expected {"name": "token"}`);
-    for (const [name, token] of Object.entries(parsed)) {
-      if (typeof token !== "string" || token.length < 16) throw new Error(`${file}: "${name}": expected a token`);
-      this.certificateUsers.set(name, token);
+    const shape = `expected {"<name>": {"token": "<token>", "sha256": "<the certificate's SHA-256 fingerprint>"}}`;
+    if (!parsed || typeof parsed !== "object" || Array.isArray(parsed)) throw new Error(`${file}: ${shape}`);
+    for (const [name, entry] of Object.entries(parsed)) {
+      const token = entry?.token;
+      const sha256 = typeof entry?.sha256 === "string" ? entry.sha256.replace(/:/g, "").toLowerCase() : "";
+      if (typeof token !== "string" || token.length < 16) throw new Error(`${file}: "${name}".token: ${shape}`);
+      if (!/^[0-9a-f]{64}$/.test(sha256)) throw new Error(`${file}: "${name}".sha256: ${shape}`);
+      this.certificateUsers.set(name, { token, sha256 });
     }
+    // Checked now and every kRecheckMs; every 5 s while thermocomp does not
+    // answer (a certificate user signs in only once its token was confirmed).
     const recheck = async () => {
-      for (const [name, token] of this.certificateUsers) {
-        if (!(await this.check(name, token))) this.users.delete(name);
+      let unanswered = false;
+      for (const [name, { token }] of this.certificateUsers) {
+        const verdict = await this.check(name, token);
+        if (verdict === "refused") this.forget(name, token);
+        if (verdict === "unreachable") unanswered = true;
       }
+      this.recheckTimer = setTimeout(recheck, unanswered ? 5000 : kRecheckMs);
+      this.recheckTimer.unref();
     };
     await recheck();
-    this.recheckTimer = setInterval(recheck, kRecheckMs);
-    this.recheckTimer.unref();
     this.log(`identities: ${this.certificateUsers.size} certificate user(s) from ${file}`);
   }
 
@@ -70,8 +84,13 @@ class Identities {
           if (status !== StatusCodes.Good) return status;
           const first = Array.isArray(chain) ? chain[0] : chain;
           const name = exploreCertificate(first).tbsCertificate.subject.commonName;
-          if (identities.certificateUsers.has(name) && identities.users.has(name)) return status;
-          identities.log(`identities: certificate user '${name}' is not in certificate-users.json (or its token was refused)`);
+          const listed = identities.certificateUsers.get(name);
+          const sha256 = crypto.createHash("sha256").update(first).digest("hex");
+          if (listed && listed.sha256 === sha256 && identities.users.get(name)?.token === listed.token) return status;
+          identities.log(
+            `identities: certificate user '${name}' (sha256 ${sha256}) is not in certificate-users.json with this fingerprint, ` +
+              "or thermocomp has not confirmed its token",
+          );
           return StatusCodes.BadCertificateUntrusted;
         });
         if (!callback) return checked;
@@ -86,28 +105,62 @@ class Identities {
     return new NodeId(NodeId.NodeIdType.STRING, `Roles/Machine/${machine}`, this.namespaceIndex);
   }
 
-  // node-opcua's isValidUserAsync: true when thermocomp knows the token and
-  // its name is the user name given.
+  // node-opcua's isValidUserAsync: thermocomp knows the token and its name
+  // is the user name given.
+  async signIn(userName, password) {
+    return (await this.check(userName, password)) === "ok";
+  }
+
+  // Asks thermocomp about a token: "ok" (remembered with its role),
+  // "refused" (unknown, revoked or another name) or "unreachable" (no
+  // answer, a 5xx or 429: nothing is concluded).
   async check(userName, password) {
-    if (typeof userName !== "string" || typeof password !== "string" || password.length < 16) return false;
+    if (typeof userName !== "string" || typeof password !== "string" || password.length < 16) return "refused";
     let answer;
     try {
       answer = await this.http.request("GET", "/session", { token: password });
     } catch (e) {
-      this.log(`identities: thermocomp did not answer a sign-in check: ${e.message}`);
-      return false;
+      this.log(`identities: thermocomp did not answer a check of '${userName}': ${e.message}`);
+      return "unreachable";
     }
-    const who = answer.body;
+    if (answer.status >= 500 || answer.status === 429) {
+      this.log(`identities: thermocomp could not check '${userName}' now (${answer.status})`);
+      return "unreachable";
+    }
+    const who = answer.body || {};
     if (answer.status !== 200 || who.auth !== "bearer" || who.name !== userName) {
-      this.log(`identities: sign-in of '${userName}' refused (thermocomp: ${answer.status} ${who.auth || ""})`);
-      return false;
+      this.log(`identities: '${userName}' refused (thermocomp: ${answer.status} ${who.auth || ""})`);
+      return "refused";
     }
     this.users.set(userName, { token: password, role: who.role, machine: who.machine, checkedAt: Date.now() });
-    return true;
+    return "ok";
+  }
+
+  // Forgets a user's roles, if they came from this token (a password user
+  // of the same name may have signed in with a newer one).
+  forget(userName, token) {
+    if (this.users.get(userName)?.token === token) this.users.delete(userName);
+  }
+
+  // A user's token is asked about again in the background once it is
+  // older than kRecheckMs, so an open session loses its roles within about
+  // a minute of the token's revocation.
+  refresh(userName) {
+    const user = this.users.get(userName);
+    if (!user || Date.now() - user.checkedAt <= kRecheckMs || this.refreshing.has(userName)) return;
+    this.refreshing.add(userName);
+    this.check(userName, user.token)
+      .then((verdict) => {
+        if (verdict === "refused") this.forget(userName, user.token);
+      })
+      .finally(() => this.refreshing.delete(userName));
   }
 
   // The OPC UA roles of a signed-in user (node-opcua asks synchronously).
+  // A token thermocomp has not confirmed for a day (it did not answer)
+  // gives no roles.
   roles(userName) {
+    this.refresh(userName);
     const user = this.users.get(userName);
     if (!user || Date.now() - user.checkedAt > 24 * 3600 * 1000) return makeRoles([WellKnownRoles.Anonymous]);
     switch (user.role) {
@@ -125,15 +178,9 @@ class Identities {
   }
 
   // The token to forward a write with: the user's own, so thermocomp checks
-  // and audits it under the user's name. Rechecked after kRecheckMs.
+  // and audits it under the user's name (and refuses a revoked one).
   async tokenFor(userName) {
-    const user = this.users.get(userName);
-    if (!user) return null;
-    if (Date.now() - user.checkedAt > kRecheckMs && !(await this.check(userName, user.token))) {
-      this.users.delete(userName);
-      return null;
-    }
-    return user.token;
+    return this.users.get(userName)?.token ?? null;
   }
 }
 

@@ -74,6 +74,12 @@ class MachineSpace {
   // One machine's GET /machines/{m}/temperatures/latest answer.
   updateTemperatures(name, latest) {
     const s = this.machine(name);
+    // A sensor no longer configured keeps its node but no usable value.
+    const listed = new Set((latest.sensors || []).map((sensor) => sensor.sensor));
+    for (const [sensor, variable] of s.sensors) {
+      if (listed.has(sensor) || variable.readValue().statusCode === StatusCodes.BadConfigurationError) continue;
+      variable.setValueFromSource(variable.readValue().value, StatusCodes.BadConfigurationError);
+    }
     for (const sensor of latest.sensors || []) {
       let variable = s.sensors.get(sensor.sensor);
       if (!variable) {
@@ -123,17 +129,21 @@ class MachineSpace {
   }
 
   // thermocomp could not be read: the values stay, marked uncertain.
-  markUnreachable(name) {
+  // part: "temperatures", "checks" or both when absent.
+  markUnreachable(name, part = null) {
     const s = this.machines.get(name);
     if (!s) return;
-    const variables = [...s.sensors.values(), ...(s.checks ? Object.values(s.checks) : [])];
+    const variables = [
+      ...(part !== "checks" ? s.sensors.values() : []),
+      ...(part !== "temperatures" && s.checks ? Object.values(s.checks) : []),
+    ];
     for (const v of variables) {
       if (v.nodeClass !== 2) continue; // a variable, not the method
       const dv = v.readValue();
       if (dv.statusCode !== StatusCodes.Good) continue;
       v.setValueFromSource(dv.value, StatusCodes.UncertainLastUsableValue, dv.sourceTimestamp);
     }
-    s.checksKey = null;
+    if (part !== "temperatures") s.checksKey = null;
   }
 
   checksObject(s) {

@@ -6,6 +6,7 @@
 require("../src/webcrypto");
 const test = require("node:test");
 const assert = require("node:assert/strict");
+const crypto = require("node:crypto");
 const fs = require("node:fs");
 const path = require("node:path");
 const { AttributeIds, DataType, OPCUACertificateManager, UserTokenType } = require("node-opcua");
@@ -49,13 +50,18 @@ test.before(async () => {
     beforeFace: async () => {
       const trusted = path.join(line.dir, "opcua", "pki-users", "trusted", "certs");
       fs.mkdirSync(trusted, { recursive: true });
-      for (const name of [kTokens.cell.name, "stranger"]) {
-        const c = await userCertificate(line.dir, name);
-        fs.copyFileSync(c.file, path.join(trusted, `${name}.pem`));
-        certificates[name] = { certificateData: c.certificateData, privateKey: c.privateKey };
+      // cell-2's certificate, one of a stranger, and a second certificate
+      // named cell-2 that is trusted but not the one listed.
+      for (const [key, name] of [[kTokens.cell.name, kTokens.cell.name], ["stranger", "stranger"], ["impostor", kTokens.cell.name]]) {
+        const c = await userCertificate(path.join(line.dir, key), name);
+        fs.copyFileSync(c.file, path.join(trusted, `${key}.pem`));
+        certificates[key] = { certificateData: c.certificateData, privateKey: c.privateKey };
       }
+      const sha256 = crypto.createHash("sha256").update(certificates[kTokens.cell.name].certificateData).digest("hex");
+      // As an administrator writes it: openssl's fingerprint, with colons.
+      const fingerprint = sha256.toUpperCase().match(/../g).join(":");
       const users = path.join(line.dir, "opcua", "certificate-users.json");
-      fs.writeFileSync(users, JSON.stringify({ [kTokens.cell.name]: kTokens.cell.token }), { mode: 0o600 });
+      fs.writeFileSync(users, JSON.stringify({ [kTokens.cell.name]: { token: kTokens.cell.token, sha256: fingerprint } }), { mode: 0o600 });
     },
   });
   pki = await line.clientPki();
@@ -165,7 +171,11 @@ test("a certificate user acts as the token it is mapped to", async () => {
   } finally {
     await s.close();
   }
-  // Trusted but not mapped to a token: refused.
+  // Trusted but not listed, or named like a listed user but another
+  // certificate: refused.
   await assert.rejects(open(x509("stranger")));
-  assert.match(line.faceLog, /certificate user 'stranger' is not in certificate-users.json/);
+  assert.match(line.faceLog, /certificate user 'stranger' \(sha256 [0-9a-f]{64}\) is not in certificate-users.json/);
+  await assert.rejects(open(x509("impostor")));
+  const impostor = crypto.createHash("sha256").update(certificates.impostor.certificateData).digest("hex");
+  assert.ok(line.faceLog.includes(`certificate user '${kTokens.cell.name}' (sha256 ${impostor})`), "the impostor is logged");
 });
