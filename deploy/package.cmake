@@ -69,7 +69,10 @@ install(DIRECTORY ${opcua_dir}/src ${opcua_dir}/nodeset DESTINATION share/thermo
 # loads: 4 000 of its 6 400 files, 30 of its 47 MB.
 install(DIRECTORY ${opcua_dir}/node_modules DESTINATION share/thermocomp/opcua
         PATTERN "*.map" EXCLUDE PATTERN "*.ts" EXCLUDE PATTERN "*.mts" EXCLUDE PATTERN "*.cts" EXCLUDE)
+# operations.md and the unit send the administrator to opcua.md for the
+# face's trust and certificate users.
 install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/docs/operations.md
+              ${PROJECT_SOURCE_DIR}/docs/opcua.md
         DESTINATION share/doc/thermocomp)
 # What the plant's other services take from it: the TLS proxy's
 # configuration, the Prometheus rules and scrape example, the Grafana

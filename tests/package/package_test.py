@@ -123,6 +123,7 @@ def contents(build_dir, source_dir, version):
         "./usr/share/thermocomp/opcua/src/compensation_space.js": "-rw-r--r--",
         "./usr/share/thermocomp/opcua/node_modules/node-opcua/package.json": "-rw-r--r--",
         "./usr/share/doc/thermocomp/operations.md": "-rw-r--r--",
+        "./usr/share/doc/thermocomp/opcua.md": "-rw-r--r--",
         "./usr/share/doc/thermocomp/examples/nginx/thermocomp.conf": "-rw-r--r--",
         "./usr/share/doc/thermocomp/examples/prometheus/thermocomp-rules.yml": "-rw-r--r--",
         "./usr/share/doc/thermocomp/examples/grafana/thermocomp.json": "-rw-r--r--",
