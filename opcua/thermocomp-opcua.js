@@ -24,6 +24,7 @@ const { Identities } = require("./src/identities");
 const { SequenceStore } = require("./src/sequence_store");
 const { SinumerikWriter, loadWriterConfig } = require("./src/sinumerik_writer");
 const { MachineSpace } = require("./src/machine_space");
+const { closeUnlistedNodes } = require("./src/fail_closed");
 const {
   CompensationSpace,
   defineTypes,
@@ -204,6 +205,10 @@ async function main() {
   const feed = new Feed({ http, space, machines, pollMs: opts.pollMs, log });
   feed.start();
   await server.start();
+  // Every Method and writable Variable not the face's own (the Server
+  // object's, the types', those the server adds as it starts) explicitly
+  // closed to roles it does not name, before any session can exist.
+  closeUnlistedNodes(server.engine.addressSpace);
   log(`serving ${server.getEndpointUrl()} (Basic256Sha256, SignAndEncrypt), from ${opts.thermocomp}`);
   let writer = null;
   if (opts.writer) {

@@ -53,13 +53,21 @@ class Feed {
           ]);
           if (compensation.status === "rejected") throw compensation.reason;
           this.space.update(compensation.value);
-          for (const [answer, what, part, apply] of [
+          for (const [read, what, part, apply] of [
             [temperatures, "temperatures", "temperatures", (v) => this.machineSpace.updateTemperatures(machine, v)],
             [requests, "column-check requests", "checks", (v) => this.machineSpace.updateRequests(machine, v)],
           ]) {
-            if (answer.status === "fulfilled" && answer.value === null) continue; // not read this tick
+            if (read.status === "fulfilled" && read.value === null) continue; // not read this tick
+            let answer = read;
             if (answer.status === "fulfilled") {
-              apply(answer.value);
+              // An answer that cannot be applied fails its own branch only.
+              try {
+                apply(answer.value);
+              } catch (e) {
+                answer = { status: "rejected", reason: e };
+              }
+            }
+            if (answer.status === "fulfilled") {
               this.lastRead.set(`${machine} ${what}`, Date.now());
             } else if (Date.now() - (this.lastRead.get(`${machine} ${what}`) || 0) > 3000) {
               this.machineSpace.markUnreachable(machine, part); // uncertain, as the compensation would be

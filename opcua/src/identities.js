@@ -114,17 +114,19 @@ class Identities {
   // Asks thermocomp about a token: "ok" (remembered with its role),
   // "refused" (unknown, revoked or another name) or "unreachable" (no
   // answer, a 5xx or 429: nothing is concluded).
-  async check(userName, password) {
+  // `quiet`: an unreachable thermocomp is not logged (a background
+  // recheck logs when its verdict changes).
+  async check(userName, password, { quiet = false } = {}) {
     if (typeof userName !== "string" || typeof password !== "string" || password.length < 16) return "refused";
     let answer;
     try {
       answer = await this.http.request("GET", "/session", { token: password });
     } catch (e) {
-      this.log(`identities: thermocomp did not answer a check of '${userName}': ${e.message}`);
+      if (!quiet) this.log(`identities: thermocomp did not answer a check of '${userName}': ${e.message}`);
       return "unreachable";
     }
     if (answer.status >= 500 || answer.status === 429) {
-      this.log(`identities: thermocomp could not check '${userName}' now (${answer.status})`);
+      if (!quiet) this.log(`identities: thermocomp could not check '${userName}' now (${answer.status})`);
       return "unreachable";
     }
     const who = answer.body || {};
@@ -145,13 +147,26 @@ class Identities {
   // A user's token is asked about again in the background once it is
   // older than kRecheckMs, so an open session loses its roles within about
   // a minute of the token's revocation.
+  // node-opcua asks for the roles on every Read and Browse, so while
+  // thermocomp does not answer the recheck waits 5 s, doubling to a
+  // minute, and is logged once when it starts failing and once when it
+  // answers again: a PLC polling a down server writes no line per Read.
   refresh(userName) {
     const user = this.users.get(userName);
-    if (!user || Date.now() - user.checkedAt <= kRecheckMs || this.refreshing.has(userName)) return;
+    const now = Date.now();
+    if (!user || now - user.checkedAt <= kRecheckMs || this.refreshing.has(userName)) return;
+    if (user.retryAt && now < user.retryAt) return;
     this.refreshing.add(userName);
-    this.check(userName, user.token)
+    this.check(userName, user.token, { quiet: true })
       .then((verdict) => {
         if (verdict === "refused") this.forget(userName, user.token);
+        if (verdict !== "unreachable") {
+          if (user.retryWaitMs) this.log(`identities: '${userName}' checked again (${verdict})`);
+          return;
+        }
+        if (!user.retryWaitMs) this.log(`identities: thermocomp does not answer the recheck of '${userName}'; retrying`);
+        user.retryWaitMs = Math.min(2 * (user.retryWaitMs || 2500), 60000);
+        user.retryAt = Date.now() + user.retryWaitMs;
       })
       .finally(() => this.refreshing.delete(userName));
   }
