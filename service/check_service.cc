@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/display_name.h"
 #include "core/log.h"
 #include "core/time_format.h"
 #include "core/time_units.h"
@@ -21,23 +22,9 @@ std::string StateOf(const CheckRequestRecord& r, int64_t now) {
   return now > r.due_ms ? "overdue" : "pending";
 }
 
-// Why `name` is not a name to record as the acknowledger, or "". `name` is
-// valid UTF-8 (the JSON reader checked it): its characters are counted by
-// their lead bytes, and C0 and C1 controls and DEL are refused.
+// Why `name` is not a name to record as the acknowledger, or "".
 std::string AcknowledgerProblem(const std::string& name) {
-  size_t characters = 0;
-  for (size_t i = 0; i < name.size(); ++i) {
-    const auto byte = static_cast<unsigned char>(name[i]);
-    if ((byte & 0xC0) != 0x80) ++characters;
-    const bool c1 = byte == 0xC2 && i + 1 < name.size() &&
-                    static_cast<unsigned char>(name[i + 1]) >= 0x80 &&
-                    static_cast<unsigned char>(name[i + 1]) <= 0x9F;
-    if (byte < 0x20 || byte == 0x7F || c1) return "must not contain control characters";
-  }
-  if (characters == 0 || characters > kMaxAcknowledgerLength) {
-    return "must be 1 to " + std::to_string(kMaxAcknowledgerLength) + " characters";
-  }
-  return "";
+  return DisplayNameProblem(name, kMaxAcknowledgerLength);
 }
 
 // Least-squares slope of v over t, um per week.

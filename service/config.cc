@@ -14,10 +14,15 @@
 
 #include <toml++/toml.h>
 
+#include "core/display_name.h"
 #include "service/mtconnect/mtconnect_config.h"
 
 namespace thermocomp {
 namespace {
+
+// A token's name is the user name of its OPC UA sessions and who acted in
+// the audit and on the pages.
+constexpr size_t kMaxTokenNameLength = 64;
 
 // "config PATH: WHAT", the start of every refusal of a configuration file.
 std::string ConfigError(const std::string& path, const std::string& what) {
@@ -176,6 +181,14 @@ std::string ReadTokens(const toml::node& n, Config& c) {
     }
     if (a.name.empty() || a.token.size() < 16) {
       return "each needs a name and a token of 16 characters or more";
+    }
+    // The name is who acts in the audit, on the pages and as the OPC UA
+    // user name, so it is a name people read, and it names one token.
+    if (std::string problem = DisplayNameProblem(a.name, kMaxTokenNameLength); !problem.empty()) {
+      return "name " + problem;
+    }
+    for (const AccessToken& other : c.tokens) {
+      if (other.name == a.name) return a.name + ": name given to two tokens";
     }
     if (a.role != "machine" && a.role != "reader" && a.role != "maintenance" &&
         a.role != "quality" && a.role != "admin") {

@@ -200,6 +200,24 @@ TEST(ConfigTest, ParsesTokensAndDailyTimeAndRejectsBadOnes) {
   auto bad = write("[server]\nlisten = \"localhost:http\"\n");
   EXPECT_FALSE(bad.ok());
   EXPECT_NE(bad.status().message().find("listen"), std::string::npos);
+  // A token's name is read by people (the audit, the pages, the OPC UA
+  // user): 1 to 64 characters, no control character, one token each.
+  const std::string token = "token = \"0123456789abcdef0\"\nrole = \"admin\"\n";
+  const std::string two = "[[auth.tokens]]\nname = \"ops\"\n" + token +
+                          "[[auth.tokens]]\nname = \"ops\"\ntoken = \"fedcba98765432100\"\n"
+                          "role = \"reader\"\n";
+  auto twice = write(two);
+  ASSERT_FALSE(twice.ok());
+  EXPECT_NE(twice.status().message().find("ops: name given to two tokens"), std::string::npos)
+      << twice.status().message();
+  auto control = write("[[auth.tokens]]\nname = \"a\\u0007b\"\n" + token);
+  ASSERT_FALSE(control.ok());
+  EXPECT_NE(control.status().message().find("control characters"), std::string::npos);
+  EXPECT_FALSE(write("[[auth.tokens]]\nname = \"" + std::string(65, 'n') + "\"\n" + token).ok());
+  // 64 characters of two bytes each are 64 characters.
+  std::string umlauts;
+  for (int i = 0; i < 64; ++i) umlauts += "\u00e4";
+  EXPECT_TRUE(write("[[auth.tokens]]\nname = \"" + umlauts + "\"\n" + token).ok());
   std::filesystem::remove_all(dir);
 }
 
