@@ -14,6 +14,11 @@
 // validation would judge it (sim/search_scoring.h, TrueEffectGain): whether
 // adding the true terms passes the bar at all, and whether it passes the
 // strong rule (>= 30 % of the blocked error, all blocks but one won).
+//
+// THERMOCOMP_RUN_STRONG_GAIN and THERMOCOMP_RUN_STRONG_LOST set the
+// search's rule over runs (EffectSearchOptions::run_strong_gain and
+// run_strong_lost_blocks) for a comparison in the same build; the truth is
+// judged by the defaults either way.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -46,9 +51,20 @@ struct Tally {
   }
 };
 
+// The search's options, with the rule over runs from the environment.
+EffectSearchOptions SearchOptions() {
+  EffectSearchOptions o;
+  if (const char* gain = std::getenv("THERMOCOMP_RUN_STRONG_GAIN")) o.run_strong_gain = std::atof(gain);
+  if (const char* lost = std::getenv("THERMOCOMP_RUN_STRONG_LOST")) {
+    o.run_strong_lost_blocks = std::atoi(lost);
+  }
+  return o;
+}
+
 Tally Run(char family, int days, const std::string& scenario, uint64_t first, int seeds) {
   Tally t;
   const EffectSearchOptions options;
+  const EffectSearchOptions search = SearchOptions();
   for (uint64_t seed = first; seed < first + seeds; ++seed) {
     auto rec = StudyMachine(family, scenario, seed, days);
     if (!rec.ok()) {
@@ -57,7 +73,7 @@ Tally Run(char family, int days, const std::string& scenario, uint64_t first, in
     }
     std::vector<double> truth;
     EffectSearchInput in = ToSearchInput(*rec, "Y", 0, &truth);
-    auto r = SearchEffects(in, options);
+    auto r = SearchEffects(in, search);
     if (!r.ok()) {
       std::fprintf(stderr, "%c%d %s seed %llu: %s\n", family, days, scenario.c_str(),
                    static_cast<unsigned long long>(seed), r.status().message().c_str());
