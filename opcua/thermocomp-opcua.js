@@ -16,7 +16,6 @@ const {
   OPCUACertificateManager,
   OPCUAServer,
   SecurityPolicy,
-  StatusCodes,
 } = require("node-opcua");
 const { Feed } = require("./src/feed");
 const { ThermocompHttp } = require("./src/thermocomp_http");
@@ -25,6 +24,7 @@ const { SequenceStore } = require("./src/sequence_store");
 const { SinumerikWriter, loadWriterConfig } = require("./src/sinumerik_writer");
 const { MachineSpace } = require("./src/machine_space");
 const { closeUnlistedNodes } = require("./src/fail_closed");
+const { forwardAcknowledge, forwardApplied } = require("./src/forwarding");
 const {
   CompensationSpace,
   defineTypes,
@@ -82,46 +82,6 @@ function options() {
 }
 
 const isLoopback = (host) => host === "localhost" || host === "::1" || /^127\./.test(host);
-
-// The OPC UA status of thermocomp's answer to a forwarded write or call:
-// refusals a PLC should not retry apart from those that pass (busy, shed).
-function statusOf(httpStatus, invalid) {
-  if (httpStatus === 200 || httpStatus === 201) return StatusCodes.Good;
-  if (httpStatus === 401 || httpStatus === 403) return StatusCodes.BadUserAccessDenied;
-  if (httpStatus === 429) return StatusCodes.BadTooManyOperations;
-  if (httpStatus === 503) return StatusCodes.BadResourceUnavailable;
-  if (httpStatus === 404) return StatusCodes.BadNotFound;
-  if (httpStatus === 409) return StatusCodes.BadInvalidState;
-  if (httpStatus >= 400 && httpStatus < 500) return invalid;
-  return StatusCodes.BadInternalError;
-}
-
-// A PLC's AppliedSequence, forwarded with its own token.
-async function forwardApplied(http, identities, user, machine, axis, sequence, values) {
-  const token = user ? await identities.tokenFor(user) : null;
-  if (!token) return StatusCodes.BadUserAccessDenied;
-  const answer = await http.request("POST", `/machines/${encodeURIComponent(machine)}/compensation/applied`, {
-    token,
-    body: { axis, sequence, ...(values || {}), via: "opcua" },
-  });
-  const status = statusOf(answer.status, StatusCodes.BadOutOfRange);
-  log(`${machine}/${axis}: applied sequence ${sequence} from ${user}: thermocomp answered ${answer.status}`);
-  return status;
-}
-
-// A column-check request acknowledged by a caller of the Acknowledge method,
-// forwarded with the caller's own token.
-async function forwardAcknowledge(http, identities, user, machine, requestId) {
-  const token = user ? await identities.tokenFor(user) : null;
-  if (!token) return StatusCodes.BadUserAccessDenied;
-  const answer = await http.request(
-    "POST",
-    `/machines/${encodeURIComponent(machine)}/column-checks/requests/${requestId}/acknowledge`,
-    { token, body: {} },
-  );
-  log(`${machine}: acknowledgement of column-check request ${requestId} from ${user}: thermocomp answered ${answer.status}`);
-  return statusOf(answer.status, StatusCodes.BadInvalidArgument);
-}
 
 async function main() {
   const opts = options();
@@ -195,12 +155,12 @@ async function main() {
     sequences,
     allowAnonymous: opts.allowAnonymous,
     onApplied: (user, machine, axis, sequence, values) =>
-      forwardApplied(http, identities, user, machine, axis, sequence, values),
+      forwardApplied({ http, identities, log }, user, machine, axis, sequence, values),
   });
   const machines = new MachineSpace({
     compensation: space,
     namespace,
-    onAcknowledge: (user, machine, requestId) => forwardAcknowledge(http, identities, user, machine, requestId),
+    onAcknowledge: (user, machine, requestId) => forwardAcknowledge({ http, identities, log }, user, machine, requestId),
   });
   const feed = new Feed({ http, space, machines, pollMs: opts.pollMs, log });
   feed.start();
