@@ -76,6 +76,103 @@ bool SendAll(int fd, const char* data, size_t size, Clock::time_point deadline) 
   return true;
 }
 
+// The syntax of a chunked body (RFC 9112 7.1), over its bytes as they are
+// read: cpp-httplib takes a chunk-size line that is not hex and chunk data
+// that CRLF does not follow, and reads what comes after as the next
+// request (a smuggled one, behind a proxy that framed it otherwise).
+class ChunkedSyntax {
+ public:
+  // False at the first byte that breaks the syntax; the body is then
+  // refused and the connection closed.
+  bool Accept(const char* p, size_t n) {
+    for (size_t i = 0; i < n; ++i) {
+      if (state_ == State::kData) {
+        const size_t take = static_cast<size_t>(std::min<uint64_t>(left_, n - i));
+        left_ -= take;
+        i += take - 1;
+        if (left_ == 0) state_ = State::kDataCr;
+        continue;
+      }
+      if (!Step(p[i])) return false;
+    }
+    return true;
+  }
+
+ private:
+  enum class State {
+    kSize,
+    kExt,
+    kSizeLf,
+    kData,
+    kDataCr,
+    kDataLf,
+    kTrailer,
+    kField,
+    kFieldLf,
+    kEndLf,
+    kDone
+  };
+  static int Hex(char c) {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+  }
+  static bool Control(char c) {
+    const auto u = static_cast<unsigned char>(c);
+    return (u < 0x20 && c != '\t') || u == 0x7F;
+  }
+  bool Step(char c) {
+    switch (state_) {
+      case State::kSize:
+        if (const int v = Hex(c); v >= 0) {
+          // 15 hex digits are beyond any body this server takes.
+          if (++digits_ > 15) return false;
+          size_ = size_ * 16 + static_cast<uint64_t>(v);
+          return true;
+        }
+        if (digits_ == 0) return false;
+        if (c == ';' || c == ' ' || c == '\t') return (state_ = State::kExt), true;
+        return c == '\r' && ((state_ = State::kSizeLf), true);
+      case State::kExt:
+        if (c == '\r') return (state_ = State::kSizeLf), true;
+        return !Control(c);
+      case State::kSizeLf:
+        if (c != '\n') return false;
+        left_ = size_;
+        state_ = size_ == 0 ? State::kTrailer : State::kData;
+        return true;
+      case State::kData:
+        return false;  // consumed in Accept
+      case State::kDataCr:
+        return c == '\r' && ((state_ = State::kDataLf), true);
+      case State::kDataLf:
+        if (c != '\n') return false;
+        size_ = 0;
+        digits_ = 0;
+        state_ = State::kSize;
+        return true;
+      case State::kTrailer:
+        if (c == '\r') return (state_ = State::kEndLf), true;
+        return !Control(c) && ((state_ = State::kField), true);
+      case State::kField:
+        if (c == '\r') return (state_ = State::kFieldLf), true;
+        return !Control(c);
+      case State::kFieldLf:
+        return c == '\n' && ((state_ = State::kTrailer), true);
+      case State::kEndLf:
+        return c == '\n' && ((state_ = State::kDone), true);
+      case State::kDone:
+        return false;  // the body ended: no byte of it is left to read
+    }
+    return false;
+  }
+
+  State state_ = State::kSize;
+  uint64_t size_ = 0, left_ = 0;
+  int digits_ = 0;
+};
+
 // One connection's bytes, request by request. The read buffer lives as
 // long as the connection, so bytes of a pipelined next request are kept.
 // Each request's head must arrive within the header timeout of its first
@@ -104,6 +201,7 @@ class ConnectionStream : public httplib::Stream {
     head_line_ = 0;
     head_too_large_ = GuardedServer::HeadTooLarge::kNo;
     chunked_ = too_large_ = timed_out_ = close_after_ = false;
+    chunk_syntax_ = ChunkedSyntax();
     deadline_ = Clock::now() + head_timeout;
     return true;
   }
@@ -137,8 +235,15 @@ class ConnectionStream : public httplib::Stream {
         too_large_ = close_after_ = true;
         return -1;
       }
-      // A chunked body's deadline grows with what has arrived.
-      if (chunked_) deadline_ = BodyDeadline(body_bytes_);
+      // A chunked body's deadline grows with what has arrived; its framing
+      // is checked as it is read.
+      if (chunked_) {
+        if (!chunk_syntax_.Accept(buf_ + pos_, n)) {
+          close_after_ = true;
+          return -1;
+        }
+        deadline_ = BodyDeadline(body_bytes_);
+      }
     }
     std::memcpy(ptr, buf_ + pos_, n);
     pos_ += n;
@@ -242,6 +347,7 @@ class ConnectionStream : public httplib::Stream {
   size_t head_bytes_ = 0, body_bytes_ = 0, written_ = 0;
   GuardedServer::HeadTooLarge head_too_large_ = GuardedServer::HeadTooLarge::kNo;
   bool chunked_ = false, too_large_ = false, timed_out_ = false, close_after_ = false;
+  ChunkedSyntax chunk_syntax_;
   Clock::time_point deadline_, head_end_;
 };
 

@@ -495,8 +495,13 @@ void HttpServer::Routes() {
         case 414:
           return WriteProblem(res, 414, "request line longer than 8192 bytes");
         case 400:
-          return WriteProblem(
-              res, 400, "malformed HTTP request (a POST needs Content-Length, e.g. curl -d '')");
+          // The request was not understood, so neither is where the next
+          // one starts (RFC 9112 9.3): the connection ends with this answer.
+          res.set_header("Connection", "close");
+          GuardedServer::CloseAfterResponse();
+          return WriteProblem(res, 400,
+                              "malformed HTTP request: a body needs Content-Length or well-formed "
+                              "chunked framing (e.g. curl -d '')");
         default:
           return WriteProblem(res, res.status, "request failed");
       }

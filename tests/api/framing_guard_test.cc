@@ -228,6 +228,62 @@ TEST_F(FramingGuardTest, APostWithoutLengthHasNoBodyAndIsAnsweredAtOnce) {
   EXPECT_EQ(RawConnection::Status(c.ReadResponse(Ms(60000))), 200);
 }
 
+TEST_F(FramingGuardTest, BrokenChunkedFramingIsRefusedAndEndsTheConnection) {
+  // Each body is chunked wrongly, and a second request follows on the same
+  // connection: it must never run (a proxy that framed the bytes
+  // otherwise would have passed it as part of the first).
+  const std::string head =
+      "POST /api/v1/machines/m1/temperatures HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+      "Content-Type: text/csv\r\nTransfer-Encoding: chunked\r\n\r\n";
+  const std::string csv = kCsvHead + "2026-03-10T08:00:00Z,Tsp,21.5\n";
+  const std::string smuggled = Post("/api/v1/machines/m1/temperatures", "text/csv",
+                                    kCsvHead + "2026-03-10T09:00:00Z,Tsp,22.5\n");
+  char size[16];
+  std::snprintf(size, sizeof size, "%zx", csv.size());
+  for (const std::string& body : {
+           std::string(size) + "\r\n" + csv + "XY0\r\n\r\n",  // data not ended by CRLF
+           std::string("Q\r\n"),                              // a size that is not hex
+           std::string("-5\r\n"),                             // nor a negative one
+           std::string("fffffffffffffffff\r\n"),              // 17 hex digits
+           std::string(size) + "\n" + csv + "\r\n0\r\n\r\n",  // a bare LF after the size
+       }) {
+    RawConnection c(http_->port());
+    ASSERT_TRUE(c.Send(head + body + smuggled));
+    const std::string r = c.ReadResponse(Ms(60000));
+    EXPECT_EQ(RawConnection::Status(r), 400) << body << "\n" << r.substr(0, 400);
+    EXPECT_NE(r.find("chunked"), std::string::npos) << r;
+    EXPECT_TRUE(c.ClosedWithin(Ms(60000))) << body;
+  }
+  EXPECT_EQ(Samples(), 0);
+  // A trailer section is well-formed but not taken (cpp-httplib reads
+  // none): refused the same way.
+  RawConnection trailer(http_->port());
+  ASSERT_TRUE(trailer.Send(head + std::string(size) + "\r\n" + csv + "\r\n0\r\nX-T: 1\r\n\r\n"));
+  EXPECT_EQ(RawConnection::Status(trailer.ReadResponse(Ms(60000))), 400);
+  EXPECT_TRUE(trailer.ClosedWithin(Ms(60000)));
+  EXPECT_EQ(Samples(), 0);
+  // Well-formed, with a chunk extension, it is stored.
+  RawConnection c(http_->port());
+  ASSERT_TRUE(c.Send(head + std::string(size) + ";x=1\r\n" + csv + "\r\n0\r\n\r\n"));
+  EXPECT_EQ(RawConnection::Status(c.ReadResponse(Ms(60000))), 200);
+  EXPECT_EQ(Samples(), 1);
+}
+
+TEST_F(FramingGuardTest, AJsonBodyWithANulByteOrAKeyGivenTwiceChangesNothing) {
+  for (const std::string& body :
+       {std::string(R"({"axis":"Y","sequence":1})") + std::string(1, '\0') + "garbage",
+        std::string(R"({"axis":"Y","sequence":2,"offset_mm":5000,"offset_mm":0.1})")}) {
+    const std::string r = RawRequest(
+        http_->port(), Post("/api/v1/machines/m1/compensation/applied", "application/json", body));
+    EXPECT_EQ(RawConnection::Status(r), 400) << r.substr(0, 400);
+    const json problem = json::parse(RawConnection::Body(r), nullptr, false);
+    ASSERT_TRUE(problem.is_object()) << r;
+    const std::string field = problem["errors"][0]["field"];
+    EXPECT_TRUE(field == "body" || field == "offset_mm") << r;
+  }
+  EXPECT_EQ(Count("SELECT COUNT(*) FROM applied_compensation"), 0);
+}
+
 TEST_F(FramingGuardTest, ASlowBodyIsCutAfterItsProportionalDeadline) {
   // 1000 bytes at 16 KiB/s plus 2 s of grace: about 2 s, not the 120 s of
   // body_timeout_s. Asserted: 408 and a close within 60 s.
