@@ -1,7 +1,11 @@
 #include "reports/json_text.h"
 
 #include <cstdint>
+#include <optional>
+#include <string>
+#include <unordered_set>
 #include <utility>
+#include <vector>
 
 namespace thermocomp {
 
@@ -63,10 +67,24 @@ class BoundedDomSax : public nlohmann::json_sax<Json> {
   }
   bool string(string_t& v) override { return Value() && dom_.string(v); }
   bool binary(binary_t& v) override { return Value() && dom_.binary(v); }
-  bool start_object(std::size_t n) override { return Open() && dom_.start_object(n); }
-  bool key(string_t& k) override { return dom_.key(k); }
+  bool start_object(std::size_t n) override {
+    if (!Open()) return false;
+    keys_.emplace_back();
+    return dom_.start_object(n);
+  }
+  // A key given twice is refused: which of its values is meant is not
+  // said, and the last silently winning let "a":5000,"a":0.1 through.
+  bool key(string_t& k) override {
+    if (!keys_.back().insert(k).second) {
+      duplicate_ = k;
+      error_ = "given twice in one object";
+      return false;
+    }
+    return dom_.key(k);
+  }
   bool end_object() override {
     --depth_;
+    keys_.pop_back();
     return dom_.end_object();
   }
   bool start_array(std::size_t n) override { return Open() && dom_.start_array(n); }
@@ -84,6 +102,8 @@ class BoundedDomSax : public nlohmann::json_sax<Json> {
   // Empty when the body was read completely.
   const std::string& error() const { return error_; }
   bool too_many_values() const { return too_many_; }
+  // The key given twice, when that was the error.
+  const std::optional<std::string>& duplicate() const { return duplicate_; }
 
  private:
   bool Value() {
@@ -101,6 +121,8 @@ class BoundedDomSax : public nlohmann::json_sax<Json> {
   }
 
   nlohmann::detail::json_sax_dom_parser<Json> dom_;
+  std::vector<std::unordered_set<std::string>> keys_;  // of each open object
+  std::optional<std::string> duplicate_;
   int depth_ = 0;
   size_t values_ = 0;
   bool too_many_ = false;
@@ -111,11 +133,21 @@ class BoundedDomSax : public nlohmann::json_sax<Json> {
 
 std::optional<nlohmann::json> ParseJsonBody(std::string_view body, FieldErrors& errors,
                                             Status* status) {
+  // nlohmann's reader takes a NUL byte for the end of the input and would
+  // ignore what follows it; JSON allows none outside a string, nor raw
+  // inside one.
+  if (const size_t nul = body.find('\0'); nul != std::string_view::npos) {
+    errors.push_back(
+        {0, "body", "malformed JSON at byte " + std::to_string(nul) + " (a NUL byte)"});
+    if (status) *status = Status::InvalidArgument("malformed JSON");
+    return std::nullopt;
+  }
   Json result;
   BoundedDomSax sax(result);
   const bool complete = Json::sax_parse(body.begin(), body.end(), &sax);
   if (complete && sax.error().empty()) return result;
-  errors.push_back({0, "body", sax.error().empty() ? "malformed JSON" : sax.error()});
+  errors.push_back({0, sax.duplicate() ? *sax.duplicate() : "body",
+                    sax.error().empty() ? "malformed JSON" : sax.error()});
   if (status) {
     *status = sax.too_many_values() ? Status::TooLarge("too many JSON values")
                                     : Status::InvalidArgument("malformed JSON");
