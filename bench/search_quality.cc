@@ -54,7 +54,8 @@ struct Tally {
 // The search's options, with the rule over runs from the environment.
 EffectSearchOptions SearchOptions() {
   EffectSearchOptions o;
-  if (const char* gain = std::getenv("THERMOCOMP_RUN_STRONG_GAIN")) o.run_strong_gain = std::atof(gain);
+  if (const char* gain = std::getenv("THERMOCOMP_RUN_STRONG_GAIN"))
+    o.run_strong_gain = std::atof(gain);
   if (const char* lost = std::getenv("THERMOCOMP_RUN_STRONG_LOST")) {
     o.run_strong_lost_blocks = std::atoi(lost);
   }

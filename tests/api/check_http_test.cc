@@ -431,7 +431,10 @@ TEST_F(CheckHttpTest, AcknowledgingARequestRecordsTheFirstWhileItIsOpen) {
       EXPECT_EQ(json::parse(b->body)["errors"][0]["field"], field) << b->body;
     }
   };
-  for (const json& by : {json(""), json(std::string(65, 'a')), json("line\n2"), json(7)}) {
+  // Empty, too long, a control character, a number; a name that reads as
+  // another (a direction override, a zero-width space, padding).
+  for (const json& by : {json(""), json(std::string(65, 'a')), json("line\n2"), json(7),
+                         json("admin\u202Eevil"), json("Ann\u200B"), json(" Ann")}) {
     refused(ack, json{{"by", by}}.dump(), 400, "by");
   }
   refused(ack, "[]", 400, "body");
