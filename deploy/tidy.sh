@@ -5,13 +5,20 @@
 # build leaves out (the benchmarks, the statistical studies). Fails on any
 # finding: there are none, or a NOLINT says why on its line.
 #
+# The clang build compiles in batches (unity); clang-tidy checks each
+# source alone, so its commands come from the same configuration without
+# batches, generated (not built) in $build/units and pointed at $build,
+# whose generated headers and precompiled-header stubs they use.
+#
 # deploy/tidy-clean.txt records what was found clean: per source, a hash of
 # everything clang-tidy's verdict depends on (its version, .clang-tidy, the
-# compile command, the source and every project header it includes, from
-# the build's dependency files). A source whose hash is recorded is not
-# checked again; any change to it, to a header it includes or to the checks
-# makes it checked. A clean run rewrites the record: commit it with the
-# change. THERMOCOMP_TIDY_ALL=1 checks every source regardless.
+# compile command, the source and every project header it includes: from
+# the build's dependency file where the source was compiled alone, else
+# from clang-scan-deps, which lists the same files in under a second). A
+# source whose hash is recorded is not checked again; any change to it, to
+# a header it includes or to the checks makes it checked. A clean run
+# rewrites the record: commit it with the change. THERMOCOMP_TIDY_ALL=1
+# checks every source regardless.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -22,12 +29,26 @@ if [[ ! -f $build/compile_commands.json ]]; then
 fi
 db=$build/tidy
 mkdir -p "$db"
+commands=$build/compile_commands.json
+if grep -q '"file": ".*/Unity/unity_' "$commands"; then
+  # The same cache settings, one translation unit per source.
+  settings=()
+  while IFS= read -r line; do settings+=("-D$line"); done < <(grep -E \
+    '^(CMAKE_C_COMPILER|CMAKE_CXX_COMPILER|CMAKE_BUILD_TYPE|CMAKE_CXX_FLAGS_[A-Z]+|THERMOCOMP_[A-Z_]+):' \
+    "$build/CMakeCache.txt" | grep -v '^THERMOCOMP_UNITY:')
+  cmake -S . -B "$build/units" "${settings[@]}" -DTHERMOCOMP_UNITY=OFF > "$build/units.log"
+  sed "s|$root/$build/units|$root/$build|g" "$build/units/compile_commands.json" > "$db/units.json"
+  commands=$db/units.json
+fi
 folders='(core|model|storage|reports|service|api|sim|server|bench|tests)'
 record=deploy/tidy-clean.txt
-version=$(clang-tidy-14 --version | tr -s ' \n' ' ')
-python3 - "$build/compile_commands.json" build/compile_commands.json "$db" "$root" "$record" \
+# The version without its "Host CPU" line: that names the processor of the
+# machine it runs on, not the checks, and would make the record of one
+# machine void on the next.
+version=$(clang-tidy-14 --version | grep -v 'Host CPU' | tr -s ' \n' ' ')
+python3 - "$commands" build/compile_commands.json "$db" "$root" "$record" \
   "${THERMOCOMP_TIDY_ALL:-0}" "$version" <<'PY'
-import hashlib, json, os, re, shlex, sys
+import hashlib, json, os, re, shlex, subprocess, sys
 clang_db, gcc_db, out_dir, root, record, check_all, version = sys.argv[1:8]
 entries = json.load(open(clang_db))
 files = {e["file"] for e in entries}
@@ -61,7 +82,9 @@ def digest(path):
     except OSError:
         return None
     return hashlib.sha256(text).hexdigest()
-def dependencies(entry, args):
+def ours_only(paths):
+    return sorted({os.path.normpath(p) for p in paths if os.path.normpath(p).startswith(root + "/")})
+def depfile_dependencies(entry, args):
     # The object's dependency file (-MD), written by the build next to it.
     if "-o" not in args:
         return None
@@ -70,19 +93,56 @@ def dependencies(entry, args):
         text = open(depfile).read().replace("\\\n", " ")
     except OSError:
         return None
-    paths = text.split(":", 1)[1].split() if ":" in text else []
-    return sorted({os.path.normpath(p) for p in paths if os.path.normpath(p).startswith(root + "/")})
+    return ours_only(text.split(":", 1)[1].split() if ":" in text else [])
+def pch_stub(entry):
+    # The build's dependency file names the precompiled header's stub and
+    # its source (cmake_pch.hxx, cmake_pch.hxx.cxx); a scan without the
+    # precompiled header does not, so they are added as the build has them.
+    args = shlex.split(entry["command"]) if "command" in entry else entry["arguments"]
+    for i, a in enumerate(args[:-1]):
+        if a == "-include" and "cmake_pch" in args[i + 1]:
+            return [args[i + 1], args[i + 1] + ".cxx"]
+        if a == "-Xclang" and i + 3 < len(args) and args[i + 1] == "-include" and "cmake_pch" in args[i + 3]:
+            return [args[i + 3], args[i + 3] + ".cxx"]
+    return []
+def scanned_dependencies(todo):
+    # One clang-scan-deps run for every source without a dependency file:
+    # a rule per source whose first prerequisite is the source itself.
+    if not todo:
+        return {}
+    scan_db = os.path.join(out_dir, "scan.json")
+    json.dump([{"directory": e["directory"], "file": e["file"], "command": shlex.join(a)} for e, a in todo],
+              open(scan_db, "w"))
+    run = subprocess.run(["clang-scan-deps-14", "-compilation-database=" + scan_db, "-j", str(os.cpu_count())],
+                         capture_output=True, text=True)
+    found = {}
+    for rule in run.stdout.replace("\\\n", " ").split("\n"):
+        if ":" not in rule:
+            continue
+        paths = rule.split(":", 1)[1].split()
+        if paths:
+            found[os.path.normpath(paths[0])] = paths
+    stubs = {os.path.normpath(e["file"]): e["pch_stub"] for e, _ in todo}
+    return {f: ours_only(p + stubs.get(f, [])) for f, p in found.items()}
 config = open(os.path.join(root, ".clang-tidy"), "rb").read()
-keys = {}
+checked = []
 for e in entries:
     args = without_pch(e["command"]) if "command" in e else e["arguments"]
+    stub = pch_stub(e)
     e.pop("arguments", None)
     e["command"] = shlex.join(args)
-    if not ours.match(e["file"]):
-        continue
-    deps = dependencies(e, args)
+    e["pch_stub"] = stub
+    if ours.match(e["file"]):
+        checked.append((e, args))
+scanned = scanned_dependencies([(e, a) for e, a in checked if depfile_dependencies(e, a) is None])
+keys = {}
+for e, args in checked:
+    e.pop("pch_stub")
+    deps = depfile_dependencies(e, args)
     if deps is None:
-        continue  # never built: checked, and not recorded
+        deps = scanned.get(os.path.normpath(e["file"]))
+    if deps is None:
+        continue  # neither built nor scanned: checked, and not recorded
     h = hashlib.sha256(version.encode() + config + shlex.join(args).replace(root, "<root>").encode())
     for p in deps:
         d = digest(p)

@@ -247,8 +247,11 @@ TEST_F(FramingGuardTest, BrokenChunkedFramingIsRefusedAndEndsTheConnection) {
            std::string("fffffffffffffffff\r\n"),              // 17 hex digits
            std::string(size) + "\n" + csv + "\r\n0\r\n\r\n",  // a bare LF after the size
        }) {
+    std::string request = head;
+    request += body;
+    request += smuggled;
     RawConnection c(http_->port());
-    ASSERT_TRUE(c.Send(head + body + smuggled));
+    ASSERT_TRUE(c.Send(request));
     const std::string r = c.ReadResponse(Ms(60000));
     EXPECT_EQ(RawConnection::Status(r), 400) << body << "\n" << r.substr(0, 400);
     EXPECT_NE(r.find("chunked"), std::string::npos) << r;
