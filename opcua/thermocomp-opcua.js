@@ -162,13 +162,15 @@ async function main() {
     namespace,
     onAcknowledge: (user, machine, requestId) => forwardAcknowledge({ http, identities, log }, user, machine, requestId),
   });
+  // Every Method and writable Variable not the face's own (the Server
+  // object's, the types') explicitly closed to roles it does not name, and
+  // every namespace's defaults with them (what the server adds later, such
+  // as a session's diagnostics, falls back to those), before the server
+  // listens.
+  closeUnlistedNodes(server.engine.addressSpace);
   const feed = new Feed({ http, space, machines, pollMs: opts.pollMs, log });
   feed.start();
   await server.start();
-  // Every Method and writable Variable not the face's own (the Server
-  // object's, the types', those the server adds as it starts) explicitly
-  // closed to roles it does not name, before any session can exist.
-  closeUnlistedNodes(server.engine.addressSpace);
   log(`serving ${server.getEndpointUrl()} (Basic256Sha256, SignAndEncrypt), from ${opts.thermocomp}`);
   let writer = null;
   if (opts.writer) {

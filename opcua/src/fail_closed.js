@@ -71,9 +71,8 @@ function closeNamespaceDefaults(addressSpace) {
 
 // Gives explicit permissions to every Method and writable Variable of the
 // address space that has none, and closes every namespace's defaults;
-// returns how many nodes it closed. Call it once the server has started
-// (it nulls the namespaces' defaults as it starts) and before the first
-// session.
+// returns how many nodes it closed. Call it after server.initialize()
+// (which nulls the namespaces' defaults) and before server.start().
 function closeUnlistedNodes(addressSpace) {
   let closed = 0;
   for (const namespace of addressSpace.getNamespaceArray()) {
