@@ -363,6 +363,14 @@ void HttpServer::Routes() {
       return refuse(400, "malformed HTTP framing: " + framing,
                     {{0, "Content-Length / Transfer-Encoding", framing}});
     }
+    // cpp-httplib reads a body only for POST, PUT, PATCH and DELETE; one
+    // sent with another method would stay on the connection and be read
+    // as the next request.
+    if (HasBody(req) && req.method != "POST" && req.method != "PUT" && req.method != "PATCH" &&
+        req.method != "DELETE") {
+      return refuse(400, "a " + req.method + " request has no body",
+                    {{0, "Content-Length / Transfer-Encoding", "no body with " + req.method}});
+    }
     const std::string length = req.get_header_value("Content-Length");
     if (length.size() > 18 || length.find_first_not_of("0123456789") != std::string::npos) {
       return refuse(400, "malformed HTTP framing: Content-Length must be a number of bytes",
@@ -471,6 +479,14 @@ void HttpServer::Routes() {
     if (!res.body.empty()) return;
     // It runs outside the handlers' exception handling: it must not throw.
     try {
+      // An error the HTTP library answered itself (a Range it refused, a
+      // request line it would not take) may come before the body was
+      // read: the connection ends with the answer, so no unread body is
+      // read as the next request.
+      if (HasBody(req) || res.status == 414) {
+        res.set_header("Connection", "close");
+        GuardedServer::CloseAfterResponse();
+      }
       if (auto head = GuardedServer::HeadTooLargeIn(); head != GuardedServer::HeadTooLarge::kNo) {
         res.set_header("Connection", "close");
         if (head == GuardedServer::HeadTooLarge::kRequestLine) {

@@ -272,6 +272,31 @@ TEST_F(FramingGuardTest, BrokenChunkedFramingIsRefusedAndEndsTheConnection) {
   EXPECT_EQ(Samples(), 1);
 }
 
+TEST_F(FramingGuardTest, ABodyTheServerDoesNotReadNeverRunsAsARequest) {
+  // A body on a GET (which the HTTP library never reads), and a POST whose
+  // Range the library refuses before reading its body: in both the body is
+  // a whole request, which must never run.
+  const std::string smuggled = Post("/api/v1/machines/m1/temperatures", "text/csv",
+                                    kCsvHead + "2026-03-10T09:00:00Z,Tsp,22.5\n");
+  const std::string length = std::to_string(smuggled.size());
+  for (const std::string& head : {
+           "GET /api/v1/machines HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: " + length +
+               "\r\n\r\n",
+           "POST /api/v1/machines/m1/temperatures HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+           "Content-Type: text/csv\r\nRange: bytes=x\r\nContent-Length: " +
+               length + "\r\n\r\n",
+       }) {
+    std::string request = head;
+    request += smuggled;
+    RawConnection c(http_->port());
+    ASSERT_TRUE(c.Send(request));
+    const std::string r = c.ReadResponse(Ms(60000));
+    EXPECT_GE(RawConnection::Status(r), 400) << r.substr(0, 400);
+    EXPECT_TRUE(c.ClosedWithin(Ms(60000))) << head;
+  }
+  EXPECT_EQ(Samples(), 0);
+}
+
 TEST_F(FramingGuardTest, AJsonBodyWithANulByteOrAKeyGivenTwiceChangesNothing) {
   for (const std::string& body :
        {std::string(R"({"axis":"Y","sequence":1})") + std::string(1, '\0') + "garbage",
