@@ -65,9 +65,25 @@ StatusOr<AppliedResult> AppliedCompensationService::Record(const std::string& ma
   }
   AppliedResult result{axis->name, {}, false};
   // A retry (the OPC UA face resends when it saw no answer) is answered
-  // with what was stored, so a report is kept once however often it comes.
+  // with what was stored, so a report is kept once however often it comes;
+  // the same sequence stating other values is not a retry but a conflict,
+  // as for every key of the API (the first report stays). A retry may
+  // state fewer values (a face restarted since no longer knows them).
+  auto differs = [](const std::optional<double>& stored, const std::optional<double>& stated) {
+    return stated && stored != stated;
+  };
   if (auto newest = session->applied().Newest(axis->id);
       newest && newest->sequence == in.sequence) {
+    if (differs(newest->offset_mm, in.offset_mm) ||
+        differs(newest->slope_um_per_m, in.slope_um_per_m) ||
+        differs(newest->offset_at_probe_mm, in.offset_at_probe_mm)) {
+      if (errors) {
+        errors->push_back(
+            {0, "sequence", "already reported for " + axis->name + " with other values"});
+      }
+      return Status::Conflict("sequence " + std::to_string(in.sequence) + " of " + axis->name +
+                              " already reported with other values");
+    }
     result.record = *std::move(newest);
     return result;
   }

@@ -135,6 +135,20 @@ TEST_F(AppliedHttpTest, TheNewestSequenceAgainIsARetryStoredOnce) {
   EXPECT_EQ(json::parse(again->body).dump(), first);  // the stored record, its time too
   EXPECT_EQ(Rows(), 1);
   EXPECT_EQ(AuditLines(), 1);
+  // The same sequence with other values is no retry: 409 naming it, the
+  // first report kept.
+  json other = json::parse(kAppliedFullBody);
+  other["offset_mm"] = 0.5;
+  auto conflict = Post(kAppliedCell1, "m1", other.dump());
+  ASSERT_EQ(conflict->status, 409) << conflict->body;
+  EXPECT_EQ(json::parse(conflict->body)["errors"][0]["field"], "sequence");
+  EXPECT_EQ(Rows(), 1);
+  EXPECT_EQ(json::parse(Post(kAppliedCell1, "m1", kAppliedFullBody)->body).dump(), first);
+  // A retry stating fewer values (the face restarted) is still a retry.
+  auto bare = Post(kAppliedCell1, "m1", R"({"axis": "Y", "sequence": 17, "via": "opcua"})");
+  ASSERT_EQ(bare->status, 200) << bare->body;
+  EXPECT_EQ(json::parse(bare->body).dump(), first);
+  EXPECT_EQ(Rows(), 1);
   // Another axis, or another sequence, is a new record.
   EXPECT_EQ(Post(kAppliedCell1, "m1", R"({"axis": "X", "sequence": 17})")->status, 201);
   EXPECT_EQ(Post(kAppliedCell1, "m1", R"({"axis": "Y", "sequence": 16})")->status, 201);
