@@ -433,8 +433,9 @@ TEST_F(CheckHttpTest, AcknowledgingARequestRecordsTheFirstWhileItIsOpen) {
   };
   // Empty, too long, a control character, a number; a name that reads as
   // another (a direction override, a zero-width space, padding).
-  for (const json& by : {json(""), json(std::string(65, 'a')), json("line\n2"), json(7),
-                         json("admin\u202Eevil"), json("Ann\u200B"), json(" Ann")}) {
+  for (const json& by :
+       {json(""), json(std::string(65, 'a')), json("line\n2"), json(7), json("admin\u202Eevil"),
+        json("Ann\u200B"), json(" Ann"), json("Ann\u00A0"), json("ad\u00ADmin")}) {
     refused(ack, json{{"by", by}}.dump(), 400, "by");
   }
   refused(ack, "[]", 400, "body");

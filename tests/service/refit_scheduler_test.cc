@@ -214,6 +214,9 @@ TEST(ConfigTest, ParsesTokensAndDailyTimeAndRejectsBadOnes) {
   ASSERT_FALSE(control.ok());
   EXPECT_NE(control.status().message().find("control characters"), std::string::npos);
   EXPECT_FALSE(write("[[auth.tokens]]\nname = \"" + std::string(65, 'n') + "\"\n" + token).ok());
+  EXPECT_FALSE(write("[[auth.tokens]]\nname = \"ad\\u00ADmin\"\n" + token).ok());
+  // A space inside a name is a name.
+  EXPECT_TRUE(write("[[auth.tokens]]\nname = \"line PLC\"\n" + token).ok());
   // 64 characters of two bytes each are 64 characters.
   std::string umlauts;
   for (int i = 0; i < 64; ++i) umlauts += "\u00e4";
