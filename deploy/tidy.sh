@@ -55,7 +55,7 @@ files = {e["file"] for e in entries}
 # What the clang build leaves out (the benchmarks, the statistical studies)
 # is checked with the commands of build/.
 if os.path.exists(gcc_db):
-    entries += [e for e in json.load(open(gcc_db)) if e["file"] not in files]
+    entries += [dict(e, from_gcc=True) for e in json.load(open(gcc_db)) if e["file"] not in files]
 # Each file is checked as written, without the build's precompiled header:
 # a missing include shows here instead of being covered by the PCH.
 def without_pch(command):
@@ -85,8 +85,11 @@ def digest(path):
 def ours_only(paths):
     return sorted({os.path.normpath(p) for p in paths if os.path.normpath(p).startswith(root + "/")})
 def depfile_dependencies(entry, args):
-    # The object's dependency file (-MD), written by the build next to it.
-    if "-o" not in args:
+    # The object's dependency file (-MD), written by the build next to it:
+    # only for what build/ compiles one source at a time. The clang build
+    # compiles in batches, and a dependency file left there by an older
+    # build could miss a header included since.
+    if not entry.get("from_gcc") or "-o" not in args:
         return None
     depfile = os.path.join(entry["directory"], args[args.index("-o") + 1]) + ".d"
     try:
@@ -138,7 +141,8 @@ scanned = scanned_dependencies([(e, a) for e, a in checked if depfile_dependenci
 keys = {}
 for e, args in checked:
     e.pop("pch_stub")
-    deps = depfile_dependencies(e, args)
+    from_gcc = e.pop("from_gcc", False)
+    deps = depfile_dependencies(dict(e, from_gcc=from_gcc), args)
     if deps is None:
         deps = scanned.get(os.path.normpath(e["file"]))
     if deps is None:
