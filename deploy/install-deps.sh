@@ -7,7 +7,9 @@
 #                                 default): GoogleTest and Google Benchmark,
 #                                 clang with its sanitizer runtimes and
 #                                 clang-tidy, Chromium for the pages,
-#                                 tshark (the OPC UA face's capture test)
+#                                 tshark (the OPC UA face's capture test),
+#                                 PostgreSQL 15 (the storage tests' second
+#                                 backend, started by the tests themselves)
 #                                 and nginx and promtool in .tools/
 set -euo pipefail
 purpose=${1:-test}
@@ -17,6 +19,8 @@ packages=(
   libboost-math-dev libtomlplusplus-dev cyclonedds-dev cyclonedds-tools
   libcmark-gfm-dev libcmark-gfm-extensions-dev libjs-dygraphs libhowardhinnant-date-dev
   libpugixml-dev
+  # PostgreSQL's client library, for an archive in PostgreSQL (docs/operations.md)
+  libpq-dev
 )
 case $purpose in
   run) ;;
@@ -29,6 +33,8 @@ case $purpose in
       # dumpcap on loopback for opcua/test/capture.test.js; the test runs as
       # root, so dumpcap is not made setuid (preseeded below)
       tshark
+      # the tests start their own cluster (tests/postgres/pg_test_server.sh)
+      postgresql-15
     ) ;;
   *) echo "usage: deploy/install-deps.sh [run|test]" >&2; exit 2 ;;
 esac
@@ -51,6 +57,12 @@ else
   # no (only root captures, in the tests).
   if [[ " ${missing[*]} " == *" tshark "* ]]; then
     echo 'wireshark-common wireshark-common/install-setuid boolean false' | $sudo debconf-set-selections
+  fi
+  # The tests make their own PostgreSQL cluster; the package's default one
+  # would only hold a port and memory.
+  if [[ " ${missing[*]} " == *" postgresql-15 "* ]] && [ ! -e /etc/postgresql-common/createcluster.conf ]; then
+    $sudo mkdir -p /etc/postgresql-common/createcluster.d
+    echo 'create_main_cluster = false' | $sudo tee /etc/postgresql-common/createcluster.d/thermocomp-tests.conf > /dev/null
   fi
   $sudo apt-get update -qq
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -5,14 +5,23 @@
 
 #include "core/clock.h"
 #include "server/command_util.h"
+#include "storage/postgresql/pg_storage.h"
 #include "storage/sqlite/sqlite_storage.h"
 
 namespace thermocomp::cli {
+namespace {
+
+constexpr const char* kPostgresqlBackup =
+    "the archive is in PostgreSQL: back it up and restore it with pg_dump and pg_restore"
+    " (or pg_basebackup), as docs/operations.md describes";
+
+}  // namespace
 
 int Backup(const Args& a) {
   if (a.positional.empty()) return Fail("usage: thermocomp backup <file> [--force] [--db PATH]");
   auto config = LoadWithOverrides(a);
   if (!config.ok()) return Fail(config.status().message());
+  if (IsPostgresqlUrl(config->db_path)) return Fail(kPostgresqlBackup);
   if (Status s = PrepareDatabasePath(a, config->db_path); !s.ok()) return Fail(s.message());
   DatabaseOptions options;
   options.synchronous = config->synchronous;
@@ -30,6 +39,7 @@ int Restore(const Args& a) {
   if (a.positional.empty()) return Fail("usage: thermocomp restore <file> [--db PATH]");
   auto config = LoadWithOverrides(a);
   if (!config.ok()) return Fail(config.status().message());
+  if (IsPostgresqlUrl(config->db_path)) return Fail(kPostgresqlBackup);
   const std::string& file = a.positional[0];
   const SystemClock clock;
   auto done = SqliteStorage::Restore(file, config->db_path, clock.NowMs());

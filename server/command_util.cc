@@ -17,6 +17,7 @@
 #include "core/log.h"
 #include "core/version.h"
 #include "server/open_app.h"
+#include "storage/postgresql/pg_storage.h"
 
 namespace thermocomp::cli {
 
@@ -145,7 +146,8 @@ Status NotifyServiceManager(const std::string& state) {
 Status PrepareDatabasePath(const Args& a, const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (fs::exists(path, ec)) return Status::Ok();
+  // A PostgreSQL archive is made by its administrator (docs/operations.md).
+  if (IsPostgresqlUrl(path) || fs::exists(path, ec)) return Status::Ok();
   if (!a.Has("create")) {
     return Status::NotFound("database " + path +
                             " does not exist (check the path; --create makes a new one)");

@@ -30,6 +30,7 @@
 #include "server/parts_demo.h"
 #include "sim/virtual_machine.h"
 #include "storage/machine_store.h"
+#include "storage/postgresql/pg_storage.h"
 #include "storage/sqlite/sqlite_storage.h"
 
 namespace thermocomp {
@@ -116,7 +117,7 @@ int Serve(const Args& a) {
     std::fprintf(stderr, "thermocomp: WARNING: %s\n", warning.c_str());
   }
   std::printf("thermocomp serving on http://%s:%d (database %s)\n", config.listen_host.c_str(),
-              http.port(), config.db_path.c_str());
+              http.port(), (*app)->storage().location().c_str());
   std::fflush(stdout);
   // Under systemd (Type=notify) the unit counts as started once the HTTP
   // listener accepts connections and the DDS bridge runs.
@@ -264,7 +265,8 @@ int Demo(const Args& a) {
   // A new database is built in memory and written to its file once
   // complete; into an existing one the demo writes directly (slower).
   std::error_code ec;
-  const bool in_memory = !std::filesystem::exists(config->db_path, ec);
+  const bool in_memory =
+      !IsPostgresqlUrl(config->db_path) && !std::filesystem::exists(config->db_path, ec);
   auto app = in_memory ? OpenAppInMemory(*config, clock) : thermocomp::OpenApp(*config, clock);
   if (!app.ok()) return Fail(app.status().message());
   App& app_ref = **app;

@@ -313,7 +313,7 @@ int Simulate(const Args& a) {
   if (Status s = SimulateIntoApp(**app, names, days, seed, NowUnixMs(), *hidden); !s.ok())
     return Fail(s.message());
   std::printf("simulated %d days of %zu machine(s) into %s\n", days, names.size(),
-              (*app)->config().db_path.c_str());
+              (*app)->storage().location().c_str());
   return 0;
 }
 

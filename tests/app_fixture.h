@@ -1,5 +1,6 @@
-// A real App on a fresh SQLite file in a temporary directory, with a manual
-// clock, optionally serving HTTP on an ephemeral loopback port.
+// A real App on a fresh SQLite file in a temporary directory (or a fresh
+// PostgreSQL database: tests/test_database.h), with a manual clock,
+// optionally serving HTTP on an ephemeral loopback port.
 #pragma once
 
 #include <filesystem>
@@ -14,7 +15,9 @@
 #include "server/open_app.h"
 #include "service/app.h"
 #include "sim/virtual_machine.h"
+#include "storage/postgresql/pg_storage.h"
 #include "storage/sqlite/sqlite_storage.h"
+#include "tests/test_database.h"
 
 namespace thermocomp::testing {
 
@@ -46,6 +49,10 @@ class AppFixture : public ::testing::Test {
   void SetUp() override {
     dir_ = TempDir();
     config_.db_path = (dir_ / "thermocomp.db").string();
+    if (OnPostgresql()) {
+      ASSERT_NO_FATAL_FAILURE(postgres_.Create());
+      config_.db_path = postgres_.url();
+    }
     config_.synchronous = "normal";
     config_.http_threads = 8;
     Configure(config_);
@@ -117,17 +124,26 @@ class AppFixture : public ::testing::Test {
   }
   int64_t Count(const std::string& sql) {
     int64_t count = -1;
-    Sqlite().WithConnection([&](Database& db) {
-      Statement q(db, sql);
+    WithConnection([&](SqlConnection& db) {
+      SqlStatement q(db, sql);
       if (q.Step()) count = q.Int(0);
     });
     return count;
   }
-  // The app's archive is SQLite in every test; SQL no store offers goes
-  // through its connection.
+  // SQL no store offers, on the app's connection, whichever the backend.
+  void WithConnection(const std::function<void(SqlConnection&)>& fn) {
+    if (OnPostgresql()) {
+      static_cast<PgStorage&>(app_->storage()).WithConnection(fn);
+    } else {
+      Sqlite().WithConnection([&](Database& db) { fn(db); });
+    }
+  }
+  // The app's SQLite archive, for tests of what only SQLite has (they skip
+  // themselves on PostgreSQL).
   SqliteStorage& Sqlite() { return static_cast<SqliteStorage&>(app_->storage()); }
 
   std::filesystem::path dir_;
+  TestPostgresDatabase postgres_;  // dropped after the app has closed it
   Config config_;
   ManualClock clock_{kT0 + 14 * 86400000LL};
   std::unique_ptr<App> app_;

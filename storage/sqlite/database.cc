@@ -74,10 +74,6 @@ Statement& Statement::Bind(int i, std::string_view v) {
   sqlite3_bind_text(stmt_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
   return *this;
 }
-Statement& Statement::BindNull(int i) {
-  sqlite3_bind_null(stmt_, i);
-  return *this;
-}
 
 bool Statement::Step() {
   if (!stmt_) return false;
@@ -88,6 +84,12 @@ bool Statement::Step() {
     if (cache_) cache_->NoteResult(rc);
   }
   return false;
+}
+
+bool Statement::Next(Status* status) {
+  const bool row = Step();
+  if (!status_.ok()) *status = status_;
+  return row;
 }
 
 Status Statement::Run() {
@@ -211,14 +213,13 @@ Status Database::Commit() {
   return s;
 }
 
-void Database::Lock() {
-  mutex_.lock();
-  owner_.store(std::this_thread::get_id());
-}
-
-void Database::Unlock() {
-  owner_.store(std::thread::id());
-  mutex_.unlock();
+std::unique_ptr<StatementImpl> Database::Prepare(std::string_view sql, Status* error) {
+  auto statement = std::make_unique<Statement>(*this, sql);
+  if (!statement->prepared()) {
+    *error = statement->status();
+    return nullptr;
+  }
+  return statement;
 }
 
 namespace {
@@ -268,8 +269,9 @@ Status Database::Backup(const std::string& dest_path, bool replace) {
   Status s = Status::Ok();
   if (LockPathOf(path_).empty()) {
     // In memory: no second connection can see it; copy on this one, held.
-    std::lock_guard<std::mutex> lock(mutex_);
+    Lock();
     s = CopyDatabase(db_, *tmp);
+    Unlock();
   } else {
     sqlite3* src = nullptr;
     if (sqlite3_open_v2(path_.c_str(), &src, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX, nullptr) !=

@@ -1,24 +1,23 @@
 // Database: one SQLite connection in WAL mode with foreign keys and a busy
-// timeout, plus the small helpers the SQLite stores use (prepared
-// statements). Not thread-safe by itself: its lock is taken only by a
-// SqliteSession (one unit of work, which also serialises writers as SQLite
-// requires), and a Statement made outside the thread holding it fails.
+// timeout; the SqlConnection the shared stores (storage/sql/) run on.
+// Statement is its prepared statement, also usable on its own by SQLite-only
+// code (migrations, tests). Not thread-safe by itself: its lock is taken
+// only by a SqlSession (one unit of work, which also serialises writers as
+// SQLite requires), and a Statement made outside the thread holding it fails.
 #pragma once
 
-#include <atomic>
 #include <cstdint>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
-#include <thread>
 #include <unordered_map>
 #include <vector>
 
 #include <sqlite3.h>
 
 #include "core/status.h"
+#include "storage/sql/connection.h"
 
 namespace thermocomp {
 
@@ -41,7 +40,7 @@ class Database;
 // connection's statement cache and returned (reset) on destruction, so a
 // statement is compiled once per connection, not once per request. Made
 // from a raw handle, it is owned and finalised.
-class Statement {
+class Statement final : public StatementImpl {
  public:
   Statement(sqlite3* db, std::string_view sql);
   Statement(Database& db, std::string_view sql);
@@ -53,7 +52,10 @@ class Statement {
   Statement& Bind(int i, int64_t v);
   Statement& Bind(int i, double v);
   Statement& Bind(int i, std::string_view v);
-  Statement& BindNull(int i);
+  Statement& BindNull(int i) {
+    sqlite3_bind_null(stmt_, i);
+    return *this;
+  }
   Statement& Bind(int i, std::optional<double> v) { return v ? Bind(i, *v) : BindNull(i); }
   // Runs one step: true while a row is available. Errors are kept in status().
   bool Step();
@@ -66,6 +68,18 @@ class Statement {
   std::string Text(int col) const;
   const Status& status() const { return status_; }
 
+  // StatementImpl, for the shared stores.
+  void BindInt(int i, int64_t v) override { Bind(i, v); }
+  void BindDouble(int i, double v) override { Bind(i, v); }
+  void BindText(int i, std::string_view v) override { Bind(i, v); }
+  void BindNone(int i) override { BindNull(i); }
+  bool Next(Status* status) override;
+  void Clear() override { Reset(); }
+  int64_t ColumnInt(int col) const override { return Int(col); }
+  double ColumnDouble(int col) const override { return Double(col); }
+  bool ColumnIsNull(int col) const override { return IsNull(col); }
+  std::string ColumnText(int col) const override { return Text(col); }
+
  private:
   sqlite3* db_;
   sqlite3_stmt* stmt_ = nullptr;
@@ -74,7 +88,7 @@ class Statement {
   Status status_;
 };
 
-class Database {
+class Database final : public SqlConnection {
  public:
   // Opens (creating if absent) and migrates the database at `path`.
   static StatusOr<std::unique_ptr<Database>> Open(const std::string& path,
@@ -87,17 +101,19 @@ class Database {
   const std::string& path() const { return path_; }
   int schema_version() const { return schema_version_; }
 
-  Status Exec(std::string_view sql);
+  SqlDialect dialect() const override { return SqlDialect::kSqlite; }
+  Status Exec(std::string_view sql) override;
   // Whether the last write found the disk full (cleared by a successful
   // one): the server then reports not ready.
   bool storage_full() const { return storage_full_; }
   // Records an SQLite result (a full disk, for storage_full()).
   void NoteResult(int rc);
-  Status Begin() { return Exec("BEGIN IMMEDIATE"); }
-  Status Commit();
-  void Rollback() { Exec("ROLLBACK"); }
-  int64_t LastInsertId() { return sqlite3_last_insert_rowid(db_); }
-  int Changes() { return sqlite3_changes(db_); }
+  Status Begin() override { return Exec("BEGIN IMMEDIATE"); }
+  Status Commit() override;
+  void Rollback() override { Exec("ROLLBACK"); }
+  int64_t LastInsertId() override { return sqlite3_last_insert_rowid(db_); }
+  int64_t Changes() override { return sqlite3_changes(db_); }
+  std::unique_ptr<StatementImpl> Prepare(std::string_view sql, Status* error) override;
 
   // Online backup into `dest_path` while the database stays in use: a
   // consistent snapshot (a second, read-only connection in one read
@@ -116,22 +132,13 @@ class Database {
   sqlite3_stmt* Acquire(const std::string& sql);
   void Release(const std::string& sql, sqlite3_stmt* stmt);
 
-  // Whether the calling thread holds the lock (a SqliteSession it opened).
-  bool HeldByThisThread() const { return owner_.load() == std::this_thread::get_id(); }
-
  private:
-  friend class SqliteSession;
-  void Lock();
-  void Unlock();
-
   Database() = default;
   std::unordered_map<std::string, std::vector<sqlite3_stmt*>> idle_statements_;
   sqlite3* db_ = nullptr;
   std::string path_;
   int schema_version_ = 0;
   std::atomic<bool> storage_full_{false};
-  std::mutex mutex_;
-  std::atomic<std::thread::id> owner_{};
   int lock_fd_ = -1;  // the shared flock on LockPathOf(path_)
 };
 

@@ -1,28 +1,19 @@
-// Schema migrations: migrations/NNNN_name.sql, embedded at build time and
-// applied in order, each in its own transaction together with the row that
-// records its version in schema_migrations. A database whose version is
-// newer than the newest migration this binary knows is refused.
+// The SQLite archive's migrations (migrations/NNNN_name.sql), embedded at
+// build time; storage/sql/migrator.h applies them.
 #pragma once
 
-#include <string>
 #include <vector>
 
-#include "core/status.h"
+#include "storage/sql/migrator.h"
+#include "storage/sqlite/database.h"
 
 namespace thermocomp {
 
-class Database;
-
-struct Migration {
-  int version;
-  std::string name;
-  std::string sql;
-};
-
 const std::vector<Migration>& EmbeddedMigrations();
 
-// Applies pending migrations up to `up_to` (0: all) and returns the schema
-// version afterwards.
-StatusOr<int> Migrate(Database& db, const std::vector<Migration>& migrations, int up_to = 0);
+inline StatusOr<int> Migrate(Database& db, const std::vector<Migration>& migrations,
+                             int up_to = 0) {
+  return MigrateSchema(db, migrations, up_to, db.path());
+}
 
 }  // namespace thermocomp

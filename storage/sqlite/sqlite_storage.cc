@@ -7,46 +7,11 @@
 
 #include <ctime>
 
+#include "storage/sql/sql_session.h"
 #include "storage/sqlite/durable_file.h"
 #include "storage/sqlite/migrator.h"
-#include "storage/sqlite/sqlite_session.h"
 
 namespace thermocomp {
-
-SqliteSession::SqliteSession(Database& db)
-    : db_(db),
-      machines_(db),
-      samples_(db),
-      probes_(db),
-      models_(db),
-      checks_(db),
-      aux_(db),
-      analyses_(db),
-      log_(db),
-      feeds_(db),
-      plates_(db),
-      turned_parts_(db),
-      part_models_(db),
-      surfaces_(db),
-      applied_(db) {
-  Resume();
-}
-
-SqliteSession::~SqliteSession() {
-  Pause();
-}
-
-void SqliteSession::Pause() {
-  if (!held_) return;
-  held_ = false;
-  db_.Unlock();
-}
-
-void SqliteSession::Resume() {
-  if (held_) return;
-  db_.Lock();
-  held_ = true;
-}
 
 StatusOr<std::unique_ptr<SqliteStorage>> SqliteStorage::OpenFile(const std::string& path,
                                                                  const DatabaseOptions& options) {
@@ -56,7 +21,7 @@ StatusOr<std::unique_ptr<SqliteStorage>> SqliteStorage::OpenFile(const std::stri
 }
 
 void SqliteStorage::WithConnection(const std::function<void(Database&)>& fn) {
-  SqliteSession session(*db_);
+  SqlSession session(*db_);
   fn(*db_);
 }
 
@@ -224,7 +189,7 @@ StatusOr<SqliteStorage::RestoreReport> SqliteStorage::Restore(const std::string&
 }
 
 std::unique_ptr<Session> SqliteStorage::Open() {
-  return std::make_unique<SqliteSession>(*db_);
+  return std::make_unique<SqlSession>(*db_);
 }
 
 }  // namespace thermocomp

@@ -293,10 +293,10 @@ TEST_F(AnalysisHttpTest, PositionDependentExpansionIsServedAsSlopeAndAtTheProbe)
   const double slope = (*y)["slope_um_per_m"].get<double>();
   double tcb = 0;
   {
-    Sqlite().WithConnection([&](Database& db) {
-      Statement q(db,
-                  "SELECT f.state FROM filter_state f JOIN sensors s ON s.id = f.sensor_id"
-                  " WHERE s.name = 'Tcb'");
+    WithConnection([&](SqlConnection& db) {
+      SqlStatement q(db,
+                     "SELECT f.state FROM filter_state f JOIN sensors s ON s.id = f.sensor_id"
+                     " WHERE s.name = 'Tcb'");
       ASSERT_TRUE(q.Step());
       tcb = q.Double(0);
     });

@@ -42,8 +42,8 @@ class BadRequestTest : public testing::AppFixture {
       s += std::string(t) + "=" + std::to_string(Count(std::string("SELECT COUNT(*) FROM ") + t)) +
            " ";
     }
-    Sqlite().WithConnection([&](Database& db) {
-      Statement q(db, "SELECT state FROM filter_state");
+    WithConnection([&](SqlConnection& db) {
+      SqlStatement q(db, "SELECT state FROM filter_state");
       while (q.Step()) s += std::to_string(q.Double(0)) + " ";
     });
     return s;

@@ -167,10 +167,10 @@ TEST_F(BoundsTest, OneTemperatureHistoryCarriesAtMostTheResponsePoints) {
   }
   ASSERT_TRUE(app_->ingest().AddTemperatures("m1", samples, "test").status.ok());
   // A few hundred events in the range: they come along, bounded as well.
-  Sqlite().WithConnection([&](Database& db) {
+  WithConnection([&](SqlConnection& db) {
     for (int i = 0; i < 50; ++i) {
-      Statement q(db,
-                  "INSERT INTO events(machine_id, ts_ms, kind, note) VALUES (1, ?, 'other', '')");
+      SqlStatement q(
+          db, "INSERT INTO events(machine_id, ts_ms, kind, note) VALUES (1, ?, 'other', '')");
       q.Bind(1, int64_t{testing::kT0 + i * 1000LL});
       ASSERT_TRUE(q.Run().ok());
     }
@@ -197,15 +197,15 @@ TEST_F(BoundsTest, OneTemperatureHistoryCarriesAtMostTheResponsePoints) {
 TEST_F(BoundsTest, ATemperatureHistoryCarriesTheNewestEventsOnly) {
   ASSERT_EQ(Put("/api/v1/machines/m1", Machine(1))->status, 201);
   const int events = static_cast<int>(kMaxEventMarks) + 200;
-  Sqlite().WithConnection([&](Database& db) {
-    ASSERT_TRUE(Statement(db, "BEGIN").Run().ok());
+  WithConnection([&](SqlConnection& db) {
+    ASSERT_TRUE(db.Begin().ok());
     for (int i = 0; i < events; ++i) {
-      Statement q(db,
-                  "INSERT INTO events(machine_id, ts_ms, kind, note) VALUES (1, ?, 'other', ?)");
+      SqlStatement q(db,
+                     "INSERT INTO events(machine_id, ts_ms, kind, note) VALUES (1, ?, 'other', ?)");
       q.Bind(1, int64_t{testing::kT0 + i * 60000LL}).Bind(2, std::string(500, 'n'));
       ASSERT_TRUE(q.Run().ok());
     }
-    ASSERT_TRUE(Statement(db, "COMMIT").Run().ok());
+    ASSERT_TRUE(db.Commit().ok());
   });
   const json h = Get("/api/v1/machines/m1/temperatures");
   ASSERT_EQ(h["events"].size(), kMaxEventMarks);

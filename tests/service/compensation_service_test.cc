@@ -98,8 +98,9 @@ TEST_F(CompensationServiceTest, ImplausibleInputIsNotServed) {
 TEST_F(CompensationServiceTest, SpikeAgainstTheFilterIsNotServed) {
   // With a slow filter a sudden 10 degC step is a sensor fault, not heat.
   {
-    Sqlite().WithConnection(
-        [](Database& db) { ASSERT_TRUE(db.Exec("UPDATE sensors SET ewma_alpha = 0.1").ok()); });
+    WithConnection([](SqlConnection& db) {
+      ASSERT_TRUE(db.Exec("UPDATE sensors SET ewma_alpha = 0.1").ok());
+    });
   }
   ActivateModel();
   Datum(t0_);

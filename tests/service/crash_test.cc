@@ -12,7 +12,6 @@
 #include <nlohmann/json.hpp>
 
 #include "core/time_format.h"
-#include "storage/sqlite/database.h"
 #include "tests/server_process.h"
 
 namespace thermocomp {
@@ -23,7 +22,12 @@ using testing::StartServer;
 
 TEST(CrashTest, AcknowledgedSamplesSurviveKill9) {
   auto dir = testing::TempDir();
-  const std::string db = (dir / "crash.db").string();
+  std::string db = (dir / "crash.db").string();
+  testing::TestPostgresDatabase postgres;
+  if (testing::OnPostgresql()) {
+    ASSERT_NO_FATAL_FAILURE(postgres.Create());
+    db = postgres.url();
+  }
   const int port = FreePort();
   testing::ServerGuard server(StartServer(db, port));
   ASSERT_GT(server.pid(), 0);
@@ -73,20 +77,18 @@ TEST(CrashTest, AcknowledgedSamplesSurviveKill9) {
   EXPECT_GE(stored, (acked[0] + acked[1]) * 250LL);
 
   // Every acknowledged sample, exactly as sent.
-  {
-    auto check = Database::Open(db);
-    ASSERT_TRUE(check.ok());
+  testing::WithArchive(db, [&](SqlConnection& check) {
     for (int w = 0; w < 2; ++w) {
-      Statement q((*check)->handle(),
-                  "SELECT COUNT(*) FROM samples s JOIN sensors n ON n.id = s.sensor_id"
-                  " WHERE n.name = ? AND s.ts_ms >= ? AND s.ts_ms < ?");
+      SqlStatement q(check,
+                     "SELECT COUNT(*) FROM samples s JOIN sensors n ON n.id = s.sensor_id"
+                     " WHERE n.name = ? AND s.ts_ms >= ? AND s.ts_ms < ?");
       q.Bind(1, std::string(w == 0 ? "T1" : "T2"))
           .Bind(2, int64_t{t0})
           .Bind(3, int64_t{t0 + acked[w] * 250LL * 1000});
       ASSERT_TRUE(q.Step());
       EXPECT_EQ(q.Int(0), acked[w] * 250LL) << "writer " << w;
     }
-  }
+  });
   server.Kill(SIGTERM);
   std::filesystem::remove_all(dir);
 }

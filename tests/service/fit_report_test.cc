@@ -72,17 +72,18 @@ TEST_F(FitReportTest, CompensatedPointsFitTheSameModelAsTheirRawDrift) {
                       .ok());
     }
   }
-  Sqlite().WithConnection([&](Database& db) {
+  WithConnection([&](SqlConnection& db) {
     std::vector<std::pair<int64_t, int64_t>> points;  // id, ts
-    Statement q(db, "SELECT id, ts_ms FROM probe_points");
+    SqlStatement q(db, "SELECT id, ts_ms FROM probe_points");
     while (q.Step()) points.emplace_back(q.Int(0), q.Int(1));
     for (const auto& [id, ts] : points) {
-      Statement up(db,
-                   "UPDATE probe_axis_values SET deviation_mm = deviation_mm + ? WHERE point_id = ?"
-                   " AND axis = 'Y'");
+      SqlStatement up(
+          db,
+          "UPDATE probe_axis_values SET deviation_mm = deviation_mm + ? WHERE point_id = ?"
+          " AND axis = 'Y'");
       up.Bind(1, served(ts)).Bind(2, id);
       ASSERT_TRUE(up.Run().ok());
-      Statement flag(db, "UPDATE probe_points SET compensated = 1 WHERE id = ?");
+      SqlStatement flag(db, "UPDATE probe_points SET compensated = 1 WHERE id = ?");
       flag.Bind(1, id);
       ASSERT_TRUE(flag.Run().ok());
     }
@@ -98,8 +99,8 @@ TEST_F(FitReportTest, CompensatedPointsFitTheSameModelAsTheirRawDrift) {
   }
   // The served log stops two days before now: later compensated points
   // have nothing to undo.
-  Sqlite().WithConnection([&](Database& db) {
-    Statement del(db, "DELETE FROM compensation_log WHERE ts_ms > ?");
+  WithConnection([&](SqlConnection& db) {
+    SqlStatement del(db, "DELETE FROM compensation_log WHERE ts_ms > ?");
     del.Bind(1, clock_.NowMs() - 2 * 24 * kHour);
     ASSERT_TRUE(del.Run().ok());
   });
@@ -122,10 +123,10 @@ TEST_F(FitReportTest, ASensorWithoutReadingsInTheHeldOutRunsLeavesTheValidation)
   auto before = app_->fits().Fit("m1", "Y", req);
   ASSERT_TRUE(before.ok()) << before.status().ToString();
   ASSERT_GT(before->validation.n, 0);
-  Sqlite().WithConnection([&](Database& db) {
-    Statement add(db,
-                  "INSERT INTO sensors (machine_id, name, ewma_alpha)"
-                  " SELECT id, 'Tscrew_new', 0.2 FROM machines WHERE name = 'm1'");
+  WithConnection([&](SqlConnection& db) {
+    SqlStatement add(db,
+                     "INSERT INTO sensors (machine_id, name, ewma_alpha)"
+                     " SELECT id, 'Tscrew_new', 0.2 FROM machines WHERE name = 'm1'");
     ASSERT_TRUE(add.Run().ok());
   });
   auto after = app_->fits().Fit("m1", "Y", req);

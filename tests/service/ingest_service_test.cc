@@ -51,6 +51,7 @@ TEST_F(IngestServiceTest, LateSampleReplaysTheFilterFromItsTime) {
 }
 
 TEST_F(IngestServiceTest, ALateSampleRewritesOnlyTheRowsItChangesMeasurably) {
+  if (testing::OnPostgresql()) GTEST_SKIP() << "counts the rows SQLite changed";
   // 20 000 archived minutes, then a late batch near their start: the replay
   // ends where the change fell below 1e-9 degC (alpha 0.5: ~40 rows), not
   // at the newest sample, and every stored value stays within that of an

@@ -1,7 +1,7 @@
-// AppliedStore on SQLite: each axis keeps its newest kAppliedKeptPerAxis
+// AppliedStore on SQLite and PostgreSQL: each axis keeps its newest kAppliedKeptPerAxis
 // records, the oldest going as new ones come, and the newest and the
 // history are read per axis, newest first.
-#include "storage/sqlite/sqlite_storage.h"
+#include "storage/storage.h"
 
 #include <filesystem>
 
@@ -17,9 +17,8 @@ class AppliedStoreTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = testing::TempDir();
-    auto storage = SqliteStorage::OpenFile((dir_ / "a.db").string());
-    ASSERT_TRUE(storage.ok()) << storage.status().ToString();
-    storage_ = std::move(storage).value();
+    storage_ = testing::OpenTestStorage(dir_, postgres_);
+    ASSERT_TRUE(storage_);
     MachineRecord m;
     m.name = "m1";
     m.sensors = {{0, "T1", "", 0.2}};
@@ -44,7 +43,8 @@ class AppliedStoreTest : public ::testing::Test {
     return r;
   }
   std::filesystem::path dir_;
-  std::unique_ptr<SqliteStorage> storage_;
+  testing::TestPostgresDatabase postgres_;  // on PostgreSQL: dropped after storage_ closed it
+  std::unique_ptr<Storage> storage_;
   int64_t x_ = 0, y_ = 0;
 };
 

@@ -1,7 +1,7 @@
 // The feed-axis store on a real SQLite file: configurations per axis
 // (upserted), models versioned per axis across types with at most one
 // active, and the migration that adds both keeping a database's data.
-#include "storage/sqlite/feed_model_store.h"
+#include "storage/sql/feed_model_store.h"
 
 #include <filesystem>
 

@@ -1,7 +1,7 @@
 // The database lock is held by a Session and nowhere else: a store works
 // only inside its session, a second session waits for the first, and a
 // write is one transaction on a session.
-#include "storage/sqlite/sqlite_storage.h"
+#include "storage/storage.h"
 
 #include <atomic>
 #include <chrono>
@@ -19,9 +19,8 @@ class SessionTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = testing::TempDir();
-    auto storage = SqliteStorage::OpenFile((dir_ / "s.db").string());
-    ASSERT_TRUE(storage.ok()) << storage.status().ToString();
-    storage_ = std::move(storage).value();
+    storage_ = testing::OpenTestStorage(dir_, postgres_);
+    ASSERT_TRUE(storage_);
   }
   void TearDown() override {
     storage_.reset();
@@ -35,7 +34,8 @@ class SessionTest : public ::testing::Test {
     return m;
   }
   std::filesystem::path dir_;
-  std::unique_ptr<SqliteStorage> storage_;
+  testing::TestPostgresDatabase postgres_;  // on PostgreSQL: dropped after storage_ closed it
+  std::unique_ptr<Storage> storage_;
 };
 
 TEST_F(SessionTest, AStoreWorksOnlyWhileItsSessionHoldsTheLock) {

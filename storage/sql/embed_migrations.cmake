@@ -1,0 +1,16 @@
+# Writes OUT: a table of {version, name, sql} from DIR/NNNN_*.sql, in order,
+# as the function FUNC declared in HEADER.
+file(GLOB FILES ${DIR}/[0-9][0-9][0-9][0-9]_*.sql)
+list(SORT FILES)
+set(body "// Generated from migrations/*.sql by embed_migrations.cmake. Do not edit.\n")
+string(APPEND body "#include \"${HEADER}\"\nnamespace thermocomp {\n")
+string(APPEND body "const std::vector<Migration>& ${FUNC}() {\n  static const std::vector<Migration> m = {\n")
+foreach(f ${FILES})
+  get_filename_component(name ${f} NAME_WE)
+  string(SUBSTRING ${name} 0 4 version)
+  math(EXPR version "${version}")
+  file(READ ${f} sql)
+  string(APPEND body "    {${version}, \"${name}\", R\"thermocomp_sql(${sql})thermocomp_sql\"},\n")
+endforeach()
+string(APPEND body "  };\n  return m;\n}\n}  // namespace thermocomp\n")
+file(WRITE ${OUT} "${body}")
