@@ -58,6 +58,18 @@ std::string RewritePlaceholders(std::string_view sql, std::vector<int>* pg_index
   return out;
 }
 
+// `text` with the password of any postgresql:// URL in it replaced by ***:
+// libpq quotes the URL it could not parse.
+std::string WithoutPassword(std::string text) {
+  for (size_t at = text.find("://"); at != std::string::npos; at = text.find("://", at + 3)) {
+    const size_t end = text.find_first_of("@/ \"'", at + 3);
+    if (end == std::string::npos || text[end] != '@') continue;
+    const size_t colon = text.find(':', at + 3);
+    if (colon != std::string::npos && colon < end) text.replace(colon + 1, end - colon - 1, "***");
+  }
+  return text;
+}
+
 Status PgError(PGconn* conn, const PGresult* result, std::string_view context) {
   const char* state = result ? PQresultErrorField(result, PG_DIAG_SQLSTATE) : nullptr;
   std::string message(context);
@@ -65,6 +77,18 @@ Status PgError(PGconn* conn, const PGresult* result, std::string_view context) {
   while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
   if (PQstatus(conn) != CONNECTION_OK || (state && std::strncmp(state, "08", 2) == 0)) {
     return Status::Unavailable("the PostgreSQL server cannot be reached: retry; " + message);
+  }
+  // A standby after a failover (read-only), a cancelled statement, a
+  // server out of memory or connections, or one shutting down: retry.
+  for (const char* again : {"25006", "57014", "53200", "53300", "57P01", "57P02", "57P03"}) {
+    if (state && std::strcmp(state, again) == 0) {
+      return Status::Unavailable("the PostgreSQL server cannot take it now: retry; " + message);
+    }
+  }
+  // A reading of a month without its partition (one dropped by hand) is
+  // the archive's fault, not the request's.
+  if (state && std::strcmp(state, "23514") == 0 && message.find("partition") != std::string::npos) {
+    return Status::Internal(message);
   }
   if (state && std::strncmp(state, "23", 2) == 0) return Status::Conflict(message);
   if (state && std::strcmp(state, "53100") == 0) {
@@ -79,18 +103,29 @@ Status PgError(PGconn* conn, const PGresult* result, std::string_view context) {
 }
 
 StatusOr<std::unique_ptr<PgConnection>> PgConnection::Connect(const std::string& url) {
-  PGconn* conn = PQconnectdb(url.c_str());
+  // The defaults first: what the URL itself says is read after them and wins.
+  const char* keywords[] = {"connect_timeout",
+                            "keepalives_idle",
+                            "keepalives_interval",
+                            "keepalives_count",
+                            "tcp_user_timeout",
+                            "dbname",
+                            nullptr};
+  const char* values[] = {"10", "30", "10", "3", "30000", url.c_str(), nullptr};
+  PGconn* conn = PQconnectdbParams(keywords, values, /*expand_dbname=*/1);
   if (!conn) return Status::Unavailable("cannot connect to PostgreSQL: out of memory");
   if (PQstatus(conn) != CONNECTION_OK) {
-    std::string message = PQerrorMessage(conn);
+    std::string message = WithoutPassword(PQerrorMessage(conn));
     while (!message.empty() && message.back() == '\n') message.pop_back();
     PQfinish(conn);
     return Status::Unavailable("cannot connect to PostgreSQL: " + message);
   }
   std::unique_ptr<PgConnection> db(new PgConnection(conn));
-  if (Status s = db->Exec(kSessionSettings); !s.ok()) {
-    return s;
-  }
+  const std::string host = PQhost(conn);
+  db->describe_ = std::string("postgresql://") + PQuser(conn) + "@" +
+                  (host.find('/') != std::string::npos ? "[" + host + "]" : host) + ":" +
+                  PQport(conn) + "/" + PQdb(conn);
+  if (Status s = db->Exec(kSessionSettings); !s.ok()) return s;
   return db;
 }
 
@@ -108,6 +143,7 @@ bool PgConnection::EnsureConnected() {
     PQconsumeInput(conn_);
   }
   if (PQstatus(conn_) == CONNECTION_OK) return true;
+  if (in_transaction_) return false;
   PQreset(conn_);
   prepared_.clear();
   months_ready_.clear();
@@ -128,10 +164,11 @@ void PgConnection::Note(const PGresult* result) {
          std::strncmp(command, "DELETE", 6) == 0)) {
       changes_ = std::strtoll(tuples, nullptr, 10);
     }
-    storage_full_ = false;
   } else if (st == PGRES_FATAL_ERROR) {
     const char* state = PQresultErrorField(result, PG_DIAG_SQLSTATE);
     if (state && std::strcmp(state, "53100") == 0) storage_full_ = true;
+    // A month's partition dropped by hand: made again before the next write.
+    if (state && std::strcmp(state, "23514") == 0) months_ready_.clear();
   }
 }
 
@@ -156,11 +193,44 @@ Status PgConnection::Exec(std::string_view sql) {
   }
 }
 
+Status PgConnection::Begin() {
+  if (Status s = Exec("BEGIN"); !s.ok()) return s;
+  in_transaction_ = true;
+  if (Status s = Exec("SELECT pg_advisory_xact_lock(7310454)"); !s.ok()) {
+    Rollback();
+    return s;
+  }
+  return Status::Ok();
+}
+
 Status PgConnection::Commit() {
-  return Exec("COMMIT");
+  if (!EnsureConnected()) {
+    in_transaction_ = false;  // gone with the connection; the next statement connects again
+    months_ready_.clear();
+    return Status::Unavailable("the PostgreSQL server was lost in the transaction: retry");
+  }
+  PGresult* r = PQexec(conn_, "COMMIT");
+  Note(r);
+  Status s = Status::Ok();
+  const char* tag = PQcmdStatus(r);
+  if (PQresultStatus(r) != PGRES_COMMAND_OK) {
+    s = PgError(conn_, r, "COMMIT failed: ");
+  } else if (!tag || std::strcmp(tag, "COMMIT") != 0) {
+    // A transaction an earlier error aborted answers COMMIT with ROLLBACK.
+    s = Status::Internal("the transaction was rolled back by an earlier error");
+  }
+  PQclear(r);
+  in_transaction_ = false;
+  if (s.ok()) {
+    storage_full_ = false;  // a write went through: there is room again
+  } else {
+    months_ready_.clear();
+  }
+  return s;
 }
 
 void PgConnection::Rollback() {
+  in_transaction_ = false;
   Exec("ROLLBACK");
   // Partitions made in the transaction went with it.
   months_ready_.clear();
@@ -187,7 +257,7 @@ Status PgConnection::PrepareReadingsAt(int64_t ts_ms) {
   const int y = static_cast<int>(ymd.year());
   const unsigned m = static_cast<unsigned>(ymd.month());
   const int64_t key = int64_t{y} * 12 + (m - 1);
-  if (months_ready_.count(key)) return Status::Ok();
+  if (!partitioned_ || months_ready_.count(key)) return Status::Ok();
   if (y < 1970 || y > 9999) return Status::InvalidArgument("a reading's time is outside 1970-9999");
   const year_month first = ymd.year() / ymd.month();
   const year_month next = first + months(1);
@@ -229,19 +299,6 @@ StatusOr<std::string> PgConnection::PreparedName(const std::string& sql,
   PQclear(r);
   prepared_.emplace(std::move(key), name);
   return name;
-}
-
-std::string PgConnection::Describe() const {
-  std::string out = "postgresql://";
-  out += PQuser(conn_);
-  out += "@";
-  const std::string host = PQhost(conn_);
-  out += host.find('/') != std::string::npos ? "[" + host + "]" : host;
-  out += ":";
-  out += PQport(conn_);
-  out += "/";
-  out += PQdb(conn_);
-  return out;
 }
 
 }  // namespace thermocomp

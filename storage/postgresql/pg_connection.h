@@ -6,6 +6,7 @@
 // libpq is the ABI every PostgreSQL release keeps.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <set>
@@ -34,7 +35,10 @@ Status PgError(PGconn* conn, const PGresult* result, std::string_view context);
 
 class PgConnection final : public SqlConnection {
  public:
-  // Connects with a libpq connection string or postgresql:// URL.
+  // Connects to a postgresql:// URL. Unless the URL says otherwise, a
+  // connection attempt gives up after 10 s and a server that stops
+  // answering is noticed within about a minute (TCP keepalives, a 30-s
+  // limit on unacknowledged writes), so requests get 503 instead of hanging.
   static StatusOr<std::unique_ptr<PgConnection>> Connect(const std::string& url);
   ~PgConnection() override;
   PgConnection(const PgConnection&) = delete;
@@ -42,7 +46,10 @@ class PgConnection final : public SqlConnection {
 
   SqlDialect dialect() const override { return SqlDialect::kPostgresql; }
   Status Exec(std::string_view sql) override;
-  Status Begin() override { return Exec("BEGIN"); }
+  // Writers of other processes (an import beside the server) wait for the
+  // transaction's end, as SQLite's BEGIN IMMEDIATE makes them: a
+  // transaction-scoped advisory lock.
+  Status Begin() override;
   Status Commit() override;
   void Rollback() override;
   int64_t LastInsertId() override;
@@ -50,10 +57,12 @@ class PgConnection final : public SqlConnection {
   Status PrepareReadingsAt(int64_t ts_ms) override;
   std::unique_ptr<StatementImpl> Prepare(std::string_view sql, Status* error) override;
 
-  // "postgresql://user@host:port/dbname", never the password.
-  std::string Describe() const;
-  // Whether the last write found the disk full (SQLSTATE 53100).
-  bool storage_full() const { return storage_full_; }
+  // "postgresql://user@host:port/dbname", never the password; fixed at
+  // connection, so any thread may read it.
+  const std::string& Describe() const { return describe_; }
+  // Whether a write found the disk full (SQLSTATE 53100), until a commit
+  // succeeds; any thread may read it.
+  bool storage_full() const { return storage_full_.load(); }
 
   // For PgStatement: the server-side name of `sql` prepared with these
   // parameter types, preparing it on first use.
@@ -63,8 +72,12 @@ class PgConnection final : public SqlConnection {
   PGconn* handle() { return conn_; }
   // Between transactions, a connection the server has closed is replaced
   // by a new one (whose prepared statements and partitions are not known
-  // yet); false when the server cannot be reached.
+  // yet); false when the server cannot be reached, or inside a transaction
+  // (lost with the connection: every statement fails until Rollback()).
   bool EnsureConnected();
+  // Whether samples is partitioned here (not when a TimescaleDB user made
+  // it a hypertable: then it makes its own chunks).
+  void set_partitioned(bool partitioned) { partitioned_ = partitioned; }
 
  private:
   explicit PgConnection(PGconn* conn) : conn_(conn) {}
@@ -72,8 +85,11 @@ class PgConnection final : public SqlConnection {
   PGconn* conn_;
   std::unordered_map<std::string, std::string> prepared_;  // sql + types -> name
   std::set<int64_t> months_ready_;                         // partitions of samples known to exist
+  std::string describe_;
   int64_t changes_ = 0;
-  bool storage_full_ = false;
+  bool in_transaction_ = false;
+  bool partitioned_ = true;
+  std::atomic<bool> storage_full_{false};
 };
 
 }  // namespace thermocomp

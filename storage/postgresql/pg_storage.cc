@@ -55,6 +55,11 @@ StatusOr<std::unique_ptr<PgStorage>> PgStorage::Open(const std::string& url, int
                              std::chrono::system_clock::now().time_since_epoch())
                              .count();
   conn.Lock();
+  {
+    // 'p': partitioned as migrated; a TimescaleDB hypertable makes its own chunks.
+    SqlStatement q(conn, "SELECT relkind FROM pg_class WHERE oid = to_regclass('samples')");
+    conn.set_partitioned(q.Step() && q.Text(0) == "p");
+  }
   Status ahead = Status::Ok();
   for (int m = 0; m < 3 && ahead.ok(); ++m) {
     ahead = conn.PrepareReadingsAt(now_ms + int64_t{m} * 31 * 86400000);

@@ -1,4 +1,4 @@
-// SqlAppliedStore: AppliedStore on SQLite
+// SqlAppliedStore: AppliedStore over SQL (SQLite or PostgreSQL)
 // (migrations/0016_applied_compensation.sql).
 #pragma once
 

@@ -1,4 +1,4 @@
-// SqlFeedModelStore: FeedModelStore over SQLite (feed_axis_configs,
+// SqlFeedModelStore: FeedModelStore over SQL (feed_axis_configs,
 // feed_models; migrations/0009_feed_axis.sql).
 #pragma once
 

@@ -3,8 +3,10 @@
 // an insert, one partition of the readings per month, and a database that
 // would sort names differently refused. The rewrite is checked everywhere;
 // the rest on the server the test run starts (tests/test_database.h).
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -101,6 +103,58 @@ TEST_F(PostgresqlTest, ReadingsGoToTheirMonthsPartition) {
     EXPECT_EQ(q.Text(0), "samples_201903");
     EXPECT_FALSE(q.Step());
   });
+}
+
+// A transaction whose connection is lost is never finished on a new one:
+// the statements after the loss fail, the commit fails, nothing of it is
+// stored, and the next transaction connects again.
+TEST_F(PostgresqlTest, ATransactionThatLosesItsConnectionLeavesNothing) {
+  int64_t pid = 0;
+  storage_->WithConnection([&](SqlConnection& db) {
+    SqlStatement q(db, "SELECT pg_backend_pid()");
+    ASSERT_TRUE(q.Step());
+    pid = q.Int(0);
+  });
+  auto admin = PgConnection::Connect(postgres_.url());
+  ASSERT_TRUE(admin.ok());
+  MachineRecord m;
+  m.name = "a";
+  m.sensors = {{0, "T1", "", 0.2}};
+  m.axes = {{0, "Y", 0.0, {"T1"}, 0.03}};
+  {
+    const std::unique_ptr<Session> session = storage_->Open();
+    Transaction t(*session);
+    ASSERT_TRUE(t.status().ok());
+    ASSERT_TRUE(session->machines().Upsert(m, 0).ok());
+    const std::string id = std::to_string(pid);
+    ASSERT_TRUE((*admin)->Exec("SELECT pg_terminate_backend(" + id + ")").ok());
+    // Termination is a signal: wait (up to 60 s) until the backend is gone.
+    for (int i = 0; i < 600; ++i) {
+      bool alive = true;
+      (*admin)->Lock();
+      {
+        SqlStatement q(**admin, "SELECT 1 FROM pg_stat_activity WHERE pid = " + id);
+        alive = q.Step();
+      }
+      (*admin)->Unlock();
+      if (!alive) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    m.name = "b";
+    EXPECT_FALSE(session->machines().Upsert(m, 0).ok());
+    EXPECT_FALSE(t.Commit().ok());
+  }
+  const std::unique_ptr<Session> session = storage_->Open();
+  EXPECT_FALSE(session->machines().Find("a").has_value());
+  EXPECT_FALSE(session->machines().Find("b").has_value());
+  {
+    Transaction t(*session);
+    ASSERT_TRUE(t.status().ok()) << t.status().ToString();
+    m.name = "c";
+    ASSERT_TRUE(session->machines().Upsert(m, 0).ok());
+    ASSERT_TRUE(t.Commit().ok());
+  }
+  EXPECT_TRUE(session->machines().Find("c").has_value());
 }
 
 TEST_F(PostgresqlTest, ADatabaseSortingByLanguageIsRefused) {

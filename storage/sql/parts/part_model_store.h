@@ -1,4 +1,4 @@
-// SqlPartModelStore: PartModelStore on SQLite (migrations/0012_part_models.sql).
+// SqlPartModelStore: PartModelStore over SQL (migrations/0012_part_models.sql).
 #pragma once
 
 #include "storage/parts/part_model_store.h"

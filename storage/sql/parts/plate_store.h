@@ -1,4 +1,4 @@
-// SqlPlateStore: PlateStore on SQLite (migrations/0010_plates.sql).
+// SqlPlateStore: PlateStore over SQL (migrations/0010_plates.sql).
 #pragma once
 
 #include <optional>

@@ -1,4 +1,4 @@
-// SqlSurfaceStore: SurfaceStore on SQLite (migrations/0013_surfaces.sql).
+// SqlSurfaceStore: SurfaceStore over SQL (migrations/0013_surfaces.sql).
 #pragma once
 
 #include "storage/parts/surface_store.h"

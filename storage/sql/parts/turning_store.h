@@ -1,4 +1,4 @@
-// SqlTurningStore: TurningStore on SQLite (migrations/0011_turned_parts.sql).
+// SqlTurningStore: TurningStore over SQL (migrations/0011_turned_parts.sql).
 #pragma once
 
 #include "storage/parts/turning_store.h"
