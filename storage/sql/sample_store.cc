@@ -1,11 +1,22 @@
 #include "storage/sql/sample_store.h"
 
 #include <algorithm>
+#include <charconv>
 #include <map>
 
 #include "storage/sql/envelope.h"
 
 namespace thermocomp {
+namespace {
+
+// The shortest text that reads back as exactly `v` (a finite reading).
+std::string ShortestText(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+}  // namespace
 
 std::optional<FilterState> SqlSampleStore::LoadFilterState(int64_t sensor_id) {
   SqlStatement q(db_, "SELECT last_ts_ms, last_value, state FROM filter_state WHERE sensor_id = ?");
@@ -28,6 +39,31 @@ Status SqlSampleStore::Insert(int64_t sensor_id, const SampleRow& row) {
   return Insert(sensor_id, std::vector<SampleRow>{row});
 }
 
+Status SqlSampleStore::InsertAsArrays(int64_t sensor_id, const std::vector<SampleRow>& rows) {
+  // SQLite runs a statement in the process; PostgreSQL answers each over a
+  // connection, so its rows go 1 000 to a statement, as three arrays.
+  SqlStatement q(db_,
+                 "INSERT INTO samples(sensor_id, ts_ms, value, filtered) SELECT ?1, t, v, f FROM"
+                 " unnest(CAST(?2 AS BIGINT[]), CAST(?3 AS DOUBLE PRECISION[]),"
+                 " CAST(?4 AS DOUBLE PRECISION[])) AS x(t, v, f)");
+  constexpr size_t kChunk = 1000;
+  std::string ts, values, filtered;
+  for (size_t first = 0; first < rows.size(); first += kChunk) {
+    ts = values = filtered = "{";
+    for (size_t i = first; i < std::min(rows.size(), first + kChunk); ++i) {
+      if (Status s = db_.PrepareReadingsAt(rows[i].ts_ms); !s.ok()) return s;
+      const char* sep = i == first ? "" : ",";
+      ts += sep + std::to_string(rows[i].ts_ms);
+      values += sep + ShortestText(rows[i].value);
+      filtered += sep + ShortestText(rows[i].filtered);
+    }
+    q.Reset();
+    q.Bind(1, sensor_id).Bind(2, ts + "}").Bind(3, values + "}").Bind(4, filtered + "}");
+    if (Status s = q.Run(); !s.ok()) return s;
+  }
+  return Status::Ok();
+}
+
 Status SqlSampleStore::Insert(int64_t sensor_id, const std::vector<SampleRow>& rows) {
   // Each hour's envelope of the new rows, written once per hour below.
   struct Hour {
@@ -35,12 +71,16 @@ Status SqlSampleStore::Insert(int64_t sensor_id, const std::vector<SampleRow>& r
     double min = 0, max = 0, sum = 0;
   };
   std::map<int64_t, Hour> hours;
+  if (db_.dialect() == SqlDialect::kPostgresql) {
+    if (Status s = InsertAsArrays(sensor_id, rows); !s.ok()) return s;
+  }
   SqlStatement q(db_, "INSERT INTO samples(sensor_id, ts_ms, value, filtered) VALUES (?, ?, ?, ?)");
   for (const SampleRow& row : rows) {
-    if (Status s = db_.PrepareReadingsAt(row.ts_ms); !s.ok()) return s;
-    q.Reset();
-    q.Bind(1, sensor_id).Bind(2, row.ts_ms).Bind(3, row.value).Bind(4, row.filtered);
-    if (Status s = q.Run(); !s.ok()) return s;
+    if (db_.dialect() == SqlDialect::kSqlite) {
+      q.Reset();
+      q.Bind(1, sensor_id).Bind(2, row.ts_ms).Bind(3, row.value).Bind(4, row.filtered);
+      if (Status s = q.Run(); !s.ok()) return s;
+    }
     Hour& h = hours[row.ts_ms / 3600000 * 3600000];
     if (h.n == 0 || row.value < h.min || (row.value == h.min && row.ts_ms < h.min_ts)) {
       h.min = row.value;

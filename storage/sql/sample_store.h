@@ -41,6 +41,9 @@ class SqlSampleStore final : public SampleStore {
   StatusOr<int64_t> ReleaseFreePages(int64_t max_pages) override;
 
  private:
+  // PostgreSQL's insert of the rows themselves (the envelope is Insert's).
+  Status InsertAsArrays(int64_t sensor_id, const std::vector<SampleRow>& rows);
+
   SqlConnection& db_;
 };
 
