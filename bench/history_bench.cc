@@ -12,8 +12,8 @@
 #include "reports/model_codec.h"
 #include "server/open_app.h"
 #include "service/app.h"
-#include "storage/sqlite/log_store.h"
-#include "storage/sqlite/model_store.h"
+#include "storage/sql/log_store.h"
+#include "storage/sql/model_store.h"
 #include "storage/sqlite/sqlite_storage.h"
 
 namespace thermocomp {
@@ -78,7 +78,7 @@ std::unique_ptr<App> BuildYear(const Config& config, const Clock& clock) {
         }
       }
     }
-    SqliteLogStore log(db);
+    SqlLogStore log(db);
     for (int i = 0; i < kMinutes; ++i) {
       log.AppendCompensation(
           1, {kStart + i * kMinute, 0.001 * std::sin(i / 300.0), 0.0, true, false, 1});
@@ -87,8 +87,8 @@ std::unique_ptr<App> BuildYear(const Config& config, const Clock& clock) {
     model.inputs = {"T0", "T1"};
     model.coefficients = {-0.01, 0.008};
     model.trained = {{-2, 2}, {-2, 2}};
-    SqliteModelStore(db).Insert(
-        1, {0, "active", "bench", kStart, DriftModelToJson(model).dump(), "{}"});
+    SqlModelStore(db).Insert(1,
+                             {0, "active", "bench", kStart, DriftModelToJson(model).dump(), "{}"});
     db.Exec("COMMIT");
   });
   return app;

@@ -3,7 +3,8 @@
 # every test; then builds again with clang's AddressSanitizer and
 # UndefinedBehaviorSanitizer and runs every test there too but the
 # statistical studies (label "study": many machines each), the pages in
-# Chromium (label "browser") and the OPC UA face (label "opcua"), with each
+# Chromium (label "browser"), the OPC UA face (label "opcua") and most of
+# the second run on PostgreSQL (label "postgresql"), with each
 # libFuzzer harness for a few seconds (tests/fuzz; longer runs:
 # tests/fuzz/run_fuzzers.sh); last, clang-tidy over every source not
 # recorded clean as it is now (deploy/tidy.sh, with that build's settings,
@@ -36,7 +37,12 @@ stage "sanitizer build"
 # against the same API the HTTP tests drive under the sanitizers here, and
 # so does the OPC UA face (label "opcua", a Node.js program: its requests
 # are the HTTP tests' requests, the applied record's among them).
-(cd build-sanitize && ctest --output-on-failure -j 2 -LE "study|browser|opcua")
+# The archive-backed tests on PostgreSQL (label "postgresql") ran above;
+# here only those of the PostgreSQL code itself (the connection, its
+# statements, lost connections, the crash test) run again on it: the
+# stores they share with SQLite run under the sanitizers on SQLite.
+(cd build-sanitize && ctest --output-on-failure -j 2 -LE "study|browser|opcua|postgresql")
+(cd build-sanitize && ctest --output-on-failure -j 2 -R "^pg:(Postgresql|Session|AppliedStore|Crash)")
 stage "sanitizer tests"
 bash deploy/tidy.sh
 stage "clang-tidy"
