@@ -136,33 +136,36 @@ Status BuildYear(SqlConnection& db) {
   }
   const std::string year = std::to_string(365 * 1440);
   const std::string start = std::to_string(kStart);
-  const std::vector<std::string> statements = {
-      "INSERT INTO samples SELECT s.id, " + start +
-          " + i * 60000::bigint, v, v FROM sensors s,"
-          " generate_series(0, " +
-          year +
-          " - 1) i,"
-          " LATERAL (SELECT 20 + 2 * sin(i / 1440.0 * 6.283 + s.id) AS v) x",
-      // The hourly envelope the inserts above bypassed (ties: the earlier time).
+  // The hourly envelopes the inserts bypass (ties: the earlier time).
+  const std::string sample_rollup =
       "INSERT INTO sample_rollup(sensor_id, bucket_ms, n, min_c, min_ts_ms, max_c,"
       " max_ts_ms, sum_c) SELECT sensor_id, ts_ms / 3600000 * 3600000, COUNT(*),"
       " MIN(value), (array_agg(ts_ms ORDER BY value, ts_ms))[1], MAX(value),"
       " (array_agg(ts_ms ORDER BY value DESC, ts_ms))[1], SUM(value) FROM samples"
-      " GROUP BY 1, 2",
-      "INSERT INTO runs(machine_id, name, first_ts_ms) SELECT 1, 'R' || (r + 1), " + start +
-          " + ((r / 4) * 1440 + 360 + (r % 4) * 240) * 60000::bigint FROM generate_series(0, 1459) r",
-      "INSERT INTO probe_points(run_id, k, ts_ms) SELECT id, k, first_ts_ms + k * 15 * 60000"
-      " FROM runs, generate_series(0, 12) k",
-      "INSERT INTO probe_axis_values SELECT id, 'Y', 120.0, 0.001 * k FROM probe_points",
-      "INSERT INTO compensation_log SELECT a.id, " + start +
-          " + i * 60000::bigint, 0.001 * sin(i / 300.0), 0.0, 1, 0, 1 FROM axes a,"
-          " generate_series(0, " +
-          year + " - 1) i",
+      " GROUP BY 1, 2";
+  const std::string compensation_rollup =
       "INSERT INTO compensation_rollup(axis_id, bucket_ms, n, min_mm, min_ts_ms, max_mm,"
       " max_ts_ms) SELECT axis_id, ts_ms / 3600000 * 3600000, COUNT(*), MIN(offset_mm),"
       " (array_agg(ts_ms ORDER BY offset_mm, ts_ms))[1], MAX(offset_mm),"
       " (array_agg(ts_ms ORDER BY offset_mm DESC, ts_ms))[1] FROM compensation_log"
-      " GROUP BY 1, 2",
+      " GROUP BY 1, 2";
+  const std::string points =
+      "INSERT INTO probe_points(run_id, k, ts_ms) SELECT id, k, first_ts_ms + k * 15 * 60000"
+      " FROM runs, generate_series(0, 12) k";
+  const std::vector<std::string> statements = {
+      "INSERT INTO samples SELECT s.id, " + start + " + i * 60000::bigint, v, v FROM sensors s," +
+          " generate_series(0, " + year + " - 1) i," +
+          " LATERAL (SELECT 20 + 2 * sin(i / 1440.0 * 6.283 + s.id) AS v) x",
+      sample_rollup,
+      "INSERT INTO runs(machine_id, name, first_ts_ms) SELECT 1, 'R' || (r + 1), " + start +
+          " + ((r / 4) * 1440 + 360 + (r % 4) * 240) * 60000::bigint" +
+          " FROM generate_series(0, 1459) r",
+      points,
+      "INSERT INTO probe_axis_values SELECT id, 'Y', 120.0, 0.001 * k FROM probe_points",
+      "INSERT INTO compensation_log SELECT a.id, " + start +
+          " + i * 60000::bigint, 0.001 * sin(i / 300.0), 0.0, 1, 0, 1 FROM axes a," +
+          " generate_series(0, " + year + " - 1) i",
+      compensation_rollup,
       "ANALYZE"};
   for (const std::string& sql : statements) {
     if (Status s = db.Exec(sql); !s.ok()) return s;
