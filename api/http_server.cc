@@ -397,6 +397,24 @@ void HttpServer::Routes() {
         return refuse(421, detail, {{0, "Host", detail}});
       }
     }
+    // A read-only server (the centre's) shows what the plants ship: no
+    // writes, except signing in and out of the pages, and no compensation,
+    // which only a line server computes and serves.
+    if (app_.config().read_only) {
+      const bool session = req.path == "/api/v1/session";
+      if (req.method != "GET" && req.method != "HEAD" && req.method != "OPTIONS" && !session) {
+        res.set_header("Allow", "GET, HEAD");
+        return refuse(405,
+                      "read-only server (server.read_only): it shows what the plants ship;"
+                      " write to the machine's line server");
+      }
+      static const std::regex served("/api/v1/machines/[^/]+/compensation/?");
+      if (std::regex_match(req.path, served)) {
+        return refuse(409,
+                      "read-only server (server.read_only): compensation is computed and"
+                      " served by the machine's line server");
+      }
+    }
     switch (TakeContentEncoding(req)) {
       case BodyEncoding::kIdentity:
         break;
@@ -548,7 +566,8 @@ void HttpServer::Routes() {
     WriteJson(res, {{"status", "ready"}, {"schema_version", app_.storage().schema_version()}});
   });
   s.Get("/metrics", [this](const Req&, Res& res) {
-    res.set_content(app_.metrics().Render(app_.ModelGauges() + OperatorGauges(app_)),
+    res.set_content(app_.metrics().Render(app_.ModelGauges() + OperatorGauges(app_) +
+                                          app_.shipping_board().Render()),
                     "text/plain; version=0.0.4");
   });
 

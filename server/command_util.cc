@@ -84,6 +84,10 @@ StatusOr<Config> LoadWithOverrides(const Args& a) {
   if (a.Has("listen")) {
     if (Status s = ParseListen(a.Get("listen"), *c); !s.ok()) return s;
   }
+  if (a.Has("read-only")) c->read_only = true;
+  if (c->read_only && !c->centre_url.empty()) {
+    return Status::InvalidArgument("--read-only: a read-only server ships nothing (centre.url)");
+  }
   if (a.Has("dds-domain")) c->dds_domain = static_cast<uint32_t>(std::stoul(a.Get("dds-domain")));
   log::SetLevel(c->log_level);
   return c;

@@ -84,6 +84,11 @@ int Serve(const Args& a) {
     return Fail(refusal);
   }
   const bool dds = a.Has("dds") || loaded->dds_enabled;
+  if (dds && loaded->read_only) {
+    return Fail(
+        "--read-only: the machines read compensation from their line server, not over"
+        " DDS from a read-only one (dds.enabled)");
+  }
   if (dds && !std::getenv("CYCLONEDDS_URI")) {
     auto file = cli::DdsConfigFile(a, *loaded);
     if (!file.ok()) return Fail(file.status().message());
@@ -93,7 +98,9 @@ int Serve(const Args& a) {
   auto app = thermocomp::OpenApp(*loaded, clock);
   if (!app.ok()) return Fail(app.status().message());
   const Config& config = (*app)->config();
-  for (const auto& m : (*app)->machines().List()) (void)(*app)->compensation().Recompute(m.name);
+  if (!config.read_only) {
+    for (const auto& m : (*app)->machines().List()) (void)(*app)->compensation().Recompute(m.name);
+  }
   api::HttpServer http(**app);
   if (Status s = http.Start(config.listen_host, config.listen_port); !s.ok())
     return Fail(s.message());
@@ -344,8 +351,10 @@ const std::vector<CommandSpec>& Commands() {
   static const std::vector<CommandSpec> commands = {
       {"serve",
        "  serve     [--config FILE] [--db PATH] [--create] [--listen HOST:PORT]\n"
-       "            [--dds [--dds-domain N]]                       run the server\n",
+       "            [--dds [--dds-domain N]]                       run the server\n"
+       "            [--read-only]            show an archive (the centre's), write nothing\n",
        {{"config", true},
+        {"read-only", false},
         {"db", true},
         {"create", false},
         {"listen", true},

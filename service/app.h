@@ -21,6 +21,7 @@
 #include "service/machine_service.h"
 #include "service/metrics.h"
 #include "service/mtconnect/mtconnect_board.h"
+#include "service/shipping/shipping_board.h"
 #include "service/outcome/outcome_service.h"
 #include "service/probe_temperature_cache.h"
 #include "service/refit_scheduler.h"
@@ -75,6 +76,8 @@ class App {
   Metrics& metrics() { return metrics_; }
   // What the MTConnect sources last did (server/background_work.cc runs them).
   MtconnectBoard& mtconnect_board() { return mtconnect_board_; }
+  // How shipping to the centre stands (server/background_work.cc runs it).
+  ShippingBoard& shipping_board() { return shipping_board_; }
   // /metrics lines the services own: fits stored, model age per axis.
   std::string ModelGauges();
 
@@ -104,6 +107,7 @@ class App {
   std::unique_ptr<AppliedCompensationService> applied_;
   Metrics metrics_;
   MtconnectBoard mtconnect_board_;
+  ShippingBoard shipping_board_;
   ProbeTemperatureCache probe_temperatures_;
 };
 

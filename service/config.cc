@@ -1,5 +1,7 @@
 #include "service/config.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -261,6 +263,26 @@ const std::map<std::string, Reader>& Keys() {
       {"alerts.data_stopped_after_s", Int(&Config::alert_data_stopped_after_s, 60, 86400 * 30)},
       {"alerts.model_error_ratio", Number(&Config::alert_model_error_ratio, 1.01, 1000)},
       {"database.path", Text(&Config::db_path)},
+      {"centre.url",
+       [](const toml::node& n, Config& c) -> std::string {
+         auto v = n.value_exact<std::string>();
+         if (!v || !(v->rfind("postgresql://", 0) == 0 || v->rfind("postgres://", 0) == 0) ||
+             v->size() > 2048) {
+           return "must be a postgresql:// URL";
+         }
+         c.centre_url = *v;
+         return "";
+       }},
+      {"centre.plant",
+       [](const toml::node& n, Config& c) -> std::string {
+         auto v = n.value_exact<std::string>();
+         if (!v || !ValidPlantName(*v)) return "must match [A-Za-z0-9_-]{1,16}";
+         c.centre_plant = *v;
+         return "";
+       }},
+      {"centre.batch_rows", Int(&Config::centre_batch_rows, 1, 100000)},
+      {"centre.interval_ms", Int(&Config::centre_interval_ms, 10, 600000)},
+      {"server.read_only", Bool(&Config::read_only)},
       {"database.synchronous", Text(&Config::synchronous, {"full", "normal"})},
       {"database.busy_timeout_ms", Int(&Config::busy_timeout_ms, 0, 600000)},
       {"compensation.stale_after_s", Int(&Config::stale_after_s, 1, 86400)},
@@ -313,16 +335,19 @@ const std::map<std::string, Reader>& Keys() {
          return "";
        }},
       {"fit.daily_at",
-       [](const toml::node& n, Config& c) -> std::string {
-         auto v = n.value_exact<std::string>();
-         int h = -1, m = -1;
-         if (!v || v->size() != 5 || std::sscanf(v->c_str(), "%2d:%2d", &h, &m) != 2 || h < 0 ||
-             h > 23 || m < 0 || m > 59 || (*v)[2] != ':') {
-           return "must be \"HH:MM\" (UTC)";
-         }
-         c.refit_daily_at_min = h * 60 + m;
-         return "";
-       }},
+       [](const toml::node& n,
+          Config& c) -> std::
+                         string {
+                           auto v = n.value_exact<std::string>();
+                           int h = -1, m = -1;
+                           if (!v || v->size() != 5 ||
+                               std::sscanf(v->c_str(), "%2d:%2d", &h, &m) != 2 || h < 0 || h > 23 ||
+                               m < 0 || m > 59 || (*v)[2] != ':') {
+                             return "must be \"HH:MM\" (UTC)";
+                           }
+                           c.refit_daily_at_min = h * 60 + m;
+                           return "";
+                         }},
       {"checks.every_days", Int(&Config::check_every_days, 0, 365)},
       {"checks.due_after_h", Int(&Config::check_due_after_h, 1, 8760)},
       {"checks.zero_tolerance_um", Number(&Config::zero_tolerance_um, 0.01, 10000)},
@@ -499,7 +524,22 @@ StatusOr<Config> LoadConfig(const std::string& path, Config defaults) {
     return Status::InvalidArgument("config " + path +
                                    ": compensation.plausible_min_c must be below plausible_max_c");
   }
+  if (!c.centre_url.empty() && c.centre_plant.empty()) {
+    return Status::InvalidArgument("config " + path +
+                                   ": centre.plant: a line that ships names its plant");
+  }
+  if (!c.centre_url.empty() && c.read_only) {
+    return Status::InvalidArgument(
+        "config " + path + ": centre.url: a read-only server ships nothing (server.read_only)");
+  }
   return c;
+}
+
+bool ValidPlantName(const std::string& plant) {
+  return !plant.empty() && plant.size() <= 16 &&
+         std::all_of(plant.begin(), plant.end(), [](char ch) {
+           return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-';
+         });
 }
 
 }  // namespace thermocomp

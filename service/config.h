@@ -141,6 +141,15 @@ struct Config {
   int retention_raw_days = 400;
   int retention_keep_around_h = 48;
   int retention_every_h = 24;
+  // [centre] a line server ships what it stores to a central PostgreSQL
+  // (docs/architecture.md, "Plant to centre"); empty url: it does not.
+  std::string centre_url;
+  std::string centre_plant;       // qualifies this line's machine names at the centre
+  int centre_batch_rows = 5000;   // rows in one shipped transaction, at most
+  int centre_interval_ms = 1000;  // how often the outbox is looked at when it was empty
+  // server.read_only: the centre's own server, showing what the plants
+  // ship: no writes over any face, no background work, no compensation.
+  bool read_only = false;
   // [alerts] what counts as an operator's condition (docs/operations.md,
   // Alerts), and where it is sent (empty: nowhere; JSON POST, retried).
   std::string alert_webhook_url;
@@ -164,5 +173,8 @@ struct Config {
 StatusOr<Config> LoadConfig(const std::string& path, Config defaults = {});
 // "host:port" or ":port" or "port".
 Status ParseListen(const std::string& listen, Config& config);
+// centre.plant: what qualifies a line's machine names at the centre
+// ("plant.machine"), so it holds no dot.
+bool ValidPlantName(const std::string& plant);
 
 }  // namespace thermocomp

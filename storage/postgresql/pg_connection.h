@@ -27,6 +27,9 @@ namespace thermocomp {
 // PostgreSQL cannot type. `pg_index[n]` is the $ number of SQLite's ?n (0:
 // not used). Quoted text and comments are left as they are.
 std::string RewritePlaceholders(std::string_view sql, std::vector<int>* pg_index);
+// `text` with the password of any postgresql:// URL in it replaced by ***,
+// for logs and messages.
+std::string WithoutPassword(std::string text);
 
 // What a failed libpq call means for the caller, as the SQLite backend says
 // it: a constraint is a Conflict, a full disk InsufficientStorage, a lost

@@ -3,13 +3,15 @@
 # authentication, no durability.
 #   tests/postgres/pg_test_server.sh start DIR   # DIR/conninfo: the libpq string
 #   tests/postgres/pg_test_server.sh stop DIR    # stops it and removes DIR
+#   tests/postgres/pg_test_server.sh pause DIR   # stops it, keeping DIR
+#   tests/postgres/pg_test_server.sh resume DIR  # starts it again, same port
 # PG_TEST_DURABLE=1 keeps fsync and synchronous commits (benchmarks).
 # `start` is idempotent: a running cluster in DIR is left as it is.
 set -euo pipefail
 
 die() { echo "pg_test_server: $*" >&2; exit 1; }
-[ $# -eq 2 ] && { [ "$1" = start ] || [ "$1" = stop ]; } ||
-  die "usage: $0 start|stop DIR"
+[ $# -eq 2 ] && [[ $1 =~ ^(start|stop|pause|resume)$ ]] ||
+  die "usage: $0 start|stop|pause|resume DIR"
 cmd=$1
 dir=$(realpath -m -- "$2")  # absolute: the server runs with another cwd
 
@@ -109,6 +111,21 @@ stop() {
   fi
   if [ -f "$dir/socketdir" ]; then rm -rf -- "$(cat "$dir/socketdir")"; fi
   rm -rf -- "$dir"
+}
+
+# A centre that goes away and comes back (tests/service/shipping_test.cc):
+# the same data and the same port, so a client's URL stays right.
+pause() {
+  [ -f "$dir/data/PG_VERSION" ] || die "$dir holds no cluster"
+  pg pg_ctl stop -D "$dir/data" -m fast -w -t 60 >/dev/null || die "pg_ctl stop failed"
+}
+
+resume() {
+  [ -f "$dir/conninfo" ] || die "$dir holds no cluster"
+  local port
+  port=$(sed 's/.* port=\([0-9]*\) .*/\1/' "$dir/conninfo")
+  pg pg_ctl start -D "$dir/data" -w -t 60 -l "$dir/server.log" -o "-p $port" >/dev/null ||
+    die "the server did not start again; see $dir/server.log"
 }
 
 "$cmd"

@@ -136,7 +136,7 @@ TEST_F(MigrationTest, SchemaSixteenGainsAcknowledgementsKeepingItsRequests) {
   }
   auto db = Database::Open(Path());
   ASSERT_TRUE(db.ok()) << db.status().ToString();
-  EXPECT_EQ((*db)->schema_version(), 17);
+  EXPECT_EQ((*db)->schema_version(), 18);
   // Requests stored before were acknowledged by nobody.
   EXPECT_EQ(Scalar(**db,
                    "SELECT COUNT(*) FROM check_requests WHERE id = 3 AND reason = 'weekly' AND"

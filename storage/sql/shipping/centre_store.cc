@@ -1,0 +1,261 @@
+#include "storage/sql/shipping/centre_store.h"
+
+#include <algorithm>
+#include <chrono>
+#include <optional>
+
+#include "storage/sql/shipping/shipped_tables.h"
+
+namespace thermocomp {
+namespace {
+
+using IdMap = std::map<std::pair<std::string, int64_t>, int64_t>;
+
+void BindValue(SqlStatement& st, int i, const ShippedValue& v) {
+  switch (v.kind) {
+    case ShippedValue::Kind::kNull:
+      st.BindNull(i);
+      break;
+    case ShippedValue::Kind::kInt:
+      st.Bind(i, v.i);
+      break;
+    case ShippedValue::Kind::kReal:
+      st.Bind(i, v.d);
+      break;
+    case ShippedValue::Kind::kText:
+      st.Bind(i, std::string_view(v.text));
+      break;
+  }
+}
+
+std::string Join(const std::vector<std::string>& names, size_t from, const std::string& pattern) {
+  std::string s;
+  for (size_t i = from; i < names.size(); ++i) {
+    std::string item = pattern;
+    for (size_t at = item.find('@'); at != std::string::npos; at = item.find('@')) {
+      item.replace(at, 1, names[i]);
+    }
+    s += (s.empty() ? "" : ", ") + item;
+  }
+  return s;
+}
+
+std::string Placeholders(size_t from, size_t to) {
+  std::string s;
+  for (size_t i = from; i < to; ++i) s += (s.empty() ? "?" : ", ?") + std::to_string(i - from + 1);
+  return s;
+}
+
+bool InKey(const std::string& conflict, const std::string& column) {
+  size_t start = 0;
+  while (start <= conflict.size()) {
+    size_t end = conflict.find(',', start);
+    if (end == std::string::npos) end = conflict.size();
+    std::string name = conflict.substr(start, end - start);
+    name.erase(std::remove(name.begin(), name.end(), ' '), name.end());
+    if (name == column) return true;
+    start = end + 1;
+  }
+  return false;
+}
+
+// One Apply: the rows of a batch, inside its transaction.
+class Batch {
+ public:
+  Batch(SqlConnection& db, const std::string& plant, const IdMap& committed)
+      : db_(db), plant_(plant), committed_(committed) {}
+
+  Status ApplyRow(const ShippedTable& t, ShippedRow row) {
+    if (row.values.size() != t.columns.size()) {
+      return Status::Internal("shipping: row " + std::to_string(row.seq) + " of " + t.name +
+                              " has " + std::to_string(row.values.size()) + " values");
+    }
+    for (const ShippedRef& ref : t.refs) {
+      const size_t c = Column(t, ref.column);
+      ShippedValue& v = row.values[c];
+      if (v.kind != ShippedValue::Kind::kInt) continue;  // NULL stays NULL
+      std::optional<int64_t> centre;
+      if (Status s = Lookup(ref.table, v.i, &centre); !s.ok()) return s;
+      if (!centre && !ref.loose) {
+        return Status::FailedPrecondition("shipping: row " + std::to_string(row.seq) + " of " +
+                                          t.name + " names " + ref.table + " " +
+                                          std::to_string(v.i) + ", which the centre has not got");
+      }
+      v = centre ? ShippedValue{ShippedValue::Kind::kInt, *centre, 0, {}} : ShippedValue{};
+    }
+    if (!t.machine_name.empty()) {
+      ShippedValue& v = row.values[Column(t, t.machine_name)];
+      if (v.kind == ShippedValue::Kind::kText && !v.text.empty()) v.text = plant_ + "." + v.text;
+    }
+    if (t.name == "samples") {
+      if (Status s = db_.PrepareReadingsAt(row.values[1].i); !s.ok()) return s;
+    }
+    return t.has_id ? ApplyWithId(t, row) : ApplyByKey(t, row);
+  }
+
+  IdMap& added() { return added_; }
+
+ private:
+  static size_t Column(const ShippedTable& t, const std::string& name) {
+    return static_cast<size_t>(std::find(t.columns.begin(), t.columns.end(), name) -
+                               t.columns.begin());
+  }
+
+  Status Lookup(const std::string& table, int64_t line_id, std::optional<int64_t>* centre) {
+    const auto key = std::make_pair(table, line_id);
+    if (auto it = added_.find(key); it != added_.end()) {
+      *centre = it->second;
+      return Status::Ok();
+    }
+    if (auto it = committed_.find(key); it != committed_.end()) {
+      *centre = it->second;
+      return Status::Ok();
+    }
+    SqlStatement st(
+        db_, "SELECT centre_id FROM ship_ids WHERE plant = ?1 AND tbl = ?2 AND line_id = ?3");
+    st.Bind(1, std::string_view(plant_)).Bind(2, std::string_view(table)).Bind(3, line_id);
+    if (st.Step()) {
+      *centre = st.Int(0);
+      added_[key] = **centre;
+    }
+    return st.status();
+  }
+
+  // A row with an id: updated where the centre has it, else inserted (or
+  // met on its unique key) and its centre id remembered.
+  Status ApplyWithId(const ShippedTable& t, const ShippedRow& row) {
+    const int64_t line_id = row.values[0].i;
+    std::optional<int64_t> centre;
+    if (Status s = Lookup(t.name, line_id, &centre); !s.ok()) return s;
+    const size_t n = t.columns.size();
+    if (centre) {
+      std::string sets;
+      for (size_t i = 1; i < n; ++i) {
+        sets += (i > 1 ? ", " : "") + t.columns[i] + " = ?" + std::to_string(i);
+      }
+      SqlStatement update(
+          db_, "UPDATE " + t.name + " SET " + sets + " WHERE id = ?" + std::to_string(n));
+      for (size_t i = 1; i < n; ++i) BindValue(update, static_cast<int>(i), row.values[i]);
+      update.Bind(static_cast<int>(n), *centre);
+      return update.Run();
+    }
+    std::string sql = "INSERT INTO " + t.name + " (" + Join(t.columns, 1, "@") + ") VALUES (" +
+                      Placeholders(1, n) + ")";
+    if (!t.conflict.empty()) {
+      std::vector<std::string> rest;
+      for (size_t i = 1; i < n; ++i) {
+        if (!InKey(t.conflict, t.columns[i])) rest.push_back(t.columns[i]);
+      }
+      sql += " ON CONFLICT (" + t.conflict + ") DO UPDATE SET " + Join(rest, 0, "@ = excluded.@");
+    }
+    sql += " RETURNING id";
+    SqlStatement insert(db_, sql);
+    for (size_t i = 1; i < n; ++i) BindValue(insert, static_cast<int>(i), row.values[i]);
+    if (!insert.Step()) {
+      return insert.status().ok() ? Status::Internal("shipping: no id returned for " + t.name)
+                                  : insert.status();
+    }
+    const int64_t id = insert.Int(0);
+    if (Status s = insert.Run(); !s.ok()) return s;
+    SqlStatement remember(db_,
+                          "INSERT INTO ship_ids (plant, tbl, line_id, centre_id) VALUES"
+                          " (?1, ?2, ?3, ?4) ON CONFLICT (plant, tbl, line_id) DO UPDATE SET"
+                          " centre_id = excluded.centre_id");
+    remember.Bind(1, std::string_view(plant_))
+        .Bind(2, std::string_view(t.name))
+        .Bind(3, line_id)
+        .Bind(4, id);
+    if (Status s = remember.Run(); !s.ok()) return s;
+    added_[{t.name, line_id}] = id;
+    return Status::Ok();
+  }
+
+  // A row whose key is its columns (a reading, a served value).
+  Status ApplyByKey(const ShippedTable& t, const ShippedRow& row) {
+    const size_t n = t.columns.size();
+    std::vector<std::string> rest;
+    for (const std::string& c : t.columns) {
+      if (!InKey(t.conflict, c)) rest.push_back(c);
+    }
+    std::string sql = "INSERT INTO " + t.name + " (" + Join(t.columns, 0, "@") + ") VALUES (" +
+                      Placeholders(0, n) + ") ON CONFLICT (" + t.conflict + ") DO " +
+                      (rest.empty() ? "NOTHING" : "UPDATE SET " + Join(rest, 0, "@ = excluded.@"));
+    SqlStatement st(db_, sql);
+    for (size_t i = 0; i < n; ++i) BindValue(st, static_cast<int>(i + 1), row.values[i]);
+    return st.Run();
+  }
+
+  SqlConnection& db_;
+  const std::string& plant_;
+  const IdMap& committed_;
+  IdMap added_;
+};
+
+int64_t NowMs() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+Status SqlCentre::Applied(const std::string& plant, int64_t* seq) {
+  Status status;
+  with_([&](SqlConnection& db) {
+    SqlStatement st(db, "SELECT seq FROM ship_progress WHERE plant = ?1");
+    st.Bind(1, std::string_view(plant));
+    *seq = st.Step() ? st.Int(0) : 0;
+    status = st.status();
+  });
+  return status;
+}
+
+Status SqlCentre::Apply(const std::string& plant, const std::vector<ShippedRow>& rows,
+                        int64_t* applied) {
+  if (plant != plant_) {
+    ids_.clear();
+    plant_ = plant;
+  }
+  Status status;
+  with_([&](SqlConnection& db) {
+    if (status = db.Begin(); !status.ok()) return;
+    auto fail = [&](Status s) {
+      db.Rollback();
+      status = std::move(s);
+    };
+    int64_t done = 0;
+    {
+      SqlStatement st(db, "SELECT seq FROM ship_progress WHERE plant = ?1");
+      st.Bind(1, std::string_view(plant));
+      if (st.Step()) done = st.Int(0);
+      if (!st.status().ok()) return fail(st.status());
+    }
+    Batch batch(db, plant, ids_);
+    int64_t last_stored_ms = 0;
+    const int64_t before = done;
+    for (const ShippedRow& row : rows) {
+      if (row.seq <= done) continue;  // delivered before
+      const ShippedTable* t = FindShippedTable(row.table);
+      if (t == nullptr) return fail(Status::InvalidArgument("shipping: table " + row.table));
+      if (Status s = batch.ApplyRow(*t, row); !s.ok()) return fail(s);
+      done = row.seq;
+      last_stored_ms = row.stored_ms;
+    }
+    if (done != before) {
+      SqlStatement st(db,
+                      "INSERT INTO ship_progress (plant, seq, applied_ms, stored_ms) VALUES"
+                      " (?1, ?2, ?3, ?4) ON CONFLICT (plant) DO UPDATE SET seq = excluded.seq,"
+                      " applied_ms = excluded.applied_ms, stored_ms = excluded.stored_ms");
+      st.Bind(1, std::string_view(plant)).Bind(2, done).Bind(3, NowMs()).Bind(4, last_stored_ms);
+      if (Status s = st.Run(); !s.ok()) return fail(s);
+    }
+    if (Status s = db.Commit(); !s.ok()) return fail(s);
+    // The map only spares lookups; bounded, it is started afresh when full.
+    if (ids_.size() > 200000) ids_.clear();
+    ids_.merge(batch.added());
+    *applied = done;
+  });
+  return status;
+}
+
+}  // namespace thermocomp
