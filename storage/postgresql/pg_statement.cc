@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "storage/postgresql/pg_connection.h"
+#include "storage/sql/sql_text.h"
 
 namespace thermocomp {
 namespace {
@@ -52,11 +53,7 @@ void PgStatement::BindInt(int i, int64_t v) {
 }
 
 void PgStatement::BindDouble(int i, double v) {
-  if (std::isnan(v)) return Set(i, "NaN", kFloat8);
-  if (std::isinf(v)) return Set(i, v > 0 ? "Infinity" : "-Infinity", kFloat8);
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest text that reads back exactly
-  Set(i, std::string(buf, r.ptr), kFloat8);
+  Set(i, ShortestDoubleText(v), kFloat8);
 }
 
 void PgStatement::BindText(int i, std::string_view v) {

@@ -1,22 +1,12 @@
 #include "storage/sql/sample_store.h"
 
 #include <algorithm>
-#include <charconv>
 #include <map>
 
 #include "storage/sql/envelope.h"
+#include "storage/sql/sql_text.h"
 
 namespace thermocomp {
-namespace {
-
-// The shortest text that reads back as exactly `v` (a finite reading).
-std::string ShortestText(double v) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
-}  // namespace
 
 std::optional<FilterState> SqlSampleStore::LoadFilterState(int64_t sensor_id) {
   SqlStatement q(db_, "SELECT last_ts_ms, last_value, state FROM filter_state WHERE sensor_id = ?");
@@ -54,8 +44,8 @@ Status SqlSampleStore::InsertAsArrays(int64_t sensor_id, const std::vector<Sampl
       if (Status s = db_.PrepareReadingsAt(rows[i].ts_ms); !s.ok()) return s;
       const char* sep = i == first ? "" : ",";
       ts += sep + std::to_string(rows[i].ts_ms);
-      values += sep + ShortestText(rows[i].value);
-      filtered += sep + ShortestText(rows[i].filtered);
+      values += sep + ShortestDoubleText(rows[i].value);
+      filtered += sep + ShortestDoubleText(rows[i].filtered);
     }
     q.Reset();
     q.Bind(1, sensor_id).Bind(2, ts + "}").Bind(3, values + "}").Bind(4, filtered + "}");

@@ -224,6 +224,34 @@ TEST(ShipFaultTest, CentreStoppedAndLineKilledMidShippingEndWithExactlyTheLinesR
     ASSERT_TRUE(names.Step());
     EXPECT_EQ(names.Text(0), "north.m1");
   });
+
+  // The centre's own server shows the plants' machines and writes nothing.
+  const int centre_port = testing::FreePort();
+  testing::ServerGuard centre_server(testing::StartServer(centre_url, centre_port, {"--read-only"},
+                                                          (dir / "centre.log").string()));
+  ASSERT_GT(centre_server.pid(), 0);
+  httplib::Client c("127.0.0.1", centre_port);
+  auto machine = c.Get("/api/v1/machines/north.m1");
+  ASSERT_TRUE(machine);
+  EXPECT_EQ(machine->status, 200) << machine->body;
+  EXPECT_EQ(nlohmann::json::parse(machine->body).value("samples", -1), on_line["samples"]);
+  auto post = c.Post("/api/v1/machines/north.m1/temperatures",
+                     R"({"samples": [{"sensor": "T1", "ts": 1, "value": 1}]})", "application/json");
+  ASSERT_TRUE(post);
+  EXPECT_EQ(post->status, 405);
+  EXPECT_EQ(post->get_header_value("Allow"), "GET, HEAD");
+  EXPECT_EQ(post->get_header_value("Content-Type"), "application/problem+json");
+  auto served = c.Get("/api/v1/machines/north.m1/compensation");
+  ASSERT_TRUE(served);
+  EXPECT_EQ(served->status, 409);
+  auto metrics = c.Get("/metrics");
+  ASSERT_TRUE(metrics);
+  EXPECT_EQ(metrics->body.find("thermocomp_shipping_"), std::string::npos);
+  centre_server.Kill(SIGTERM);
+  std::map<std::string, int64_t> after;
+  testing::WithArchive(centre_url, [&](SqlConnection& c) { count(c, &after, &centre_sum); });
+  EXPECT_EQ(after, at_centre);
+
   Script("stop", pg);
   std::filesystem::remove_all(dir);
 }

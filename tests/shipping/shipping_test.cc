@@ -2,9 +2,11 @@
 // here, PostgreSQL in the pg: run): rows as written, once, mapped to the
 // centre's ids under the plant's names.
 #include <cstring>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
+#include "service/config.h"
 #include "storage/sql/shipping/centre_store.h"
 #include "storage/sql/shipping/shipped_tables.h"
 #include "tests/shipping/shipping_util.h"
@@ -231,6 +233,43 @@ TEST_F(CentreTest, AppliesEachRowOnceUnderThePlantsNames) {
   EXPECT_EQ(again, applied);
 }
 
+TEST_F(CentreTest, KeyedRowsTakeTheirLastImageAndTextComesThroughExactly) {
+  ExecOn(with_line_, kLineRows);
+  ShippingSwitch on;
+  ASSERT_TRUE(Enable(&on).ok());
+  const std::string json =
+      R"({"screw": "a \"quoted\" name", "path": "C:\\lead\\screw", "n": [1, 2]})";
+  with_line_([&](SqlConnection& db) {
+    SqlStatement st(db,
+                    "INSERT INTO feed_axis_configs (axis_id, config_json, updated_ms) VALUES"
+                    " (1, ?1, 5)");
+    st.Bind(1, std::string_view(json));
+    ASSERT_TRUE(st.Run().ok());
+  });
+  // A reading written, then its filtered value replayed twice, in one batch.
+  ExecOn(with_line_,
+         "INSERT INTO samples (sensor_id, ts_ms, value, filtered) VALUES (2, 1700000120000, 23,"
+         " 22); UPDATE samples SET filtered = 22.5 WHERE sensor_id = 2 AND ts_ms = 1700000120000;"
+         "UPDATE samples SET filtered = 22.75 WHERE sensor_id = 2 AND ts_ms = 1700000120000;"
+         "INSERT INTO axes (id, machine_id, name) VALUES (2, 1, 'X');"
+         "INSERT INTO compensation_log (axis_id, ts_ms, offset_mm, predicted_drift_mm, valid,"
+         " clamped, model_version) VALUES (2, 1700000120000, -0.0125, 0.0125, 1, 0, NULL)");
+  SqlCentre centre(with_centre_);
+  int64_t applied = 0;
+  const Status s = centre.Apply("north", ReadAll(), &applied);
+  ASSERT_TRUE(s.ok()) << s.ToString();
+  EXPECT_EQ(TextOf(with_centre_, "SELECT config_json FROM feed_axis_configs"), json);
+  EXPECT_EQ(Centre("SELECT COUNT(*) FROM samples"), 4);
+  EXPECT_EQ(Centre("SELECT COUNT(*) FROM samples WHERE ts_ms = 1700000120000 AND filtered ="
+                   " 22.75"),
+            1);
+  // The served value of an axis that came in the same batch, after the
+  // axis: the order that matters is kept.
+  EXPECT_EQ(Centre("SELECT COUNT(*) FROM compensation_log c JOIN axes a ON a.id = c.axis_id"
+                   " WHERE a.name = 'X' AND c.model_version IS NULL AND c.offset_mm = -0.0125"),
+            1);
+}
+
 TEST_F(CentreTest, ABatchThatFailsLeavesTheCentreAsItWas) {
   ExecOn(with_line_, kLineRows);
   ShippingSwitch on;
@@ -251,6 +290,26 @@ TEST_F(CentreTest, ABatchThatFailsLeavesTheCentreAsItWas) {
   // The whole outbox then goes through.
   ASSERT_TRUE(centre.Apply("north", rows, &applied).ok());
   EXPECT_EQ(Centre("SELECT COUNT(*) FROM samples"), 3);
+}
+
+TEST_F(ShippingTest, TheCentreKeysAreCheckedWhenTheConfigurationLoads) {
+  auto load = [&](const std::string& text) {
+    std::ofstream((dir_ / "c.toml").string()) << text;
+    auto c = LoadConfig((dir_ / "c.toml").string());
+    return c.ok() ? std::string("accepted") : c.status().message();
+  };
+  const std::string url = "[centre]\nurl = \"postgresql://u@127.0.0.1:5432/centre\"\n";
+  EXPECT_EQ(load(url + "plant = \"north\"\nbatch_rows = 100\n"), "accepted");
+  EXPECT_NE(load(url).find("centre.plant"), std::string::npos);
+  EXPECT_NE(load(url + "plant = \"north.a\"\n").find("centre.plant"), std::string::npos);
+  EXPECT_NE(load(url + "plant = \"a-name-longer-than-16\"\n").find("centre.plant"),
+            std::string::npos);
+  EXPECT_NE(load("[centre]\nurl = \"http://centre\"\nplant = \"n\"\n").find("centre.url"),
+            std::string::npos);
+  EXPECT_NE(load(url + "plant = \"n\"\n[server]\nread_only = true\n").find("read-only"),
+            std::string::npos);
+  EXPECT_NE(load(url + "plant = \"n\"\nbatch_rows = 0\n").find("centre.batch_rows"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "storage/sql/shipping/shipped_tables.h"
+#include "storage/sql/sql_text.h"
 
 namespace thermocomp {
 namespace {
@@ -65,7 +66,32 @@ class Batch {
   Batch(SqlConnection& db, const std::string& plant, const IdMap& committed)
       : db_(db), plant_(plant), committed_(committed) {}
 
-  Status ApplyRow(const ShippedTable& t, ShippedRow row) {
+  // A row of a table with ids is applied at once (later rows may name
+  // it); a row of a keyed table (readings, rollups) is held and written
+  // with the others of its table, as arrays, before the next row with an
+  // id and at the end: no row names a keyed table's rows, so the order
+  // that matters is kept.
+  Status Take(const ShippedTable& t, ShippedRow row) {
+    if (Status s = Translate(t, row); !s.ok()) return s;
+    if (t.has_id) {
+      if (Status s = Flush(); !s.ok()) return s;
+      return ApplyWithId(t, row);
+    }
+    if (db_.dialect() != SqlDialect::kPostgresql) return ApplyByKey(t, row);
+    held_[t.name].push_back(std::move(row));
+    return Status::Ok();
+  }
+
+  Status Flush() {
+    for (auto& [name, rows] : held_) {
+      if (Status s = WriteAsArrays(*FindShippedTable(name), rows); !s.ok()) return s;
+    }
+    held_.clear();
+    return Status::Ok();
+  }
+
+  // The row as the centre stores it: ids mapped, machine names qualified.
+  Status Translate(const ShippedTable& t, ShippedRow& row) {
     if (row.values.size() != t.columns.size()) {
       return Status::Internal("shipping: row " + std::to_string(row.seq) + " of " + t.name +
                               " has " + std::to_string(row.values.size()) + " values");
@@ -90,7 +116,7 @@ class Batch {
     if (t.name == "samples") {
       if (Status s = db_.PrepareReadingsAt(row.values[1].i); !s.ok()) return s;
     }
-    return t.has_id ? ApplyWithId(t, row) : ApplyByKey(t, row);
+    return Status::Ok();
   }
 
   IdMap& added() { return added_; }
@@ -185,10 +211,104 @@ class Batch {
     return st.Run();
   }
 
+  // PostgreSQL: a keyed table's held rows, the last image of each key
+  // only (one statement may not update a row twice), 1 000 rows a
+  // statement as one array per column.
+  Status WriteAsArrays(const ShippedTable& t, const std::vector<ShippedRow>& rows) {
+    std::map<std::string, size_t> last;  // key values -> index of its last image
+    std::vector<size_t> key_columns;
+    for (size_t c = 0; c < t.columns.size(); ++c) {
+      if (InKey(t.conflict, t.columns[c])) key_columns.push_back(c);
+    }
+    for (size_t i = 0; i < rows.size(); ++i) {
+      std::string key;
+      for (size_t c : key_columns) key += ArrayElement(rows[i].values[c]) + '\x1f';
+      last[key] = i;
+    }
+    std::vector<size_t> order;
+    order.reserve(last.size());
+    for (const auto& [key, i] : last) order.push_back(i);
+    std::sort(order.begin(), order.end());
+
+    std::vector<std::string> types;
+    if (Status s = ColumnTypes(t, &types); !s.ok()) return s;
+    std::string arrays;
+    for (size_t c = 0; c < t.columns.size(); ++c) {
+      arrays += (c ? ", " : "") + std::string("CAST(?") + std::to_string(c + 1) + " AS " +
+                types[c] + "[])";
+    }
+    std::vector<std::string> rest;
+    for (const std::string& c : t.columns) {
+      if (!InKey(t.conflict, c)) rest.push_back(c);
+    }
+    SqlStatement st(
+        db_, "INSERT INTO " + t.name + " (" + Join(t.columns, 0, "@") + ") SELECT * FROM unnest(" +
+                 arrays + ") ON CONFLICT (" + t.conflict + ") DO " +
+                 (rest.empty() ? "NOTHING" : "UPDATE SET " + Join(rest, 0, "@ = excluded.@")));
+    constexpr size_t kChunk = 1000;
+    for (size_t first = 0; first < order.size(); first += kChunk) {
+      std::vector<std::string> columns(t.columns.size(), "{");
+      for (size_t k = first; k < std::min(order.size(), first + kChunk); ++k) {
+        for (size_t c = 0; c < t.columns.size(); ++c) {
+          if (k != first) columns[c] += ',';
+          columns[c] += ArrayElement(rows[order[k]].values[c]);
+        }
+      }
+      st.Reset();
+      for (size_t c = 0; c < t.columns.size(); ++c) {
+        st.Bind(static_cast<int>(c + 1), std::string_view(columns[c] + "}"));
+      }
+      if (Status s = st.Run(); !s.ok()) return s;
+    }
+    return Status::Ok();
+  }
+
+  // A value as an element of a PostgreSQL array literal.
+  static std::string ArrayElement(const ShippedValue& v) {
+    switch (v.kind) {
+      case ShippedValue::Kind::kNull:
+        return "NULL";
+      case ShippedValue::Kind::kInt:
+        return std::to_string(v.i);
+      case ShippedValue::Kind::kReal:
+        return ShortestDoubleText(v.d);
+      case ShippedValue::Kind::kText:
+        break;
+    }
+    std::string out = "\"";
+    for (char ch : v.text) {
+      if (ch == '"' || ch == '\\') out += '\\';
+      out += ch;
+    }
+    return out + '"';
+  }
+
+  // The centre's types of a table's columns, as PostgreSQL names them.
+  Status ColumnTypes(const ShippedTable& t, std::vector<std::string>* types) {
+    SqlStatement st(db_,
+                    "SELECT a.attname, format_type(a.atttypid, a.atttypmod) FROM pg_attribute a"
+                    " WHERE a.attrelid = CAST(?1 AS regclass) AND a.attnum > 0 AND NOT"
+                    " a.attisdropped");
+    st.Bind(1, std::string_view(t.name));
+    std::map<std::string, std::string> by_name;
+    while (st.Step()) by_name[st.Text(0)] = st.Text(1);
+    if (!st.status().ok()) return st.status();
+    for (const std::string& c : t.columns) {
+      auto it = by_name.find(c);
+      if (it == by_name.end()) {
+        return Status::FailedPrecondition("centre: " + t.name + " has no column " + c +
+                                          " (its schema is older than this line's?)");
+      }
+      types->push_back(it->second);
+    }
+    return Status::Ok();
+  }
+
   SqlConnection& db_;
   const std::string& plant_;
   const IdMap& committed_;
   IdMap added_;
+  std::map<std::string, std::vector<ShippedRow>> held_;
 };
 
 int64_t NowMs() {
@@ -237,10 +357,11 @@ Status SqlCentre::Apply(const std::string& plant, const std::vector<ShippedRow>&
       if (row.seq <= done) continue;  // delivered before
       const ShippedTable* t = FindShippedTable(row.table);
       if (t == nullptr) return fail(Status::InvalidArgument("shipping: table " + row.table));
-      if (Status s = batch.ApplyRow(*t, row); !s.ok()) return fail(s);
+      if (Status s = batch.Take(*t, row); !s.ok()) return fail(s);
       done = row.seq;
       last_stored_ms = row.stored_ms;
     }
+    if (Status s = batch.Flush(); !s.ok()) return fail(s);
     if (done != before) {
       SqlStatement st(db,
                       "INSERT INTO ship_progress (plant, seq, applied_ms, stored_ms) VALUES"

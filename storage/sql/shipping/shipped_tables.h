@@ -4,9 +4,10 @@
 // finds a row again at the centre. Listed parents before children, so a
 // snapshot of a whole archive ships every row after the rows it refers to.
 //
-// Derived tables (rollups, filter state) are not shipped: the centre
-// derives nothing and shows what the line stored. Deletes are not shipped
-// either: the centre keeps what the line's retention removes.
+// The hourly rollups are shipped as the line keeps them, so the centre
+// derives nothing and shows the line's numbers; the filters' state is not
+// (the centre takes no readings). Deletes are not shipped: the centre
+// keeps what the line's retention removes.
 #pragma once
 
 #include <string>
