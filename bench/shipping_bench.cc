@@ -147,6 +147,10 @@ void BM_ShipPlantHour(benchmark::State& state) {
     SqlOutbox outbox(LineConnection(**app));
     OutboxBacklog backlog;
     (void)outbox.Backlog(&backlog);
+    LineConnection(**app)([&](SqlConnection& db) {
+      SqlStatement st(db, "SELECT SUM(pgsize) FROM dbstat WHERE name = 'outbox'");
+      if (st.Step()) state.counters["outbox_bytes_per_row"] = st.Double(0) / backlog.rows;
+    });
     ShippingBoard board;
     Shipper::Options options;
     options.plant = "north";
