@@ -37,6 +37,8 @@ struct RequestFacts {
   std::string actor;
 };
 thread_local RequestFacts t_facts;
+// The archive's lost-connection count when the request began (Storage::lost_connections).
+thread_local uint64_t t_lost_before = 0;
 
 }  // namespace
 
@@ -337,6 +339,7 @@ void HttpServer::Routes() {
     const ClientAddresses& clients = *exposure->clients;
     t_shed = false;
     t_facts = RequestFacts{};
+    t_lost_before = app_.storage().lost_connections();
     t_facts.routed = true;
     const std::string peer = req.remote_addr;
     const bool forwarded = req.has_header("X-Forwarded-For") || req.has_header("Forwarded");
@@ -402,7 +405,7 @@ void HttpServer::Routes() {
     // which only a line server computes and serves.
     if (app_.config().read_only) {
       const bool session = req.path == "/api/v1/session";
-      if (req.method != "GET" && req.method != "HEAD" && req.method != "OPTIONS" && !session) {
+      if (req.method != "GET" && req.method != "HEAD" && !session) {
         res.set_header("Allow", "GET, HEAD");
         return refuse(405,
                       "read-only server (server.read_only): it shows what the plants ship;"
@@ -465,7 +468,15 @@ void HttpServer::Routes() {
   });
   // Every HTML response (pages and ?format=html reports) carries the
   // policy; no response offers byte ranges.
-  s.set_post_routing_handler([](const Req&, Res& res) {
+  s.set_post_routing_handler([this](const Req&, Res& res) {
+    // The archive's server went away while this request read it: what it
+    // read may be missing (a store's read that fails returns nothing), so
+    // the answer is "retry", not an empty or partial one.
+    if (res.status < 500 && app_.storage().lost_connections() != t_lost_before) {
+      res.headers.clear();
+      res.set_header("Retry-After", "5");
+      WriteProblem(res, 503, "the archive's database cannot be reached: retry");
+    }
     if (res.get_header_value("Content-Type").rfind("text/html", 0) == 0 &&
         !res.has_header("Content-Security-Policy")) {
       res.set_header("Content-Security-Policy", kHtmlSecurityPolicy);
@@ -562,6 +573,10 @@ void HttpServer::Routes() {
   s.Get("/readyz", [this](const Req&, Res& res) {
     if (app_.storage().storage_full()) {
       return WriteProblem(res, 503, "not ready: the disk holding the database is full");
+    }
+    if (Status s = app_.storage().Ping(); !s.ok()) {
+      res.set_header("Retry-After", "5");
+      return WriteProblem(res, 503, "not ready: the archive's database cannot be reached");
     }
     WriteJson(res, {{"status", "ready"}, {"schema_version", app_.storage().schema_version()}});
   });

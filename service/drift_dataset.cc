@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <unordered_map>
 
 #include "model/block_validation.h"
 #include "storage/log_store.h"
@@ -15,18 +16,57 @@ namespace {
 
 constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
 
+using PointTemperatures = std::unordered_map<int64_t, std::vector<double>>;
+
+double FilteredNear(const std::optional<SampleRow>& row, int64_t ts_ms, int64_t max_gap_ms) {
+  return row && ts_ms - row->ts_ms <= max_gap_ms ? row->filtered : kUnknown;
+}
+
+// The archive's temperatures at every point of `runs` the cache has not
+// got, fetched per sensor for all points at once: a year of points is
+// thousands of lookups, each a round trip on PostgreSQL.
+PointTemperatures Prefetch(SampleStore& samples, const MachineRecord& machine,
+                           const std::vector<RunRecord>& runs, int64_t max_gap_ms,
+                           ProbeTemperatureCache* cache) {
+  std::vector<const ProbePointRecord*> missing;
+  for (const RunRecord& run : runs) {
+    for (const auto& p : run.points) {
+      if (!cache || !cache->Get(p.id, machine.sensors.size())) missing.push_back(&p);
+    }
+  }
+  PointTemperatures out;
+  if (missing.size() < 2) return out;  // one point: the lookups below are as cheap
+  std::vector<int64_t> times;
+  times.reserve(missing.size());
+  for (const ProbePointRecord* p : missing) times.push_back(p->ts_ms);
+  for (const ProbePointRecord* p : missing) out[p->id].reserve(machine.sensors.size());
+  for (const auto& sensor : machine.sensors) {
+    const auto rows = samples.AtOrBeforeEach(sensor.id, times);
+    for (size_t i = 0; i < missing.size(); ++i) {
+      out[missing[i]->id].push_back(FilteredNear(rows[i], missing[i]->ts_ms, max_gap_ms));
+    }
+  }
+  return out;
+}
+
 // Filtered temperature of every sensor at the point: its snapshot where it
 // has one, else the archive's filtered value (cached), else NaN.
 std::vector<double> TemperaturesAt(SampleStore& samples, const MachineRecord& machine,
                                    const ProbePointRecord& p, int64_t max_gap_ms,
-                                   ProbeTemperatureCache* cache) {
+                                   ProbeTemperatureCache* cache,
+                                   const PointTemperatures& prefetched) {
   std::optional<std::vector<double>> archive;
   if (cache) archive = cache->Get(p.id, machine.sensors.size());
   if (!archive) {
+    if (auto it = prefetched.find(p.id); it != prefetched.end()) {
+      archive = it->second;
+      if (cache) cache->Put(machine.id, p.id, p.ts_ms, *archive);
+    }
+  }
+  if (!archive) {
     archive.emplace();
     for (const auto& sensor : machine.sensors) {
-      auto row = samples.AtOrBefore(sensor.id, p.ts_ms);
-      archive->push_back(row && p.ts_ms - row->ts_ms <= max_gap_ms ? row->filtered : kUnknown);
+      archive->push_back(FilteredNear(samples.AtOrBefore(sensor.id, p.ts_ms), p.ts_ms, max_gap_ms));
     }
     if (cache) cache->Put(machine.id, p.id, p.ts_ms, *archive);
   }
@@ -92,6 +132,7 @@ DriftDataset BuildDriftDataset(Session& s, const MachineRecord& machine, const s
   auto raw = [&](const ProbePointRecord& p, double measured) {
     return RawDeviation(log, axis_id, p.ts_ms, measured, p.compensated);
   };
+  const PointTemperatures prefetched = Prefetch(samples, machine, runs, max_gap_ms, cache);
   auto count_points = [&](const RunRecord& run, int& counter) {
     for (const auto& p : run.points) {
       if (p.k > 0 && p.axes.count(axis)) ++counter;
@@ -114,7 +155,8 @@ DriftDataset BuildDriftDataset(Session& s, const MachineRecord& machine, const s
       count_points(run, d.skipped_unserved);
       continue;
     }
-    const std::vector<double> t0 = TemperaturesAt(samples, machine, *datum, max_gap_ms, cache);
+    const std::vector<double> t0 =
+        TemperaturesAt(samples, machine, *datum, max_gap_ms, cache, prefetched);
     const int run_index = static_cast<int>(d.runs.size());
     bool used = false;
     for (const auto& p : run.points) {
@@ -136,7 +178,8 @@ DriftDataset BuildDriftDataset(Session& s, const MachineRecord& machine, const s
         ++d.skipped_gross;
         continue;
       }
-      const std::vector<double> t = TemperaturesAt(samples, machine, p, max_gap_ms, cache);
+      const std::vector<double> t =
+          TemperaturesAt(samples, machine, p, max_gap_ms, cache, prefetched);
       row.datum_ts_ms = datum->ts_ms;
       row.temperature = t;
       row.datum_temperature = t0;

@@ -32,6 +32,10 @@ class SampleStore {
   virtual std::optional<SampleRow> Before(int64_t sensor_id, int64_t ts_ms) = 0;
   // Newest sample at or before ts, if any.
   virtual std::optional<SampleRow> AtOrBefore(int64_t sensor_id, int64_t ts_ms) = 0;
+  // AtOrBefore for each of `ts_ms`, in their order: one statement per
+  // thousand times where each statement is a round trip (PostgreSQL).
+  virtual std::vector<std::optional<SampleRow>> AtOrBeforeEach(
+      int64_t sensor_id, const std::vector<int64_t>& ts_ms) = 0;
   // Samples with from <= ts <= to, ascending.
   virtual std::vector<SampleRow> Range(int64_t sensor_id, int64_t from_ms, int64_t to_ms) = 0;
   // At most `limit` samples from `from_ms` on, ascending: a cursor that

@@ -21,6 +21,12 @@ class Storage {
   // Whether the last write found the disk full (cleared by a successful
   // one): the server then reports not ready.
   virtual bool storage_full() const = 0;
+  // How often the archive's server was found gone (PostgreSQL; 0 for a
+  // file). A request during which it grew had reads that failed, so its
+  // answer is 503, never an empty result.
+  virtual uint64_t lost_connections() const { return 0; }
+  // One round trip to the archive (readiness).
+  virtual Status Ping() { return Status::Ok(); }
   // The schema version the archive was migrated to.
   virtual int schema_version() const = 0;
   // Where the archive is, for logs and status ("path" of a file).

@@ -143,6 +143,7 @@ bool PgConnection::EnsureConnected() {
     PQconsumeInput(conn_);
   }
   if (PQstatus(conn_) == CONNECTION_OK) return true;
+  ++lost_;
   if (in_transaction_) return false;
   PQreset(conn_);
   prepared_.clear();
@@ -166,6 +167,11 @@ void PgConnection::Note(const PGresult* result) {
     }
   } else if (st == PGRES_FATAL_ERROR) {
     const char* state = PQresultErrorField(result, PG_DIAG_SQLSTATE);
+    // The server gone (class 08, or shut down: 57P01..57P03).
+    if (PQstatus(conn_) != CONNECTION_OK ||
+        (state && (std::strncmp(state, "08", 2) == 0 || std::strncmp(state, "57P0", 4) == 0))) {
+      ++lost_;
+    }
     if (state && std::strcmp(state, "53100") == 0) storage_full_ = true;
     // A month's partition dropped by hand: made again before the next write.
     if (state && std::strcmp(state, "23514") == 0) months_ready_.clear();

@@ -66,6 +66,8 @@ class PgConnection final : public SqlConnection {
   // Whether a write found the disk full (SQLSTATE 53100), until a commit
   // succeeds; any thread may read it.
   bool storage_full() const { return storage_full_.load(); }
+  // How often a statement found the server gone; any thread may read it.
+  uint64_t lost_count() const { return lost_.load(); }
 
   // For PgStatement: the server-side name of `sql` prepared with these
   // parameter types, preparing it on first use.
@@ -93,6 +95,7 @@ class PgConnection final : public SqlConnection {
   bool in_transaction_ = false;
   bool partitioned_ = true;
   std::atomic<bool> storage_full_{false};
+  std::atomic<uint64_t> lost_{0};
 };
 
 }  // namespace thermocomp

@@ -79,6 +79,12 @@ Status PgStorage::Backup(const std::string& /*dest*/, bool /*replace*/) {
       "): back it up with pg_dump or pg_basebackup, as docs/operations.md describes");
 }
 
+Status PgStorage::Ping() {
+  Status status;
+  WithConnection([&](SqlConnection& db) { status = db.Exec("SELECT 1"); });
+  return status;
+}
+
 void PgStorage::WithConnection(const std::function<void(SqlConnection&)>& fn) {
   SqlSession session(*db_);
   fn(*db_);

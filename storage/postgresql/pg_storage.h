@@ -28,6 +28,8 @@ class PgStorage final : public Storage {
 
   std::unique_ptr<Session> Open() override;
   bool storage_full() const override { return db_->storage_full(); }
+  uint64_t lost_connections() const override { return db_->lost_count(); }
+  Status Ping() override;
   int schema_version() const override { return schema_version_; }
   std::string location() const override { return db_->Describe(); }
   // A PostgreSQL archive is backed up by PostgreSQL's own tools (pg_dump,

@@ -175,6 +175,35 @@ std::optional<SampleRow> SqlSampleStore::AtOrBefore(int64_t sensor_id, int64_t t
   return SampleRow{q.Int(0), q.Double(1), q.Double(2)};
 }
 
+std::vector<std::optional<SampleRow>> SqlSampleStore::AtOrBeforeEach(
+    int64_t sensor_id, const std::vector<int64_t>& ts_ms) {
+  std::vector<std::optional<SampleRow>> out(ts_ms.size());
+  if (db_.dialect() != SqlDialect::kPostgresql) {  // in-process: one indexed step each
+    for (size_t i = 0; i < ts_ms.size(); ++i) out[i] = AtOrBefore(sensor_id, ts_ms[i]);
+    return out;
+  }
+  SqlStatement q(db_,
+                 "SELECT x.i, s.ts_ms, s.value, s.filtered FROM unnest(CAST(?2 AS BIGINT[]))"
+                 " WITH ORDINALITY AS x(t, i) CROSS JOIN LATERAL (SELECT ts_ms, value, filtered"
+                 " FROM samples WHERE sensor_id = ?1 AND ts_ms <= x.t ORDER BY ts_ms DESC"
+                 " LIMIT 1) AS s");
+  constexpr size_t kChunk = 1000;
+  for (size_t first = 0; first < ts_ms.size(); first += kChunk) {
+    std::string times = "{";
+    const size_t end = std::min(ts_ms.size(), first + kChunk);
+    for (size_t i = first; i < end; ++i) {
+      times += (i == first ? "" : ",") + std::to_string(ts_ms[i]);
+    }
+    q.Reset();
+    q.Bind(1, sensor_id).Bind(2, times + "}");
+    while (q.Step()) {
+      out[first + static_cast<size_t>(q.Int(0)) - 1] =
+          SampleRow{q.Int(1), q.Double(2), q.Double(3)};
+    }
+  }
+  return out;
+}
+
 std::vector<SampleRow> SqlSampleStore::Range(int64_t sensor_id, int64_t from_ms, int64_t to_ms) {
   SqlStatement q(db_,
                  "SELECT ts_ms, value, filtered FROM samples WHERE sensor_id = ? AND ts_ms >= ?"

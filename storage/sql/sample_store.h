@@ -21,6 +21,8 @@ class SqlSampleStore final : public SampleStore {
   std::optional<double> ValueAt(int64_t sensor_id, int64_t ts_ms) override;
   std::optional<SampleRow> Before(int64_t sensor_id, int64_t ts_ms) override;
   std::optional<SampleRow> AtOrBefore(int64_t sensor_id, int64_t ts_ms) override;
+  std::vector<std::optional<SampleRow>> AtOrBeforeEach(int64_t sensor_id,
+                                                       const std::vector<int64_t>& ts_ms) override;
   std::vector<SampleRow> Range(int64_t sensor_id, int64_t from_ms, int64_t to_ms) override;
   std::vector<SampleRow> From(int64_t sensor_id, int64_t from_ms, int limit) override;
   void ScanRaw(int64_t sensor_id, int64_t from_ms, int64_t to_ms,

@@ -247,6 +247,30 @@ TEST(ShipFaultTest, CentreStoppedAndLineKilledMidShippingEndWithExactlyTheLinesR
   auto metrics = c.Get("/metrics");
   ASSERT_TRUE(metrics);
   EXPECT_EQ(metrics->body.find("thermocomp_shipping_"), std::string::npos);
+  auto options = c.Options("/api/v1/machines");
+  ASSERT_TRUE(options);
+  EXPECT_EQ(options->status, 405);
+
+  // Its database gone: "retry", never an empty list.
+  ASSERT_EQ(Script("pause", pg), 0);
+  c.set_read_timeout(60);
+  auto listed = c.Get("/api/v1/machines");
+  ASSERT_TRUE(listed);
+  EXPECT_EQ(listed->status, 503) << listed->body;
+  EXPECT_EQ(listed->get_header_value("Retry-After"), "5");
+  auto one = c.Get("/api/v1/machines/north.m1");
+  ASSERT_TRUE(one);
+  EXPECT_EQ(one->status, 503) << one->body;
+  auto ready = c.Get("/readyz");
+  ASSERT_TRUE(ready);
+  EXPECT_EQ(ready->status, 503) << ready->body;
+  ASSERT_EQ(Script("resume", pg), 0);
+  ASSERT_TRUE(WaitFor(
+      [&] {
+        auto r = c.Get("/api/v1/machines/north.m1");
+        return r && r->status == 200;
+      },
+      Seconds(120)));
   centre_server.Kill(SIGTERM);
   std::map<std::string, int64_t> after;
   testing::WithArchive(centre_url, [&](SqlConnection& c) { count(c, &after, &centre_sum); });

@@ -37,6 +37,15 @@ const std::vector<ShippedTable>& ShippedTables() {
        "sensor_id, ts_ms",
        "",
        ""},
+      // Each sensor's newest reading and filter: what the centre's views
+      // judge a machine's freshness and latest temperatures by.
+      {"filter_state",
+       {"sensor_id", "last_ts_ms", "last_value", "state"},
+       false,
+       {{"sensor_id", "sensors"}},
+       "sensor_id",
+       "",
+       ""},
       // The hourly summaries the history views read over long spans: the
       // line's own, so the centre's views show exactly the line's numbers.
       {"sample_rollup",

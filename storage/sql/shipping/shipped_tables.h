@@ -4,10 +4,10 @@
 // finds a row again at the centre. Listed parents before children, so a
 // snapshot of a whole archive ships every row after the rows it refers to.
 //
-// The hourly rollups are shipped as the line keeps them, so the centre
-// derives nothing and shows the line's numbers; the filters' state is not
-// (the centre takes no readings). Deletes are not shipped: the centre
-// keeps what the line's retention removes.
+// The hourly rollups and the filters' state are shipped as the line keeps
+// them, so the centre derives nothing and shows the line's numbers.
+// Deletes are not shipped: the centre keeps what the line's retention
+// removes.
 #pragma once
 
 #include <string>
