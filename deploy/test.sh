@@ -39,10 +39,11 @@ stage "sanitizer build"
 # are the HTTP tests' requests, the applied record's among them).
 # The archive-backed tests on PostgreSQL (label "postgresql") ran above;
 # here only those of the PostgreSQL code itself (the connection, its
-# statements, lost connections, the crash test) run again on it: the
-# stores they share with SQLite run under the sanitizers on SQLite.
+# statements, lost connections, the crash test, the centre's side of
+# shipping) run again on it: the stores they share with SQLite run under
+# the sanitizers on SQLite.
 (cd build-sanitize && ctest --output-on-failure -j 2 -LE "study|browser|opcua|postgresql")
-(cd build-sanitize && ctest --output-on-failure -j 2 -R "^pg:(Postgresql|Session|AppliedStore|Crash)")
+(cd build-sanitize && ctest --output-on-failure -j 2 -R "^pg:(Postgresql|Session|AppliedStore|Crash|Centre)")
 stage "sanitizer tests"
 bash deploy/tidy.sh
 stage "clang-tidy"

@@ -130,15 +130,17 @@ void Shipper::Pass() {
     int64_t shipped = 0;
     Status s = ShipBatch(&shipped);
     if (!s.ok()) {
+      std::string message = s.message();  // libpq's messages span lines
+      std::replace(message.begin(), message.end(), '\n', ' ');
       board_.failures_total += 1;
-      board_.SetError(s.message());
+      board_.SetError(message);
       pause_ =
           std::clamp(pause_ * 2, std::chrono::milliseconds(1000), std::chrono::milliseconds(30000));
       retry_at_ = std::chrono::steady_clock::now() + pause_;
-      if (s.message() != last_logged_) {  // once per new trouble, not every retry
+      if (message != last_logged_) {  // once per new trouble, not every retry
         log::Warn("shipping: pass failed; the outbox keeps the rows",
-                  "plant=" + options_.plant + " error=\"" + s.message() + "\"");
-        last_logged_ = s.message();
+                  "plant=" + options_.plant + " error=\"" + message + "\"");
+        last_logged_ = message;
       }
       return;
     }

@@ -1,9 +1,11 @@
 #include "storage/postgresql/pg_connection.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 
+#include "core/log.h"
 #include "storage/postgresql/pg_statement.h"
 
 namespace thermocomp {
@@ -120,6 +122,17 @@ StatusOr<std::unique_ptr<PgConnection>> PgConnection::Connect(const std::string&
     PQfinish(conn);
     return Status::Unavailable("cannot connect to PostgreSQL: " + message);
   }
+  // The server's notices (and its last words on a connection it closes)
+  // go to the log as one line, not raw to stderr.
+  PQsetNoticeProcessor(
+      conn,
+      [](void*, const char* text) {
+        std::string line(text);
+        std::replace(line.begin(), line.end(), '\n', ' ');
+        while (!line.empty() && line.back() == ' ') line.pop_back();
+        log::Warn("postgresql notice", "text=\"" + line + "\"");
+      },
+      nullptr);
   std::unique_ptr<PgConnection> db(new PgConnection(conn));
   const std::string host = PQhost(conn);
   db->describe_ = std::string("postgresql://") + PQuser(conn) + "@" +

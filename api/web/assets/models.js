@@ -15,7 +15,8 @@
     el("p", {}, el("a", { href: ui + "/analysis" }, "Effect analyses of this axis")), message, body);
 
   async function activate(v, active) {
-    const what = active ? "roll back to" : "activate";
+    // Going back to an older version is a rollback; a newer one is activated.
+    const what = active && Number(v) < Number(active) ? "roll back to" : "activate";
     if (!confirm("Serve version " + v + " of " + machine + " " + axis + " from now on (" + what + ")? " +
       (active ? "Version " + active + " will be retired." : "") + " The change is recorded in the audit log under your name.")) return;
     try {
