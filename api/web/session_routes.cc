@@ -38,7 +38,13 @@ json Identity(const std::string& auth, const AccessToken& t) {
 void HttpServer::SessionRoutes() {
   auto& s = server_;
   const std::string path = "/api/v1/session";
-  s.Post(path, [this](const Req& req, Res& res) {
+  // Every answer says whether the server takes writes at all (a centre's
+  // does not), so the pages offer only what it takes.
+  auto mode = [this](json out) {
+    out["read_only"] = app_.config().read_only;
+    return out;
+  };
+  s.Post(path, [this, mode](const Req& req, Res& res) {
     auto body = JsonObjectBody(req, res);
     if (!body) return;
     FieldErrors errors;
@@ -79,34 +85,36 @@ void HttpServer::SessionRoutes() {
     json out = Identity("session", *token);
     out["csrf_token"] = session.csrf;
     out["expires_at"] = FormatRfc3339(session.expires_ms);
-    WriteJson(res, out, 201);
+    WriteJson(res, mode(out), 201);
   });
-  s.Get(path, [this](const Req& req, Res& res) {
+  s.Get(path, [this, mode](const Req& req, Res& res) {
     if (exposure()->auth.open()) {
       // Every loopback client may do everything (docs/api.md, Authentication).
-      return WriteJson(res, Identity("open", {"local", "", "admin", ""}));
+      return WriteJson(res, mode(Identity("open", {"local", "", "admin", ""})));
     }
     const Credentials c = CredentialsOf(req);
     if (c.session) {
       json out = Identity("session", c.session->token);
       out["csrf_token"] = c.session->csrf;
       out["expires_at"] = FormatRfc3339(c.session->expires_ms);
-      return WriteJson(res, out);
+      return WriteJson(res, mode(out));
     }
     const std::string bearer = "Bearer ";
     if (c.authorization.rfind(bearer, 0) == 0) {
       if (auto t = exposure()->auth.FindToken(c.authorization.substr(bearer.size()))) {
-        return WriteJson(res, Identity("bearer", *t));
+        return WriteJson(res, mode(Identity("bearer", *t)));
       }
     }
     // Not signed in is an answer, not an error: the pages then offer to sign in.
-    WriteJson(res, {{"auth", "none"}, {"name", nullptr}, {"role", nullptr}, {"machine", nullptr}});
+    WriteJson(res,
+              mode({{"auth", "none"}, {"name", nullptr}, {"role", nullptr}, {"machine", nullptr}}));
   });
-  s.Delete(path, [this](const Req& req, Res& res) {
+  s.Delete(path, [this, mode](const Req& req, Res& res) {
     const std::string id = CookieValue(req.get_header_value("Cookie"), kSessionCookie);
     if (!id.empty()) sessions_.Remove(id);
     res.set_header("Set-Cookie", SessionCookie("", 0, app_.config().web_secure_cookie));
-    WriteJson(res, {{"auth", "none"}, {"name", nullptr}, {"role", nullptr}, {"machine", nullptr}});
+    WriteJson(res,
+              mode({{"auth", "none"}, {"name", nullptr}, {"role", nullptr}, {"machine", nullptr}}));
   });
 }
 

@@ -428,8 +428,11 @@ def with_tokens(d, s):
           f"the audit page lists the activation ({len(entries)} entries)")
     d.find_element(By.ID, "audit-action").send_keys("activate")
     d.find_element(By.CSS_SELECTOR, "#audit-filters button[type=submit]").click()
-    WebDriverWait(d, 10).until(lambda x: all(
-        "activate" in r.text for r in x.find_elements(By.CSS_SELECTOR, "#audit-entries tbody tr")))
+    # The table is drawn again when the filtered page arrives: a row found
+    # just before may be gone when read, so such a look is simply repeated.
+    WebDriverWait(d, 10, ignored_exceptions=(StaleElementReferenceException,)).until(
+        lambda x: all("activate" in r.text
+                      for r in x.find_elements(By.CSS_SELECTOR, "#audit-entries tbody tr")))
     check(0 < len(d.find_elements(By.CSS_SELECTOR, "#audit-entries tbody tr")) < len(entries),
           "the action filter keeps the activations only")
     shot(d, "audit-filtered")

@@ -247,6 +247,9 @@ TEST(ShipFaultTest, CentreStoppedAndLineKilledMidShippingEndWithExactlyTheLinesR
   auto metrics = c.Get("/metrics");
   ASSERT_TRUE(metrics);
   EXPECT_EQ(metrics->body.find("thermocomp_shipping_"), std::string::npos);
+  auto session = c.Get("/api/v1/session");  // the pages offer no writes
+  ASSERT_TRUE(session);
+  EXPECT_EQ(nlohmann::json::parse(session->body).value("read_only", false), true);
   auto options = c.Options("/api/v1/machines");
   ASSERT_TRUE(options);
   EXPECT_EQ(options->status, 405);

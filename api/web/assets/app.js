@@ -176,6 +176,8 @@ const TC = (() => {
 
   // What the signed-in role may do (docs/api.md, Authentication).
   function can(action) {
+    // A read-only server (the centre's) takes no writes: the pages offer none.
+    if (session && session.read_only && action !== "audit") return false;
     const role = session ? session.role : "";
     if (role === "admin") return true;
     if (role === "quality") return action === "record_part";
@@ -228,6 +230,9 @@ const TC = (() => {
     } else {
       who.replaceChildren(el("span", {}, session.name + " (" + session.role + ")"),
         session.auth === "session" ? el("button", { onclick: signOut }, "Sign out") : null);
+    }
+    if (session.read_only) {
+      who.prepend(el("span", { class: "muted", title: "this server shows what the plants' line servers ship; it takes no writes" }, "read-only · "));
     }
     document.body.dataset.role = session.role;
     // The audit trail is the admins' (GET /api/v1/audit answers others 403).
