@@ -312,6 +312,14 @@
   }
 
   async function loadApplied() {
+    // A read-only server (the centre's) serves no compensation: the line
+    // server knows what its controls applied.
+    if (session.read_only) {
+      applied.replaceChildren(el("h2", {}, "Applied by the control"),
+        el("p", { class: "muted" }, "Shown by the machine's line server: this server only shows what the plants ship."));
+      applied.dataset.ready = "1";
+      return;
+    }
     try {
       const c = await api("/machines/" + encodeURIComponent(machine) + "/compensation");
       applied.replaceChildren(el("h2", {}, "Applied by the control"), el("ul", {}, c.axes.map((a) => {

@@ -323,6 +323,10 @@
   }
   await load();
   if (TC.can("record_check")) await renderMeasured();
-  const machineInfo = await api(path).catch(() => ({}));
-  await renderArtifact(machineInfo.artifact || lastArtifact);
+  // The artifacts are the line servers' (named per line, not shipped): a
+  // read-only server (the centre's) has none to show.
+  if (!session.read_only) {
+    const machineInfo = await api(path).catch(() => ({}));
+    await renderArtifact(machineInfo.artifact || lastArtifact);
+  }
 })();
