@@ -37,8 +37,11 @@ struct RequestFacts {
   std::string actor;
 };
 thread_local RequestFacts t_facts;
-// The archive's lost-connection count when the request began (Storage::lost_connections).
+// The archive's lost-connection count when the request began
+// (Storage::lost_connections), and whether the request is a read whose
+// answer a loss during it makes a 503.
 thread_local uint64_t t_lost_before = 0;
+thread_local bool t_watch_archive = false;
 
 }  // namespace
 
@@ -339,7 +342,10 @@ void HttpServer::Routes() {
     const ClientAddresses& clients = *exposure->clients;
     t_shed = false;
     t_facts = RequestFacts{};
+    // Reads only: a write that committed is never answered "retry".
     t_lost_before = app_.storage().lost_connections();
+    t_watch_archive =
+        (req.method == "GET" || req.method == "HEAD") && !IsProbe(req) && req.path != "/metrics";
     t_facts.routed = true;
     const std::string peer = req.remote_addr;
     const bool forwarded = req.has_header("X-Forwarded-For") || req.has_header("Forwarded");
@@ -472,11 +478,20 @@ void HttpServer::Routes() {
     // The archive's server went away while this request read it: what it
     // read may be missing (a store's read that fails returns nothing), so
     // the answer is "retry", not an empty or partial one.
-    if (res.status < 500 && app_.storage().lost_connections() != t_lost_before) {
+    if (t_watch_archive && res.status < 500 && app_.storage().lost_connections() != t_lost_before) {
+      // The framing headers the server set stay; the others were the
+      // lost answer's.
+      const std::string connection = res.get_header_value("Connection");
+      const std::string keep_alive = res.get_header_value("Keep-Alive");
       res.headers.clear();
-      res.set_header("Retry-After", "5");
       WriteProblem(res, 503, "the archive's database cannot be reached: retry");
+      res.headers.erase("Retry-After");
+      res.set_header("Retry-After", "5");
+      res.set_header("Content-Length", std::to_string(res.body.size()));
+      if (!connection.empty()) res.set_header("Connection", connection);
+      if (!keep_alive.empty()) res.set_header("Keep-Alive", keep_alive);
     }
+    t_watch_archive = false;
     if (res.get_header_value("Content-Type").rfind("text/html", 0) == 0 &&
         !res.has_header("Content-Security-Policy")) {
       res.set_header("Content-Security-Policy", kHtmlSecurityPolicy);
@@ -575,7 +590,6 @@ void HttpServer::Routes() {
       return WriteProblem(res, 503, "not ready: the disk holding the database is full");
     }
     if (Status s = app_.storage().Ping(); !s.ok()) {
-      res.set_header("Retry-After", "5");
       return WriteProblem(res, 503, "not ready: the archive's database cannot be reached");
     }
     WriteJson(res, {{"status", "ready"}, {"schema_version", app_.storage().schema_version()}});

@@ -147,7 +147,7 @@ void BM_ShipPlantHour(benchmark::State& state) {
     SqlOutbox outbox(LineConnection(**app));
     OutboxBacklog backlog;
     (void)outbox.Backlog(&backlog);
-    LineConnection(**app)([&](SqlConnection& db) {
+    LineConnection (**app)([&](SqlConnection& db) {
       SqlStatement st(db, "SELECT SUM(pgsize) FROM dbstat WHERE name = 'outbox'");
       if (st.Step()) state.counters["outbox_bytes_per_row"] = st.Double(0) / backlog.rows;
     });
@@ -262,6 +262,7 @@ void BM_ShipLagAtPlantRate(benchmark::State& state) {
       if (due > t0 + std::chrono::seconds(seconds)) break;
       std::this_thread::sleep_until(due);
       std::vector<TemperatureInput> batch;
+      batch.reserve(kSensors);
       for (int s = 0; s < kSensors; ++s) {
         batch.push_back({"T" + std::to_string(s), clock.NowMs(), 20.0 + (k % 50) * 0.01});
       }

@@ -313,6 +313,9 @@ std::shared_ptr<const MachineCompensation> CompensationService::Serve(
 }
 
 void CompensationService::LogServed(const MachineCompensation& served) {
+  // A read-only server (the centre's) serves no control: what the lines
+  // served is in the shipped log, and nothing of its own goes beside it.
+  if (config_.read_only) return;
   const int64_t now = served.computed_at_ms;
   std::vector<const AxisCompensation*> due;
   {

@@ -46,8 +46,13 @@ class Outbox {
   virtual ~Outbox() = default;
   // Up to `limit` rows after `after_seq`, in sequence order.
   virtual Status Read(int64_t after_seq, int limit, std::vector<ShippedRow>* rows) = 0;
-  // Forgets the rows up to `seq`: the centre holds them.
-  virtual Status Acknowledge(int64_t seq) = 0;
+  // Forgets the rows up to `seq` (the centre of `plant` holds them) and
+  // remembers, in the same transaction, that it acknowledged them.
+  virtual Status Acknowledge(const std::string& plant, int64_t seq) = 0;
+  // What the centre of `plant` acknowledged last: 0 nothing yet, -1
+  // shipping refused (Refuse), until shipping is switched off and on.
+  virtual Status Acknowledged(const std::string& plant, int64_t* seq) = 0;
+  virtual Status Refuse(const std::string& plant) = 0;
   virtual Status Backlog(OutboxBacklog* backlog) = 0;
 };
 

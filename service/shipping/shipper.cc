@@ -37,9 +37,14 @@ std::string ShippingBoard::Render() const {
        "Age of the oldest row not yet applied at the centre (0: none waiting).", lag);
   Line(out, "thermocomp_shipping_centre_up", "gauge",
        "1 when the last pass reached the centre, else 0.", centre_up.load() ? "1" : "0");
+  // The Shipper marks a refusal with applied_seq = -1 (no number is).
+  Line(out, "thermocomp_shipping_refused", "gauge",
+       "1 when the centre's numbers contradict this archive's and shipping stopped until it is"
+       " switched off and on.",
+       applied_seq.load() < 0 ? "1" : "0");
   Line(out, "thermocomp_shipping_applied_seq", "gauge",
        "The highest outbox sequence number the centre has applied.",
-       std::to_string(applied_seq.load()));
+       std::to_string(std::max<int64_t>(0, applied_seq.load())));
   Line(out, "thermocomp_shipping_last_success_timestamp_seconds", "gauge",
        "When a batch was last applied at the centre (0: never since start).",
        std::to_string(last_success_ms.load() / 1000));
@@ -85,19 +90,41 @@ Status Shipper::ShipBatch(int64_t* shipped) {
     return s;
   };
   if (!synced_) {
+    int64_t acknowledged = 0;
+    if (Status s = outbox_.Acknowledged(options_.plant, &acknowledged); !s.ok()) return s;
+    if (acknowledged < 0) {
+      board_.applied_seq = -1;  // the board's mark of a refusal
+      return Status::FailedPrecondition(
+          "centre: shipping of plant " + options_.plant +
+          " was refused (see the first such line of the log); it stays so until shipping is"
+          " switched off and on (docs/operations.md, A centre for several plants)");
+    }
     if (Status s = centre_->Applied(options_.plant, &applied_); !s.ok()) return drop(s);
     board_.centre_up = true;
     board_.applied_seq = applied_;
-    if (applied_ > backlog.last_seq) {
-      return drop(Status::FailedPrecondition(
-          "centre: it holds rows of plant " + options_.plant + " up to " +
-          std::to_string(applied_) + " but this archive has numbered only " +
-          std::to_string(backlog.last_seq) +
-          ": another archive (or one restored from a backup) uses this plant's name; give it a"
-          " centre.plant of its own"));
+    std::string refusal;
+    if (applied_ < acknowledged) {
+      refusal = "the centre holds rows of plant " + options_.plant + " up to " +
+                std::to_string(applied_) + " but had acknowledged up to " +
+                std::to_string(acknowledged) +
+                ": it lost rows (a failover to a standby that was behind, a restore); switch"
+                " shipping off and on to ship this archive again";
+    } else if (applied_ > backlog.last_seq) {
+      refusal = "the centre holds rows of plant " + options_.plant + " up to " +
+                std::to_string(applied_) + " but this archive has numbered only " +
+                std::to_string(backlog.last_seq) +
+                ": another archive (or one restored from a backup) uses this plant's name;"
+                " give it a centre.plant of its own";
+    }
+    if (!refusal.empty()) {
+      // Kept in the archive: once this archive has numbered as many rows,
+      // the numbers alone would no longer tell.
+      if (Status s = outbox_.Refuse(options_.plant); !s.ok()) return s;
+      board_.applied_seq = -1;
+      return drop(Status::FailedPrecondition("centre: " + refusal));
     }
     // What the centre applied before the line could forget it.
-    if (Status s = outbox_.Acknowledge(applied_); !s.ok()) return s;
+    if (Status s = outbox_.Acknowledge(options_.plant, applied_); !s.ok()) return s;
     synced_ = true;
   }
   std::vector<ShippedRow> rows;
@@ -110,11 +137,11 @@ Status Shipper::ShipBatch(int64_t* shipped) {
   int64_t applied = applied_;
   if (Status s = centre_->Apply(options_.plant, rows, &applied); !s.ok()) return drop(s);
   board_.centre_up = true;
-  *shipped = applied - applied_;
+  for (const ShippedRow& row : rows) *shipped += row.seq > applied_ && row.seq <= applied ? 1 : 0;
   applied_ = applied;
   board_.applied_seq = applied_;
-  if (Status s = outbox_.Acknowledge(applied_); !s.ok()) return s;
-  board_.rows_total += static_cast<uint64_t>(rows.size());
+  if (Status s = outbox_.Acknowledge(options_.plant, applied_); !s.ok()) return s;
+  board_.rows_total += static_cast<uint64_t>(*shipped);
   board_.batches_total += 1;
   board_.last_success_ms = WallMs();
   board_.backlog_rows = std::max<int64_t>(0, backlog.rows - static_cast<int64_t>(rows.size()));

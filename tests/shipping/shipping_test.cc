@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "service/config.h"
+#include "service/shipping/shipper.h"
 #include "storage/sql/shipping/centre_store.h"
 #include "storage/sql/shipping/shipped_tables.h"
 #include "tests/shipping/shipping_util.h"
@@ -133,11 +134,11 @@ TEST_F(ShippingTest, SwitchingOnCopiesTheArchiveThenEveryWriteAsWritten) {
   EXPECT_EQ(backlog.rows, 14);
   EXPECT_EQ(backlog.last_seq, rows.back().seq);
   EXPECT_GT(backlog.oldest_stored_ms, 1700000000000);
-  ASSERT_TRUE(outbox.Acknowledge(rows[9].seq).ok());
+  ASSERT_TRUE(outbox.Acknowledge("north", rows[9].seq).ok());
   ASSERT_TRUE(outbox.Backlog(&backlog).ok());
   EXPECT_EQ(backlog.rows, 4);
   // The numbers go on after the acknowledged rows are gone.
-  ASSERT_TRUE(outbox.Acknowledge(rows.back().seq).ok());
+  ASSERT_TRUE(outbox.Acknowledge("north", rows.back().seq).ok());
   ExecOn(with_line_, "INSERT INTO audit (ts_ms, actor, action) VALUES (7, 'op', 'x')");
   std::vector<ShippedRow> after;
   ASSERT_TRUE(outbox.Read(0, 10, &after).ok());
@@ -210,7 +211,7 @@ TEST_F(CentreTest, AppliesEachRowOnceUnderThePlantsNames) {
 
   // A later update lands on the same row.
   SqlOutbox outbox(with_line_);
-  ASSERT_TRUE(outbox.Acknowledge(applied).ok());
+  ASSERT_TRUE(outbox.Acknowledge("north", applied).ok());
   ExecOn(with_line_,
          "UPDATE machines SET display_name = 'Mill 1' WHERE id = 1;"
          "INSERT INTO audit (ts_ms, actor, action, machine) VALUES (9, 'op', 'x', 'm1')");
@@ -268,6 +269,71 @@ TEST_F(CentreTest, KeyedRowsTakeTheirLastImageAndTextComesThroughExactly) {
   EXPECT_EQ(Centre("SELECT COUNT(*) FROM compensation_log c JOIN axes a ON a.id = c.axis_id"
                    " WHERE a.name = 'X' AND c.model_version IS NULL AND c.offset_mm = -0.0125"),
             1);
+}
+
+TEST_F(CentreTest, ACentreThatLostRowsOrAnotherArchiveOfThePlantIsRefusedForGood) {
+  ExecOn(with_line_, kLineRows);
+  ShippingSwitch on;
+  ASSERT_TRUE(Enable(&on).ok());
+  SqlOutbox outbox(with_line_);
+  ShippingBoard board;
+  Shipper::Options options;
+  options.plant = "north";
+  const Shipper::Connect connect = [this]() -> StatusOr<std::unique_ptr<thermocomp::Centre>> {
+    return std::unique_ptr<thermocomp::Centre>(std::make_unique<SqlCentre>(with_centre_));
+  };
+  auto ship = [&](int64_t* n) {
+    Shipper shipper(outbox, connect, board, options);  // a fresh start each time
+    return shipper.ShipBatch(n);
+  };
+  int64_t n = 0;
+  ASSERT_TRUE(ship(&n).ok());
+  EXPECT_EQ(n, 12);
+  const std::string progress = "SELECT seq FROM ship_progress WHERE plant = 'north'";
+  EXPECT_EQ(ScalarOf(with_line_, progress), Centre(progress));
+
+  // The centre goes back (a failover to a standby that was behind): the
+  // rows it lost are gone from the outbox, so shipping stops, loudly.
+  ExecOn(with_centre_, "UPDATE ship_progress SET seq = seq - 5");
+  ExecOn(with_line_, "INSERT INTO audit (ts_ms, actor, action) VALUES (7, 'op', 'x')");
+  Status s = ship(&n);
+  EXPECT_EQ(s.code(), Status::Code::kFailedPrecondition) << s.ToString();
+  EXPECT_NE(s.message().find("lost rows"), std::string::npos) << s.message();
+  EXPECT_NE(board.Render().find("thermocomp_shipping_refused 1"), std::string::npos);
+  // Put right at the centre, it stays refused until switched off and on.
+  ExecOn(with_centre_, "UPDATE ship_progress SET seq = seq + 5");
+  s = ship(&n);
+  EXPECT_NE(s.message().find("was refused"), std::string::npos) << s.message();
+  ShippingSwitch off;
+  with_line_([&](SqlConnection& db) { ASSERT_TRUE(DisableShipping(db, &off).ok()); });
+  ASSERT_TRUE(Enable(&on).ok());
+  ASSERT_TRUE(ship(&n).ok());
+  EXPECT_EQ(n, 13);  // the archive again, met on ids and keys
+  EXPECT_EQ(Centre("SELECT COUNT(*) FROM audit"), 3);
+  EXPECT_EQ(Centre("SELECT COUNT(*) FROM machines"), 1);
+  EXPECT_EQ(Centre("SELECT COUNT(*) FROM samples"), 3);
+
+  // Another archive under the same plant name, however many rows it
+  // writes afterwards.
+  auto other = SqliteStorage::OpenFile((dir_ / "other.db").string());
+  ASSERT_TRUE(other.ok());
+  WithSqlConnection with_other = testing::RunnerOf(other->get());
+  ExecOn(with_other, kLineRows);
+  with_other([&](SqlConnection& db) { ASSERT_TRUE(EnableShipping(db, &on).ok()); });
+  SqlOutbox other_outbox(with_other);
+  auto ship_other = [&](int64_t* shipped) {
+    Shipper shipper(other_outbox, connect, board, options);
+    return shipper.ShipBatch(shipped);
+  };
+  s = ship_other(&n);
+  EXPECT_NE(s.message().find("another archive"), std::string::npos) << s.message();
+  for (int i = 0; i < 40; ++i) {
+    ExecOn(with_other, "INSERT INTO audit (ts_ms, actor, action) VALUES (" + std::to_string(i) +
+                           ", 'op', 'y')");
+  }
+  s = ship_other(&n);
+  EXPECT_NE(s.message().find("was refused"), std::string::npos) << s.message();
+  EXPECT_EQ(Centre("SELECT COUNT(*) FROM audit"), 3);
 }
 
 TEST_F(CentreTest, ABatchThatFailsLeavesTheCentreAsItWas) {

@@ -17,7 +17,7 @@ std::string OutboxColumns(const ShippedTable& t) {
 
 std::string Values(const ShippedTable& t, const std::string& prefix) {
   std::string s = std::string(kNowMs) + ", '" + t.name + "'";
-  for (const std::string& c : t.columns) s += ", " + prefix + c;
+  for (const std::string& c : t.columns) s.append(", ").append(prefix).append(c);
   return s;
 }
 
@@ -27,13 +27,18 @@ std::string TriggerSql(const ShippedTable& t, const char* event) {
          "); END";
 }
 
+// Every shipping trigger there is, also of a table no longer shipped.
 Status DropTriggers(SqlConnection& db) {
-  for (const ShippedTable& t : ShippedTables()) {
-    for (const char* event : {"insert", "update"}) {
-      if (Status s = db.Exec("DROP TRIGGER IF EXISTS ship_" + t.name + "_" + event); !s.ok()) {
-        return s;
-      }
-    }
+  std::vector<std::string> names;
+  {
+    SqlStatement st(db,
+                    "SELECT name FROM sqlite_master WHERE type = 'trigger' AND"
+                    " name LIKE 'ship!_%' ESCAPE '!'");
+    while (st.Step()) names.push_back(st.Text(0));
+    if (!st.status().ok()) return st.status();
+  }
+  for (const std::string& name : names) {
+    if (Status s = db.Exec("DROP TRIGGER IF EXISTS " + name); !s.ok()) return s;
   }
   return Status::Ok();
 }
@@ -67,7 +72,9 @@ Status Switch(SqlConnection& db, bool on, ShippingSwitch* result) {
   if (!on) {
     result->dropped_rows = Count(db, "SELECT COUNT(*) FROM outbox", &status);
     if (!status.ok()) return fail(status);
-    if (Status s = db.Exec("DELETE FROM outbox"); !s.ok()) return fail(s);
+    if (Status s = db.Exec("DELETE FROM outbox; DELETE FROM ship_progress"); !s.ok()) {
+      return fail(s);
+    }
     return db.Commit();
   }
   for (const ShippedTable& t : ShippedTables()) {
@@ -78,11 +85,14 @@ Status Switch(SqlConnection& db, bool on, ShippingSwitch* result) {
   if (triggers == 0) {
     result->snapshot = true;
     auto copy = [&](const ShippedTable& t, const std::string& where) {
-      std::string cols;
-      for (const std::string& c : t.columns) cols += (cols.empty() ? "" : ", ") + c;
+      // Models in id order, the active one last: at the centre no image
+      // may make a second version active while another still is.
+      const bool versions = t.name == "models" || t.name == "feed_models";
       SqlStatement st(db, "INSERT INTO outbox (" + OutboxColumns(t) + ") SELECT " + Values(t, "") +
                               " FROM " + t.name + (where.empty() ? "" : " WHERE " + where) +
-                              (t.has_id ? " ORDER BY id" : ""));
+                              (versions   ? " ORDER BY status = 'active', id"
+                               : t.has_id ? " ORDER BY id"
+                                          : ""));
       Status s = st.Run();
       if (s.ok()) result->snapshot_rows += db.Changes();
       return s;
@@ -153,11 +163,51 @@ Status SqlOutbox::Read(int64_t after_seq, int limit, std::vector<ShippedRow>* ro
   return status;
 }
 
-Status SqlOutbox::Acknowledge(int64_t seq) {
+Status SqlOutbox::Acknowledge(const std::string& plant, int64_t seq) {
   Status status;
   with_([&](SqlConnection& db) {
-    SqlStatement st(db, "DELETE FROM outbox WHERE seq <= ?1");
-    status = st.Bind(1, seq).Run();
+    if (status = db.Begin(); !status.ok()) return;
+    SqlStatement del(db, "DELETE FROM outbox WHERE seq <= ?1");
+    status = del.Bind(1, seq).Run();
+    if (status.ok()) {
+      // The line's record of the centre (ship_progress here is the line's
+      // own): never moved back, never over a refusal.
+      SqlStatement note(db,
+                        "INSERT INTO ship_progress (plant, seq, applied_ms, stored_ms) VALUES"
+                        " (?1, ?2, " +
+                            std::string(kNowMs) +
+                            ", 0) ON CONFLICT (plant) DO UPDATE SET seq = excluded.seq,"
+                            " applied_ms = excluded.applied_ms WHERE ship_progress.seq >= 0"
+                            " AND excluded.seq > ship_progress.seq");
+      status = note.Bind(1, std::string_view(plant)).Bind(2, seq).Run();
+    }
+    if (status.ok()) status = db.Commit();
+    if (!status.ok()) db.Rollback();
+  });
+  return status;
+}
+
+Status SqlOutbox::Acknowledged(const std::string& plant, int64_t* seq) {
+  Status status;
+  with_([&](SqlConnection& db) {
+    SqlStatement st(db, "SELECT seq FROM ship_progress WHERE plant = ?1");
+    st.Bind(1, std::string_view(plant));
+    *seq = st.Step() ? st.Int(0) : 0;
+    status = st.status();
+  });
+  return status;
+}
+
+Status SqlOutbox::Refuse(const std::string& plant) {
+  Status status;
+  with_([&](SqlConnection& db) {
+    SqlStatement st(db,
+                    "INSERT INTO ship_progress (plant, seq, applied_ms, stored_ms) VALUES"
+                    " (?1, -1, " +
+                        std::string(kNowMs) +
+                        ", 0) ON CONFLICT (plant) DO UPDATE SET seq = -1,"
+                        " applied_ms = excluded.applied_ms");
+    status = st.Bind(1, std::string_view(plant)).Run();
   });
   return status;
 }

@@ -29,7 +29,9 @@ class SqlOutbox final : public Outbox {
  public:
   explicit SqlOutbox(WithSqlConnection with) : with_(std::move(with)) {}
   Status Read(int64_t after_seq, int limit, std::vector<ShippedRow>* rows) override;
-  Status Acknowledge(int64_t seq) override;
+  Status Acknowledge(const std::string& plant, int64_t seq) override;
+  Status Acknowledged(const std::string& plant, int64_t* seq) override;
+  Status Refuse(const std::string& plant) override;
   Status Backlog(OutboxBacklog* backlog) override;
 
  private:
