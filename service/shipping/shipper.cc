@@ -158,7 +158,7 @@ void Shipper::Pass() {
     Status s = ShipBatch(&shipped);
     if (!s.ok()) {
       std::string message = s.message();  // libpq's messages span lines
-      std::replace(message.begin(), message.end(), '\n', ' ');
+      for (char& ch : message) ch = ch == '\n' || ch == '\t' ? ' ' : ch;
       board_.failures_total += 1;
       board_.SetError(message);
       pause_ =
