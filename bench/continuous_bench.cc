@@ -37,8 +37,8 @@
 #include <benchmark/benchmark.h>
 #include <sqlite3.h>
 
-#include "server/open_app.h"
 #include "model/term_features.h"
+#include "server/open_app.h"
 #include "service/app.h"
 #include "sim/sim_recording.h"
 
@@ -62,7 +62,9 @@ double PeakRssMb() {
 }
 
 // "P01" ... "P11": runs in time order by name too.
-std::string RunName(int phase) { return (phase < 10 ? "P0" : "P") + std::to_string(phase); }
+std::string RunName(int phase) {
+  return (phase < 10 ? "P0" : "P") + std::to_string(phase);
+}
 
 double Approach(double value, double target, double tau_min, double dt_min) {
   return value + (target - value) * (1.0 - std::exp(-dt_min / tau_min));
@@ -72,12 +74,27 @@ double Approach(double value, double target, double tau_min, double dt_min) {
 // spindle power P and the axis loads put into it, with its own time
 // constant (min).
 enum Node {
-  kSp, kMot, kGl, kCool, kRam, kColTop, kColBase, kBed1, kBed2, kSaddle,
-  kScrX, kScrY, kScrZ, kCab, kAir, kFound, kNodes
+  kSp,
+  kMot,
+  kGl,
+  kCool,
+  kRam,
+  kColTop,
+  kColBase,
+  kBed1,
+  kBed2,
+  kSaddle,
+  kScrX,
+  kScrY,
+  kScrZ,
+  kCab,
+  kAir,
+  kFound,
+  kNodes
 };
-const char* kSensorNames[kNodes] = {"Tsp",    "Tmot",  "Tgl",   "Tcool",  "Tram",  "Tcol_top",
+const char* kSensorNames[kNodes] = {"Tsp",       "Tmot",  "Tgl",   "Tcool",   "Tram",   "Tcol_top",
                                     "Tcol_base", "Tbed1", "Tbed2", "Tsaddle", "Tscr_x", "Tscr_y",
-                                    "Tscr_z", "Tcab",  "Tair",  "Tfound"};
+                                    "Tscr_z",    "Tcab",  "Tair",  "Tfound"};
 const double kTauMin[kNodes] = {20, 12, 35, 90, 70, 90, 150, 160, 200, 100, 25, 25, 25, 60, 5, 600};
 constexpr double kHiddenLagTauMin = 45.0;
 
@@ -144,15 +161,22 @@ SimRecording ContinuousRecording() {
     const double day = static_cast<double>((now - kStartMs) % 86400000) / 86400000;
     const double cycle = 20.0 + 1.5 * std::sin(2 * kPi * day + air_phase);
     ambient += (cycle - ambient) * (dt_min / 240.0) + 0.015 * std::sqrt(dt_min) * unit(rng);
-    const double target[kNodes] = {
-        ambient + 12 * power,          ambient + 15 * power,
-        ambient + 5 * power,           ambient + 3 * power,
-        ambient + 3 * power + 2 * zl,  ambient + power + 1.5 * yl,
-        ambient + 2.5 * yl,            ambient + 2.2 * xl,
-        ambient + 1.8 * xl + 0.5 * power, ambient + 2.5 * xl + yl,
-        ambient + 5 * xl,              ambient + 5 * yl,
-        ambient + 5 * zl,              ambient + 4,
-        ambient,                       ambient};
+    const double target[kNodes] = {ambient + 12 * power,
+                                   ambient + 15 * power,
+                                   ambient + 5 * power,
+                                   ambient + 3 * power,
+                                   ambient + 3 * power + 2 * zl,
+                                   ambient + power + 1.5 * yl,
+                                   ambient + 2.5 * yl,
+                                   ambient + 2.2 * xl,
+                                   ambient + 1.8 * xl + 0.5 * power,
+                                   ambient + 2.5 * xl + yl,
+                                   ambient + 5 * xl,
+                                   ambient + 5 * yl,
+                                   ambient + 5 * zl,
+                                   ambient + 4,
+                                   ambient,
+                                   ambient};
     for (int s = 0; s < kNodes; ++s) t[s] = Approach(t[s], target[s], kTauMin[s], dt_min);
     sp_lag = Approach(sp_lag, t[kSp], kHiddenLagTauMin, dt_min);
 

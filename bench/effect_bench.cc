@@ -29,8 +29,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <string>
 #include <random>
+#include <string>
 
 #include <benchmark/benchmark.h>
 #include <sqlite3.h>
@@ -231,7 +231,9 @@ double StatusMb(const char* field) {
   }
   return 0;
 }
-void ResetPeak() { std::ofstream("/proc/self/clear_refs") << "5"; }
+void ResetPeak() {
+  std::ofstream("/proc/self/clear_refs") << "5";
+}
 
 // One input at a time, so that the memory measured is this size's only.
 const EffectSearchInput& ColumnInput(int interval_s, int days) {

@@ -18,6 +18,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench/bench_postgresql.h"
+
 #include "reports/drift_history_codec.h"
 #include "reports/model_codec.h"
 #include "storage/postgresql/pg_storage.h"
@@ -29,20 +31,8 @@ constexpr int kBatch = 1000;
 constexpr int64_t kStart = 1735689600000;  // 2025-01-01
 constexpr int64_t kMinute = 60000;
 
-std::string Server() {
-  const char* url = std::getenv("THERMOCOMP_BENCH_POSTGRES");
-  return url ? url : "";
-}
-
-// A new, empty database on the server; its URL.
-std::string FreshDatabase(const std::string& name) {
-  auto admin = PgConnection::Connect(Server() + "/postgres");
-  if (!admin.ok()) return "";
-  (*admin)->Exec("DROP DATABASE IF EXISTS " + name + " WITH (FORCE)");
-  (*admin)->Exec("CREATE DATABASE " + name +
-                 " TEMPLATE template0 ENCODING 'UTF8' LC_COLLATE 'C' LC_CTYPE 'C'");
-  return Server() + "/" + name;
-}
+using bench::FreshDatabase;
+using bench::Server;
 
 MachineRecord EightSensors() {
   MachineRecord m;

@@ -23,6 +23,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench/bench_postgresql.h"
+
 #include "service/shipping/shipper.h"
 #include "storage/postgresql/pg_centre.h"
 #include "storage/postgresql/pg_storage.h"
@@ -36,19 +38,8 @@ constexpr int kMachines = 200;
 constexpr int kSensors = 16;
 constexpr int64_t kMinute = 60000;
 
-std::string Server() {
-  const char* url = std::getenv("THERMOCOMP_BENCH_POSTGRES");
-  return url ? url : "";
-}
-
-std::string FreshDatabase(const std::string& name) {
-  auto admin = PgConnection::Connect(Server() + "/postgres");
-  if (!admin.ok()) return "";
-  (*admin)->Exec("DROP DATABASE IF EXISTS " + name + " WITH (FORCE)");
-  (*admin)->Exec("CREATE DATABASE " + name +
-                 " TEMPLATE template0 ENCODING 'UTF8' LC_COLLATE 'C' LC_CTYPE 'C'");
-  return Server() + "/" + name;
-}
+using bench::FreshDatabase;
+using bench::Server;
 
 std::string MachineName(int m) {
   return "m" + std::to_string(m);

@@ -1,13 +1,4 @@
 #!/usr/bin/env bash
-# Runs bench/shipping_bench.cc (plant to centre) against a private
-# PostgreSQL 15 on loopback
-# with PostgreSQL's default durability (fsync on, synchronous commits), the
-# same server for the shipping and its COPY baseline.
+# bench/shipping_bench.cc (plant to centre) on a private server.
 #   bench/shipping_bench.sh [benchmark options]   (after deploy/build.sh)
-set -euo pipefail
-cd "$(dirname "$0")/.."
-dir=$(mktemp -d /tmp/thermocomp-pgbench.XXXXXX)
-trap 'tests/postgres/pg_test_server.sh stop "$dir" > /dev/null' EXIT
-PG_TEST_DURABLE=1 tests/postgres/pg_test_server.sh start "$dir" > /dev/null
-port=$(sed -n 's/.*port=\([0-9]*\).*/\1/p' "$dir/conninfo")
-THERMOCOMP_BENCH_POSTGRES="postgresql://postgres@127.0.0.1:$port" build/bench/shipping_bench "$@"
+exec "$(dirname "$0")/with_postgresql.sh" shipping_bench "$@"

@@ -321,12 +321,7 @@ int64_t NowMs() {
 
 Status SqlCentre::Applied(const std::string& plant, int64_t* seq) {
   Status status;
-  with_([&](SqlConnection& db) {
-    SqlStatement st(db, "SELECT seq FROM ship_progress WHERE plant = ?1");
-    st.Bind(1, std::string_view(plant));
-    *seq = st.Step() ? st.Int(0) : 0;
-    status = st.status();
-  });
+  with_([&](SqlConnection& db) { status = ShipProgress(db, plant, seq); });
   return status;
 }
 
@@ -344,12 +339,7 @@ Status SqlCentre::Apply(const std::string& plant, const std::vector<ShippedRow>&
       status = std::move(s);
     };
     int64_t done = 0;
-    {
-      SqlStatement st(db, "SELECT seq FROM ship_progress WHERE plant = ?1");
-      st.Bind(1, std::string_view(plant));
-      if (st.Step()) done = st.Int(0);
-      if (!st.status().ok()) return fail(st.status());
-    }
+    if (Status s = ShipProgress(db, plant, &done); !s.ok()) return fail(s);
     Batch batch(db, plant, ids_);
     int64_t last_stored_ms = 0;
     const int64_t before = done;

@@ -110,6 +110,13 @@ Status Switch(SqlConnection& db, bool on, ShippingSwitch* result) {
 
 }  // namespace
 
+Status ShipProgress(SqlConnection& db, const std::string& plant, int64_t* seq) {
+  SqlStatement st(db, "SELECT seq FROM ship_progress WHERE plant = ?1");
+  st.Bind(1, std::string_view(plant));
+  *seq = st.Step() ? st.Int(0) : 0;
+  return st.status();
+}
+
 Status EnableShipping(SqlConnection& db, ShippingSwitch* result) {
   return Switch(db, true, result);
 }
@@ -189,12 +196,7 @@ Status SqlOutbox::Acknowledge(const std::string& plant, int64_t seq) {
 
 Status SqlOutbox::Acknowledged(const std::string& plant, int64_t* seq) {
   Status status;
-  with_([&](SqlConnection& db) {
-    SqlStatement st(db, "SELECT seq FROM ship_progress WHERE plant = ?1");
-    st.Bind(1, std::string_view(plant));
-    *seq = st.Step() ? st.Int(0) : 0;
-    status = st.status();
-  });
+  with_([&](SqlConnection& db) { status = ShipProgress(db, plant, seq); });
   return status;
 }
 

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <functional>
+#include <string>
 
 #include "storage/shipping.h"
 #include "storage/sql/connection.h"
@@ -21,6 +22,10 @@ struct ShippingSwitch {
   int64_t snapshot_rows = 0;
   int64_t dropped_rows = 0;  // DisableShipping: rows the outbox held
 };
+
+// The plant's sequence number in ship_progress (0 when it has no row):
+// at the centre what it applied, on the line what the centre acknowledged.
+Status ShipProgress(SqlConnection& db, const std::string& plant, int64_t* seq);
 
 Status EnableShipping(SqlConnection& db, ShippingSwitch* result);
 Status DisableShipping(SqlConnection& db, ShippingSwitch* result);
