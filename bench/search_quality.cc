@@ -7,7 +7,8 @@
 // "C" (B logged every 15 s), or a family with a length in days, "A2",
 // "A5", "B2", "B5", "D2", "D5" (D: B at 15 s with continuous displacement
 // instead of probing); by default all of them. For each scenario, seeds
-// 1..seeds; with nothing hidden, seeds 1001..1000+null_seeds. Prints
+// 1..seeds; with nothing hidden, seeds 1001..1000+null_seeds (from
+// THERMOCOMP_NULL_FIRST when set). Prints
 // Markdown; -v also prints every case that is not clean to stderr.
 //
 // Besides the search's result, each case's truth is judged as the search's
@@ -17,8 +18,12 @@
 //
 // THERMOCOMP_RUN_STRONG_GAIN and THERMOCOMP_RUN_STRONG_LOST set the
 // search's rule over runs (EffectSearchOptions::run_strong_gain and
-// run_strong_lost_blocks) for a comparison in the same build; the truth is
-// judged by the defaults either way.
+// run_strong_lost_blocks), THERMOCOMP_RUN_CHOSEN_GAIN and
+// THERMOCOMP_RUN_CHOSEN_LOST its arm of the choice validated as a choice
+// (run_chosen_gain, run_chosen_lost_blocks; a gain above 1 switches it
+// off), THERMOCOMP_VIF_MAX the collinearity limit of a new term
+// (vif_max), for a comparison in the same build; the truth is judged by the
+// defaults either way.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -59,6 +64,11 @@ EffectSearchOptions SearchOptions() {
   if (const char* lost = std::getenv("THERMOCOMP_RUN_STRONG_LOST")) {
     o.run_strong_lost_blocks = std::atoi(lost);
   }
+  if (const char* v = std::getenv("THERMOCOMP_VIF_MAX")) o.vif_max = std::atof(v);
+  if (const char* gain = std::getenv("THERMOCOMP_RUN_CHOSEN_GAIN"))
+    o.run_chosen_gain = std::atof(gain);
+  if (const char* lost = std::getenv("THERMOCOMP_RUN_CHOSEN_LOST"))
+    o.run_chosen_lost_blocks = std::atoi(lost);
   return o;
 }
 
@@ -190,7 +200,9 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
     Row(c.name, "**all with effects**", all);
-    Row(c.name, "nothing hidden", Run(c.family, c.days, "", 1001, null_seeds));
+    const char* first = std::getenv("THERMOCOMP_NULL_FIRST");  // the tests' are 201..250
+    Row(c.name, "nothing hidden",
+        Run(c.family, c.days, "", first ? std::strtoull(first, nullptr, 10) : 1001, null_seeds));
     std::fprintf(stderr, "%s: %.0f s\n", c.name.c_str(),
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     std::fflush(stdout);

@@ -68,9 +68,8 @@ double RequiredT(int blocks, const EffectSearchOptions& opt) {
   // estimated from the blocks, so few blocks need a larger t.
   if (blocks < 3) return INFINITY;
   const double level = boost::math::cdf(boost::math::normal_distribution<double>(), opt.min_t);
-  return std::max(opt.min_t,
-                  boost::math::quantile(boost::math::students_t_distribution<double>(blocks - 1),
-                                        level));
+  return std::max(opt.min_t, boost::math::quantile(
+                                 boost::math::students_t_distribution<double>(blocks - 1), level));
 }
 
 bool Qualifies(const PairedGain& g, const EffectSearchOptions& opt) {
@@ -269,12 +268,16 @@ Status DesignContext::Refit(const Design& d, LinearFit* fit) {
   return Status::Ok();
 }
 
+uint64_t DesignContext::Fingerprint(const Design& d) {
+  uint64_t fingerprint = 1469598103934665603ull ^ d.rows.size();  // FNV-1a over the rows
+  for (int i : d.rows) fingerprint = (fingerprint ^ static_cast<uint64_t>(i)) * 1099511628211ull;
+  return fingerprint;
+}
+
 StatusOr<BlockErrors> DesignContext::Blocked(const Design& d) {
   // The same model on the same rows is asked for often: by every
   // comparison with the current design.
-  uint64_t fingerprint = 1469598103934665603ull ^ d.rows.size();  // FNV-1a over the rows
-  for (int i : d.rows) fingerprint = (fingerprint ^ static_cast<uint64_t>(i)) * 1099511628211ull;
-  auto key = std::make_pair(d.Names(), fingerprint);
+  auto key = std::make_pair(d.Names(), Fingerprint(d));
   if (auto it = blocked_.find(key); it != blocked_.end()) return it->second;
   // Runs as blocks neighbour each other in time: their neighbours stay out
   // of the fit too.

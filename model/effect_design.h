@@ -112,6 +112,12 @@ class DesignContext {
   StatusOr<PairedGain> Gain(const Design& base, const Design& candidate);
   CrossValidation Loro(const Design& d);
   StatusOr<double> Forward(const Design& d);
+  // The search's choice validated as a choice: each block predicted by `d`
+  // with the candidate the screening picks on the other blocks alone
+  // (their neighbours left out over runs; nothing when none passes),
+  // paired against `d` alone. Candidates unknown on some of the design's
+  // rows are not picked. Implemented in effect_selection.cc.
+  StatusOr<PairedGain> SelectionGain(const Design& d, const std::vector<EffectTerm>& candidates);
   // Candidates passing the Bonferroni-corrected F-test and the VIF limit,
   // the strongest of each family (a sensor's lags are one), tau refined.
   // A candidate unknown on some of the design's rows is scored on the rest
@@ -149,6 +155,7 @@ class DesignContext {
   const Eigen::VectorXd& Column(const EffectTerm& t);
   Eigen::VectorXd Y(const Design& d) const;
   std::vector<int> Blocks(const Design& d) const;
+  static uint64_t Fingerprint(const Design& d);  // of its rows
   std::vector<Screened> Score(const Design& d, const LinearFit& fit,
                               const std::vector<EffectTerm>& candidates, int* tried);
 
@@ -158,6 +165,7 @@ class DesignContext {
   std::map<std::string, Eigen::VectorXd> columns_;
   // Blocked errors by model names and a fingerprint of its rows.
   std::map<std::pair<std::vector<std::string>, uint64_t>, BlockErrors> blocked_;
+  std::map<std::pair<std::vector<std::string>, uint64_t>, PairedGain> selection_;
   std::vector<int> train_, usable_;
   std::vector<int> group_;  // per training row: its run
   std::vector<int> block_;  // per training row: its block of time

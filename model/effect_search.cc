@@ -44,7 +44,8 @@ std::optional<EffectTerm> Plain(const EffectTerm& t) {
 bool InModel(const Design& d, const EffectTerm& t) {
   if (t.source.empty()) return false;
   return std::any_of(d.terms.begin(), d.terms.end(), [&](const EffectTerm& u) {
-    return u.source == t.source && (u.kind == EffectKind::kSignal) == (t.kind == EffectKind::kSignal);
+    return u.source == t.source &&
+           (u.kind == EffectKind::kSignal) == (t.kind == EffectKind::kSignal);
   });
 }
 
@@ -60,6 +61,11 @@ class Search {
   StatusOr<EffectSearchResult> Run();
 
  private:
+  // Whether a validated gain over `base` is a finding: Qualifies, or over
+  // runs the arm of the choice validated as a choice (run_chosen_gain).
+  bool Finding(const Design& base, const PairedGain& g);
+  // Whether `g` qualifies by that arm alone.
+  bool ByChoice(const PairedGain& g) const;
   // Whether `t` is a term of a declared sensor (a revision of its response).
   bool Revises(const EffectTerm& t) const { return declared_sources_.count(t.source) > 0; }
   Status FilterDeclaredSensors(Design& design, LinearFit& fit, EffectSearchResult& r);
@@ -122,10 +128,29 @@ class Search {
 
   const EffectSearchInput& in_;
   EffectSearchOptions opt_;  // a copy: the block kind decides whether the sign arm applies
+  bool over_runs_ = false;   // runs are the blocks
+  std::vector<EffectTerm> candidates_;
   DesignContext d_;
   std::set<std::string> declared_sources_;
   std::map<std::string, double> noise_c_, interval_min_;
 };
+
+bool Search::ByChoice(const PairedGain& g) const {
+  const int lost = g.blocks - static_cast<int>(g.won.size());
+  return over_runs_ && g.blocks >= opt_.strong_min_blocks && g.relative >= opt_.run_chosen_gain &&
+         lost <= opt_.run_chosen_lost_blocks && !Qualifies(g, opt_);
+}
+
+bool Search::Finding(const Design& base, const PairedGain& g) {
+  if (Qualifies(g, opt_)) return true;
+  if (!ByChoice(g)) return false;
+  // The candidate was picked as the best of many on these runs; the
+  // picking must hold too, on runs it did not see.
+  auto chosen = d_.SelectionGain(base, candidates_);
+  if (!chosen.ok()) return false;
+  const int lost = chosen->blocks - static_cast<int>(chosen->won.size());
+  return chosen->relative >= opt_.run_chosen_gain && lost <= opt_.run_chosen_lost_blocks;
+}
 
 Design Search::Retuned(const Design& design, const EffectSearchResult& r,
                        std::map<std::string, EffectTerm>* moved) {
@@ -176,8 +201,8 @@ Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
     const Design retuned = Retuned(without, r, &moved);
     auto keep = d_.Gain(without, with);
     auto keep_retuned = d_.Gain(retuned, with);
-    const bool superfluous = keep.ok() && !Qualifies(*keep, opt_);
-    if (superfluous || (keep_retuned.ok() && !Qualifies(*keep_retuned, opt_))) {
+    const bool superfluous = keep.ok() && !Finding(without, *keep);
+    if (superfluous || (keep_retuned.ok() && !Finding(retuned, *keep_retuned))) {
       r.superseded.push_back(effect.term);
       r.superseded_reasons[effect.term.Name()] =
           "with the other effects in, it no longer earns its place (its removal does not "
@@ -212,8 +237,7 @@ double Search::NoiseSse(const Design& design, const LinearFit& fit) {
       case EffectKind::kLag:
         return FilteredNoiseVariance(sigma->second, AlphaFor(t.tau_min, dt));
       case EffectKind::kAsymmetricLag:  // the shorter time constant lets more through
-        return FilteredNoiseVariance(sigma->second,
-                                     AlphaFor(std::min(t.tau_min, t.tau2_min), dt));
+        return FilteredNoiseVariance(sigma->second, AlphaFor(std::min(t.tau_min, t.tau2_min), dt));
       case EffectKind::kRate:
         return sigma->second * sigma->second;
       default:
@@ -240,8 +264,8 @@ std::optional<ScoredCandidate> Search::ReviseForm(const Design& design, const Bl
     auto g = d_.Gain(design, d_.With(without, asym));
     if (!g.ok() || !Qualifies(*g, opt_)) continue;
     if (best && g->gain <= best->gain.gain) continue;
-    best = ScoredCandidate{asym, base.Rmse() * std::sqrt(std::max(0.0, 1.0 - g->relative)), 1.0,
-                           *g};
+    best =
+        ScoredCandidate{asym, base.Rmse() * std::sqrt(std::max(0.0, 1.0 - g->relative)), 1.0, *g};
     *replaces = lag.Name();
     retuned_.clear();
   }
@@ -374,18 +398,18 @@ std::vector<ScoredCandidate> Search::Qualify(const Design& design, const LinearF
     // read directly by a finding of its own; otherwise the direct reading
     // is the effect (a short lag of a noisy sensor is a filter, not a
     // delay the structure has).
-    if (auto plain = Plain(c.term); plain && !InModel(design, c.term) && Qualifies(c.gain, opt_)) {
+    if (auto plain = Plain(c.term); plain && !InModel(design, c.term) && Finding(design, c.gain)) {
       const Design with_plain = d_.With(design, *plain);
       auto over_plain = d_.Gain(with_plain, d_.With(design, c.term));
       auto plain_gain = d_.Gain(design, with_plain);
-      if (over_plain.ok() && plain_gain.ok() && !Qualifies(*over_plain, opt_) &&
-          Qualifies(*plain_gain, opt_)) {
+      if (over_plain.ok() && plain_gain.ok() && !Finding(with_plain, *over_plain) &&
+          Finding(design, *plain_gain)) {
         c = ScoredCandidate{*plain,
                             base.Rmse() * std::sqrt(std::max(0.0, 1.0 - plain_gain->relative)),
                             s.p_adjusted, *plain_gain};
       }
     }
-    if (!Qualifies(c.gain, opt_)) {
+    if (!Finding(design, c.gain)) {
       r.closest.push_back(c);
       continue;
     }
@@ -479,11 +503,14 @@ std::optional<std::string> Search::Passes(const Design& design, const LinearFit&
       guard.reset();
     } else if (c.gain.t < RequiredT(c.gain.blocks, opt_) && forward_with.ok() &&
                forward_without.ok() &&
-               *forward_with > (1.0 - opt_.strong_gain) * *forward_without) {
+               *forward_with >
+                   (1.0 - (ByChoice(c.gain) ? opt_.run_chosen_gain : opt_.strong_gain)) *
+                       *forward_without) {
       // Qualified by the sign over blocks alone: blocks that neighbour each
       // other share slow states, so the gain must also hold where nothing
       // later leaks in, on the newest blocks predicted from the past only.
-      why = "its gain over blocks is not matched on the newest blocks, predicted from the past only";
+      why =
+          "its gain over blocks is not matched on the newest blocks, predicted from the past only";
       guard.reset();
     }
   }
@@ -519,7 +546,8 @@ std::optional<ScoredCandidate> Search::MaskedPair(const Design& design,
     auto joint = d_.Gain(design, d_.With(d, next[0].term));
     // Effects that hide each other are large together; a pair has two
     // chances to fit noise, so it must explain a real share of the error.
-    if (!joint.ok() || !Qualifies(*joint, opt_) || joint->relative < opt_.masked_pair_gain) continue;
+    if (!joint.ok() || !Qualifies(*joint, opt_) || joint->relative < opt_.masked_pair_gain)
+      continue;
     if (best && joint->gain <= best->gain.gain) continue;
     best = first;
     best->gain = *joint;
@@ -629,7 +657,8 @@ StatusOr<EffectSearchResult> Search::Run() {
   // Runs as blocks neighbour each other: even with their neighbours left
   // out of each fit, the sign over runs found effects on machines with
   // nothing hidden (docs/model.md §10). It decides only over days or weeks.
-  if (r.block_kind == "run") {
+  over_runs_ = r.block_kind == "run";
+  if (over_runs_) {
     opt_.strong_gain = opt_.run_strong_gain;
     opt_.strong_lost_blocks = opt_.run_strong_lost_blocks;
   }
@@ -662,7 +691,8 @@ StatusOr<EffectSearchResult> Search::Run() {
 
   if (Status s = FilterDeclaredSensors(design, fit, r); !s.ok()) return s;
 
-  const std::vector<EffectTerm> candidates = GenerateCandidates(in_, opt_);
+  candidates_ = GenerateCandidates(in_, opt_);
+  const std::vector<EffectTerm>& candidates = candidates_;
   r.candidates = static_cast<int>(candidates.size());
   for (int round = 0; round < opt_.max_effects; ++round) {
     auto base = d_.Blocked(design);

@@ -6,7 +6,10 @@
 // over whole days (or weeks) and compared with the current model block by
 // block; a gain must exceed its block-to-block uncertainty (t >= min_t),
 // be worth having (>= min_gain of the error), and hold when the newest
-// blocks are predicted from the past only (forward chaining).
+// blocks are predicted from the past only (forward chaining). On few
+// blocks a large gain won in nearly every block also counts; over runs at
+// 30 % only when the search's choice itself, repeated without each run,
+// predicts that run as well (the choice validated as a choice).
 //
 // Sensor noise is handled as noise: each channel's white noise is estimated
 // from its raw series; a declared sensor read through a longer filter is
@@ -78,10 +81,10 @@ struct EffectSearchOptions {
   // sensor's term.
   double revision_within = 0.05;
   double asymmetry_min_ratio = 1.5;  // heating and cooling taus closer than this are one lag
-  int lookahead = 8;             // best candidates whose best follow-up is also tried
-  int cv_shortlist = 8;          // best candidates by F that are cross-validated
-  double min_known_share = 0.8;  // a candidate unknown on more of the rows is not evaluable
-  int min_runs_per_side = 3;     // an event needs this many training runs before and after
+  int lookahead = 8;                 // best candidates whose best follow-up is also tried
+  int cv_shortlist = 8;              // best candidates by F that are cross-validated
+  double min_known_share = 0.8;      // a candidate unknown on more of the rows is not evaluable
+  int min_runs_per_side = 3;         // an event needs this many training runs before and after
   // Two candidates that qualify only together must explain this share.
   double masked_pair_gain = 0.1;
   // Validation.
@@ -102,8 +105,14 @@ struct EffectSearchOptions {
   // run_strong_lost_blocks.
   double run_strong_gain = 0.6;
   int run_strong_lost_blocks = 0;
-  int forward_blocks = 3;        // newest training blocks predicted from the past only
-  double equivalent_t = 1.0;     // two explanations closer than this are equivalent
+  // Over runs, a candidate that removes run_chosen_gain of the error and
+  // wins in all runs but run_chosen_lost_blocks qualifies too when the
+  // search's choice, validated as a choice (each run predicted with the
+  // candidate the screening picks without it), does as well.
+  double run_chosen_gain = 0.3;
+  int run_chosen_lost_blocks = 1;
+  int forward_blocks = 3;     // newest training blocks predicted from the past only
+  double equivalent_t = 1.0;  // two explanations closer than this are equivalent
   // A declared sensor's fault leaves the training points from its onset
   // out, unless they are more than this share of them.
   double max_fault_share = 0.4;
@@ -173,10 +182,10 @@ struct SensorFault {
   std::string sensor;
   std::string kind;  // drift | step | lost_contact
   int64_t onset_ms = 0;
-  double size_c = 0;          // the reading's departure at the newest data, degC
-  double effect_mm = 0;       // what that departure does through the sensor's coefficient
-  int points_left_out = 0;    // training points from the onset on
-  std::string reason;         // one sentence, for the report
+  double size_c = 0;        // the reading's departure at the newest data, degC
+  double effect_mm = 0;     // what that departure does through the sensor's coefficient
+  int points_left_out = 0;  // training points from the onset on
+  std::string reason;       // one sentence, for the report
 };
 
 // A candidate not added, and why.

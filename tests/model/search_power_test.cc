@@ -172,10 +172,10 @@ const std::vector<std::string> kSinglesD = {"left_out_sensor", "declared_lag", "
                                             "sensitivity_step"};
 
 INSTANTIATE_TEST_SUITE_P(Lengths, ShortRecordings,
-                         // Measured: A2 38/83 strong named, forms 2/35, 2 of 50 false;
+                         // Measured: A2 42/83 strong named, forms 2/35, 2 of 50 false;
                          // A5 59/69, 23/36 (26 within, 2 companions), 0; B2 37/103, 2/43,
-                         // 0; B5 59/102, 13/47 (15 within, 2 companions), 2; D2 15/42,
-                         // 4/26 (7 within, 1 companion), 0; D5 13/24, 4/13 (2 within, 1
+                         // 0; B5 66/102, 14/47 (15 within, 2 companions), 2; D2 14/42,
+                         // 3/26 (7 within, 0 companions), 1; D5 16/24, 4/13 (2 within, 1
                          // companion), 1.
                          ::testing::Values(
                              ShortCase{"A2", 'A', 2, 16, kSinglesA, kFormsA, {0.4, 0, 0, 0.05, 2}},
