@@ -21,7 +21,8 @@
 // run_strong_lost_blocks), THERMOCOMP_RUN_CHOSEN_GAIN and
 // THERMOCOMP_RUN_CHOSEN_LOST its arm of the choice validated as a choice
 // (run_chosen_gain, run_chosen_lost_blocks; a gain above 1 switches it
-// off), THERMOCOMP_VIF_MAX the collinearity limit of a new term
+// off), THERMOCOMP_RUN_T_CHECKS_CHOICE=0 the same check of the t arm
+// over runs (run_t_checks_choice), THERMOCOMP_VIF_MAX the collinearity limit of a new term
 // (vif_max), for a comparison in the same build; the truth is judged by the
 // defaults either way.
 #include <chrono>
@@ -69,6 +70,8 @@ EffectSearchOptions SearchOptions() {
     o.run_chosen_gain = std::atof(gain);
   if (const char* lost = std::getenv("THERMOCOMP_RUN_CHOSEN_LOST"))
     o.run_chosen_lost_blocks = std::atoi(lost);
+  if (const char* check = std::getenv("THERMOCOMP_RUN_T_CHECKS_CHOICE"))
+    o.run_t_checks_choice = std::atoi(check) != 0;
   return o;
 }
 

@@ -458,8 +458,12 @@ EffectTerm DesignContext::RefineTau(const Design& d, const LinearFit& fit, const
   const double hi = std::min(term.tau_min * 2.0, opt_.max_tau_min);
   if (!(hi > lo)) return term;
   auto gain_of = [&](const EffectTerm& t) {
+    // A probe, not a term: its column is not kept (on long continuous
+    // recordings every probe's column would stay in memory).
+    const bool cached = columns_.count(t.Name()) > 0;
     int tried = 0;
     auto s = Score(d, fit, {t}, &tried);
+    if (!cached) columns_.erase(t.Name());
     return s.empty() ? -1.0 : s[0].gain;
   };
   EffectTerm tuned = term;

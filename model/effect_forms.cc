@@ -15,8 +15,10 @@ EffectTerm DesignContext::RefineAsymmetric(const Design& d, const LinearFit& fit
   best.kind = EffectKind::kAsymmetricLag;
   best.tau2_min = lag.tau_min;
   auto gain_of = [&](const EffectTerm& t) {
+    const bool cached = columns_.count(t.Name()) > 0;  // a probe's column is not kept
     int tried = 0;
     auto s = Score(d, fit, {t}, &tried);
+    if (!cached) columns_.erase(t.Name());
     return s.empty() ? -1.0 : s[0].gain;
   };
   double best_gain = gain_of(best);

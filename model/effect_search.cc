@@ -142,7 +142,14 @@ bool Search::ByChoice(const PairedGain& g) const {
 }
 
 bool Search::Finding(const Design& base, const PairedGain& g) {
-  if (Qualifies(g, opt_)) return true;
+  if (Qualifies(g, opt_)) {
+    if (!over_runs_ || !opt_.run_t_checks_choice) return true;
+    // A t over runs that share slow states is where false effects on
+    // machines with nothing hidden came in: the choice must also gain
+    // something in total on runs it did not see.
+    auto chosen = d_.SelectionGain(base, candidates_);
+    return chosen.ok() && chosen->relative > 0;
+  }
   if (!ByChoice(g)) return false;
   // The candidate was picked as the best of many on these runs; the
   // picking must hold too, on runs it did not see.

@@ -111,6 +111,9 @@ struct EffectSearchOptions {
   // candidate the screening picks without it), does as well.
   double run_chosen_gain = 0.3;
   int run_chosen_lost_blocks = 1;
+  // Over runs, a gain that reaches the t of min_t also needs the choice,
+  // validated as a choice, to gain something in total.
+  bool run_t_checks_choice = true;
   int forward_blocks = 3;     // newest training blocks predicted from the past only
   double equivalent_t = 1.0;  // two explanations closer than this are equivalent
   // A declared sensor's fault leaves the training points from its onset

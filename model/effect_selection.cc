@@ -26,25 +26,24 @@ StatusOr<PairedGain> DesignContext::SelectionGain(const Design& d,
   const std::vector<int> blocks = Blocks(d);
   // The candidates known on every row of the design, as the screening
   // reads them (a lag of a sensor in the model is judged collinear by its
-  // delay, not by the level both share).
+  // delay, not by the level both share). Read in place from the cached
+  // columns: copies of every candidate on every row would multiply the
+  // memory the search needs on long continuous recordings.
   struct Candidate {
-    Eigen::VectorXd column;
-    Eigen::VectorXd spread;  // what its collinearity is judged by
+    const Eigen::VectorXd* column;  // over all points
+    const Eigen::VectorXd* own;     // the sensor a lag delays, or null
   };
   std::vector<Candidate> pool;
   for (const EffectTerm& term : candidates) {
     if (d.Has(term)) continue;
     const Eigen::VectorXd& full = Column(term);
-    Candidate c;
-    c.column.resize(n);
-    for (int i = 0; i < n; ++i) c.column(i) = full(train_[d.rows[i]]);
-    if (!c.column.allFinite()) continue;
-    c.spread = c.column;
-    if (term.kind == EffectKind::kLag && d.Has(EffectTerm::Sensor(term.source))) {
-      const Eigen::VectorXd& own = Column(EffectTerm::Sensor(term.source));
-      for (int i = 0; i < n; ++i) c.spread(i) -= own(train_[d.rows[i]]);
-    }
-    pool.push_back(std::move(c));
+    bool known = true;
+    for (int i = 0; i < n && known; ++i) known = std::isfinite(full(train_[d.rows[i]]));
+    if (!known) continue;
+    const Eigen::VectorXd* own = nullptr;
+    if (term.kind == EffectKind::kLag && d.Has(EffectTerm::Sensor(term.source)))
+      own = &Column(EffectTerm::Sensor(term.source));
+    pool.push_back({&full, own});
   }
   const int buffer = block_kind_ == "run" ? opt_.run_buffer : 0;
   BlockErrors base, chosen;
@@ -83,11 +82,12 @@ StatusOr<PairedGain> DesignContext::SelectionGain(const Design& d,
     int tried = 0, best = -1;
     double best_gain = 0, best_coefficient = 0;
     Eigen::VectorXd cf(m), best_cf;
+    Eigen::VectorXd spread(m);
     for (size_t k = 0; k < pool.size(); ++k) {
-      Eigen::VectorXd spread(m);
       for (int i = 0; i < m; ++i) {
-        cf(i) = pool[k].column(fit_rows[i]);
-        spread(i) = pool[k].spread(fit_rows[i]);
+        const int row = train_[d.rows[fit_rows[i]]];
+        cf(i) = (*pool[k].column)(row);
+        spread(i) = pool[k].own ? cf(i) - (*pool[k].own)(row) : cf(i);
       }
       const double sst = (spread.array() - spread.mean()).matrix().squaredNorm();
       if (!(sst > 1e-24 * m)) continue;
@@ -117,7 +117,9 @@ StatusOr<PairedGain> DesignContext::SelectionGain(const Design& d,
     for (int i : test_rows) {
       const double base_prediction = a.row(i).dot(beta);
       double prediction = base_prediction;
-      if (best >= 0) prediction += best_coefficient * (pool[best].column(i) - a.row(i).dot(delta));
+      if (best >= 0)
+        prediction +=
+            best_coefficient * ((*pool[best].column)(train_[d.rows[i]]) - a.row(i).dot(delta));
       base.sse[b] += (y(i) - base_prediction) * (y(i) - base_prediction);
       chosen.sse[b] += (y(i) - prediction) * (y(i) - prediction);
       ++base.n[b];
