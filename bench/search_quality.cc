@@ -22,9 +22,10 @@
 // THERMOCOMP_RUN_CHOSEN_LOST its arm of the choice validated as a choice
 // (run_chosen_gain, run_chosen_lost_blocks; a gain above 1 switches it
 // off), THERMOCOMP_RUN_T_CHECKS_CHOICE=0 the same check of the t arm
-// over runs (run_t_checks_choice), THERMOCOMP_VIF_MAX the collinearity limit of a new term
-// (vif_max), for a comparison in the same build; the truth is judged by the
-// defaults either way.
+// over runs (run_t_checks_choice), THERMOCOMP_VIF_MAX and
+// THERMOCOMP_RUN_VIF_MAX the collinearity limit of a new term (vif_max,
+// and run_vif_max over runs), for a comparison in the same build; the
+// truth is judged by the defaults either way.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -66,6 +67,7 @@ EffectSearchOptions SearchOptions() {
     o.run_strong_lost_blocks = std::atoi(lost);
   }
   if (const char* v = std::getenv("THERMOCOMP_VIF_MAX")) o.vif_max = std::atof(v);
+  if (const char* v = std::getenv("THERMOCOMP_RUN_VIF_MAX")) o.run_vif_max = std::atof(v);
   if (const char* gain = std::getenv("THERMOCOMP_RUN_CHOSEN_GAIN"))
     o.run_chosen_gain = std::atof(gain);
   if (const char* lost = std::getenv("THERMOCOMP_RUN_CHOSEN_LOST"))

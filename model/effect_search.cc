@@ -83,6 +83,9 @@ class Search {
   // the reason in r.set_aside).
   std::optional<std::string> Passes(const Design& design, const LinearFit& fit,
                                     const ScoredCandidate& c, EffectSearchResult& r);
+  // Why `c`, added to `design` as `with` (with its masked partner, when it
+  // has one), fails the forward check; "" when it holds.
+  std::string ForwardFails(const Design& design, const Design& with, const ScoredCandidate& c);
   // The candidate of this round (nullopt: none; ambiguous ones land in r).
   std::optional<ScoredCandidate> Choose(const Design& design, const LinearFit& fit,
                                         const std::vector<ScoredCandidate>& qualified,
@@ -468,10 +471,15 @@ size_t Search::Lookahead(const Design& design, const std::vector<ScoredCandidate
     auto base = d_.Blocked(d);
     if (!d_.Refit(d, &f).ok() || !base.ok()) return first.cv_rmse;
     int tried = 0;
-    auto next = Qualify(d, f, *base, candidates, &tried, nullptr);
-    // On the first step's scale: its error less the follow-up's share.
-    return next.empty() ? first.cv_rmse
-                        : first.cv_rmse * std::sqrt(std::max(0.0, 1.0 - next[0].gain.relative));
+    // On the first step's scale: its error less the follow-up's share. A
+    // follow-up that fails the forward check would never be added, and a
+    // first step chosen for it would stay alone (a slow trend taken for
+    // the sensor it was to be followed by, extrapolating).
+    for (const ScoredCandidate& next : Qualify(d, f, *base, candidates, &tried, nullptr)) {
+      if (ForwardFails(d, d_.With(d, next.term), next).empty())
+        return first.cv_rmse * std::sqrt(std::max(0.0, 1.0 - next.gain.relative));
+    }
+    return first.cv_rmse;
   };
   std::vector<double> value;
   for (size_t i = 0; i < qualified.size() && i < static_cast<size_t>(opt_.lookahead); ++i) {
@@ -503,26 +511,30 @@ std::optional<std::string> Search::Passes(const Design& design, const LinearFit&
     Design with = d_.With(design, c.term);
     if (auto p = partners_.find(c.term.Name()); p != partners_.end())
       with = d_.With(with, p->second);
-    auto forward_with = d_.Forward(d_.On(with, design.rows));
-    auto forward_without = d_.Forward(d_.On(design, with.rows));
-    if (forward_with.ok() && forward_without.ok() && *forward_with > *forward_without) {
-      why = "worse on the newest days, predicted from the past only";
-      guard.reset();
-    } else if (c.gain.t < RequiredT(c.gain.blocks, opt_) && forward_with.ok() &&
-               forward_without.ok() &&
-               *forward_with >
-                   (1.0 - (ByChoice(c.gain) ? opt_.run_chosen_gain : opt_.strong_gain)) *
-                       *forward_without) {
-      // Qualified by the sign over blocks alone: blocks that neighbour each
-      // other share slow states, so the gain must also hold where nothing
-      // later leaks in, on the newest blocks predicted from the past only.
-      why =
-          "its gain over blocks is not matched on the newest blocks, predicted from the past only";
+    if (std::string fails = ForwardFails(design, with, c); !fails.empty()) {
+      why = std::move(fails);
       guard.reset();
     }
   }
   if (!guard) r.set_aside.push_back({c, why});
   return passes_[c.term.Name()] = guard;
+}
+
+std::string Search::ForwardFails(const Design& design, const Design& with,
+                                 const ScoredCandidate& c) {
+  auto forward_with = d_.Forward(d_.On(with, design.rows));
+  auto forward_without = d_.Forward(d_.On(design, with.rows));
+  if (!forward_with.ok() || !forward_without.ok()) return "";
+  if (*forward_with > *forward_without)
+    return "worse on the newest days, predicted from the past only";
+  // Qualified by the sign over blocks alone: blocks that neighbour each
+  // other share slow states, so the gain must also hold where nothing
+  // later leaks in, on the newest blocks predicted from the past only.
+  if (c.gain.t < RequiredT(c.gain.blocks, opt_) &&
+      *forward_with >
+          (1.0 - (ByChoice(c.gain) ? opt_.run_chosen_gain : opt_.strong_gain)) * *forward_without)
+    return "its gain over blocks is not matched on the newest blocks, predicted from the past only";
+  return "";
 }
 
 std::optional<ScoredCandidate> Search::MaskedPair(const Design& design,
@@ -668,6 +680,7 @@ StatusOr<EffectSearchResult> Search::Run() {
   if (over_runs_) {
     opt_.strong_gain = opt_.run_strong_gain;
     opt_.strong_lost_blocks = opt_.run_strong_lost_blocks;
+    opt_.vif_max = opt_.run_vif_max;
   }
   r.blocks = d_.blocks();
   r.training_n = d_.n();

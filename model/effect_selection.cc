@@ -27,13 +27,20 @@ StatusOr<PairedGain> DesignContext::SelectionGain(const Design& d,
   // The candidates known on every row of the design, as the screening
   // reads them (a lag of a sensor in the model is judged collinear by its
   // delay, not by the level both share). Read in place from the cached
-  // columns: copies of every candidate on every row would multiply the
-  // memory the search needs on long continuous recordings.
-  struct Candidate {
-    const Eigen::VectorXd* column;  // over all points
-    const Eigen::VectorXd* own;     // the sensor a lag delays, or null
-  };
-  std::vector<Candidate> pool;
+  // columns (over all points): copies of every candidate on every row
+  // would multiply the memory the search needs on long continuous
+  // recordings.
+  std::vector<const Eigen::VectorXd*> pool;
+  // Which candidates the collinearity limit lets in is judged once, on all
+  // the design's rows, as the search's own screening judges it: it reads
+  // the columns only, never the drift, so nothing of a held-out run's
+  // outcome leaks. Judged again in each fold, a true effect whose sensor
+  // varies less once two runs are out crosses VIF 10 there and the fold
+  // picks the next best term instead (a spindle signal that then
+  // extrapolates), which tells of the limit, not of the choice.
+  Eigen::HouseholderQR<Eigen::MatrixXd> all_qr(a);
+  const Eigen::MatrixXd all_q = all_qr.householderQ() * Eigen::MatrixXd::Identity(n, p);
+  Eigen::VectorXd column(n), spread_all(n);
   for (const EffectTerm& term : candidates) {
     if (d.Has(term)) continue;
     const Eigen::VectorXd& full = Column(term);
@@ -43,7 +50,16 @@ StatusOr<PairedGain> DesignContext::SelectionGain(const Design& d,
     const Eigen::VectorXd* own = nullptr;
     if (term.kind == EffectKind::kLag && d.Has(EffectTerm::Sensor(term.source)))
       own = &Column(EffectTerm::Sensor(term.source));
-    pool.push_back({&full, own});
+    for (int i = 0; i < n; ++i) {
+      const int row = train_[d.rows[i]];
+      column(i) = full(row);
+      spread_all(i) = own ? column(i) - (*own)(row) : column(i);
+    }
+    const double sst = (spread_all.array() - spread_all.mean()).matrix().squaredNorm();
+    if (!(sst > 1e-24 * n)) continue;
+    if ((column - all_q * (all_q.transpose() * column)).squaredNorm() < sst / opt_.vif_max)
+      continue;
+    pool.push_back(&full);
   }
   const int buffer = block_kind_ == "run" ? opt_.run_buffer : 0;
   BlockErrors base, chosen;
@@ -77,24 +93,19 @@ StatusOr<PairedGain> DesignContext::SelectionGain(const Design& d,
     const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(m, p);
     const Eigen::VectorXd beta = qr.solve(yf);
     const Eigen::VectorXd e = yf - af * beta;
-    // The screening on the other blocks: the largest fall of the SSE that
-    // passes the VIF limit, then its partial F-test, Bonferroni-corrected.
-    int tried = 0, best = -1;
+    // The screening on the other blocks: the largest fall of the SSE among
+    // the candidates let in, then its partial F-test, Bonferroni-corrected
+    // over all of them.
+    const int tried = static_cast<int>(pool.size());
+    int best = -1;
     double best_gain = 0, best_coefficient = 0;
     Eigen::VectorXd cf(m), best_cf;
-    Eigen::VectorXd spread(m);
     for (size_t k = 0; k < pool.size(); ++k) {
-      for (int i = 0; i < m; ++i) {
-        const int row = train_[d.rows[fit_rows[i]]];
-        cf(i) = (*pool[k].column)(row);
-        spread(i) = pool[k].own ? cf(i) - (*pool[k].own)(row) : cf(i);
-      }
-      const double sst = (spread.array() - spread.mean()).matrix().squaredNorm();
-      if (!(sst > 1e-24 * m)) continue;
+      for (int i = 0; i < m; ++i) cf(i) = (*pool[k])(train_[d.rows[fit_rows[i]]]);
       const Eigen::VectorXd c_res = cf - q * (q.transpose() * cf);
       const double ss_res = c_res.squaredNorm();
-      if (ss_res < sst / opt_.vif_max) continue;
-      ++tried;
+      // Constant on these rows, or nothing of it left beyond the model.
+      if (!(ss_res > 1e-12 * cf.squaredNorm() && ss_res > 1e-24 * m)) continue;
       const double ec = e.dot(c_res);
       if (ec * ec / ss_res > best_gain) {
         best_gain = ec * ec / ss_res;
@@ -118,8 +129,7 @@ StatusOr<PairedGain> DesignContext::SelectionGain(const Design& d,
       const double base_prediction = a.row(i).dot(beta);
       double prediction = base_prediction;
       if (best >= 0)
-        prediction +=
-            best_coefficient * ((*pool[best].column)(train_[d.rows[i]]) - a.row(i).dot(delta));
+        prediction += best_coefficient * ((*pool[best])(train_[d.rows[i]]) - a.row(i).dot(delta));
       base.sse[b] += (y(i) - base_prediction) * (y(i) - base_prediction);
       chosen.sse[b] += (y(i) - prediction) * (y(i) - prediction);
       ++base.n[b];
