@@ -433,12 +433,6 @@ std::vector<ScoredCandidate> Search::Qualify(const Design& design, const LinearF
       r.set_aside.push_back({c, "a filter of the declared sensor's noise, not an effect"});
       continue;
     }
-    // Lags of one source that all lose to its direct reading become that
-    // reading: once is enough (a term is neither its own runner-up nor its
-    // own equivalent).
-    if (std::any_of(out.begin(), out.end(),
-                    [&](const ScoredCandidate& o) { return o.term.Name() == c.term.Name(); }))
-      continue;
     out.push_back(c);
   }
   std::stable_sort(out.begin(), out.end(), [](const ScoredCandidate& a, const ScoredCandidate& b) {
