@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "model/effect_search.h"
@@ -66,6 +67,10 @@ bool Qualifies(const PairedGain& g, const EffectSearchOptions& opt);
 // as Student's t with blocks - 1 degrees of freedom.
 double RequiredT(int blocks, const EffectSearchOptions& opt);
 
+// Each sensor's lags among `candidates` in pairs, the slow one more than a
+// factor 3 longer: the fast and slow responses SelectionGain may pick.
+std::vector<std::pair<EffectTerm, EffectTerm>> LagPairs(const std::vector<EffectTerm>& candidates);
+
 class DesignContext {
  public:
   DesignContext(const EffectSearchInput& in, const EffectSearchOptions& opt)
@@ -116,8 +121,14 @@ class DesignContext {
   // with the candidate the screening picks on the other blocks alone
   // (their neighbours left out over runs; nothing when none passes),
   // paired against `d` alone. Candidates unknown on some of the design's
-  // rows are not picked. Implemented in effect_selection.cc.
-  StatusOr<PairedGain> SelectionGain(const Design& d, const std::vector<EffectTerm>& candidates);
+  // rows are not picked. `pool` names the candidates (their results are
+  // kept under it with the design's): "" for all of the search's. `pairs`
+  // are candidates of two terms (a fast and a slow lag of one sensor),
+  // judged beside the single ones by their F-test's p with two degrees of
+  // freedom. Implemented in effect_selection.cc.
+  StatusOr<PairedGain> SelectionGain(
+      const Design& d, const std::vector<EffectTerm>& candidates, const std::string& pool = "",
+      const std::vector<std::pair<EffectTerm, EffectTerm>>& pairs = {});
   // Candidates passing the Bonferroni-corrected F-test and the VIF limit,
   // the strongest of each family (a sensor's lags are one), tau refined.
   // A candidate unknown on some of the design's rows is scored on the rest

@@ -63,7 +63,9 @@ class Search {
  private:
   // Whether a validated gain over `base` is a finding: Qualifies, or over
   // runs the arm of the choice validated as a choice (run_chosen_gain).
-  bool Finding(const Design& base, const PairedGain& g);
+  // `with_pairs` adds the fast and slow pairs of every sensor's lags to
+  // the choice validated as a choice (for a gain of such a pair).
+  bool Finding(const Design& base, const PairedGain& g, bool with_pairs = false);
   // Whether `g` qualifies by that arm alone.
   bool ByChoice(const PairedGain& g) const;
   // Whether `t` is a term of a declared sensor (a revision of its response).
@@ -128,11 +130,26 @@ class Search {
   std::optional<ScoredCandidate> ReviseForm(const Design& design, const BlockErrors& base,
                                             std::string* replaces);
   std::map<std::string, EffectTerm> retuned_;  // the chosen revision's re-tuned lags
+  // A sensor whose lags the round found but no single lag holds, acting
+  // through a form: heating and cooling time constants apart, or a fast
+  // and a slow response. The strongest such form among the round's best
+  // lags (`shortlisted`) that is a finding and beats its own single lag by
+  // one; a fast and slow pair carries its slow lag in *second.
+  std::optional<ScoredCandidate> NewForm(const Design& design, const LinearFit& fit,
+                                         const BlockErrors& base,
+                                         const std::vector<ScoredCandidate>& shortlisted,
+                                         EffectTerm* second);
+  // Guard and forward check of a form (with its second lag, when it has
+  // one): whether it may be added (the reason in r.set_aside when not).
+  bool FormPasses(const Design& design, const LinearFit& fit, const ScoredCandidate& c,
+                  const EffectTerm* second, EffectSearchResult& r);
 
   const EffectSearchInput& in_;
   EffectSearchOptions opt_;  // a copy: the block kind decides whether the sign arm applies
   bool over_runs_ = false;   // runs are the blocks
   std::vector<EffectTerm> candidates_;
+  // Each sensor's candidate lags in pairs more than a factor 3 apart.
+  std::vector<std::pair<EffectTerm, EffectTerm>> lag_pairs_;
   DesignContext d_;
   std::set<std::string> declared_sources_;
   std::map<std::string, double> noise_c_, interval_min_;
@@ -144,19 +161,22 @@ bool Search::ByChoice(const PairedGain& g) const {
          lost <= opt_.run_chosen_lost_blocks && !Qualifies(g, opt_);
 }
 
-bool Search::Finding(const Design& base, const PairedGain& g) {
+bool Search::Finding(const Design& base, const PairedGain& g, bool with_pairs) {
+  static const std::vector<std::pair<EffectTerm, EffectTerm>> none;
+  const auto& pairs = with_pairs ? lag_pairs_ : none;
+  const std::string pool_name = with_pairs ? "with pairs" : "";
   if (Qualifies(g, opt_)) {
     if (!over_runs_ || !opt_.run_t_checks_choice) return true;
     // A t over runs that share slow states is where false effects on
     // machines with nothing hidden came in: the choice must also gain
     // something in total on runs it did not see.
-    auto chosen = d_.SelectionGain(base, candidates_);
+    auto chosen = d_.SelectionGain(base, candidates_, pool_name, pairs);
     return chosen.ok() && chosen->relative > 0;
   }
   if (!ByChoice(g)) return false;
   // The candidate was picked as the best of many on these runs; the
   // picking must hold too, on runs it did not see.
-  auto chosen = d_.SelectionGain(base, candidates_);
+  auto chosen = d_.SelectionGain(base, candidates_, pool_name, pairs);
   if (!chosen.ok()) return false;
   const int lost = chosen->blocks - static_cast<int>(chosen->won.size());
   return chosen->relative >= opt_.run_chosen_gain && lost <= opt_.run_chosen_lost_blocks;
@@ -187,6 +207,36 @@ Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
     const int at = design.Find(effect.term.Name());
     if (at < 0) {  // superseded by a later effect
       r.effects.erase(r.effects.begin() + e);
+      continue;
+    }
+    // A fast and slow pair of one sensor earns its place as the pair: each
+    // of its lags alone is the form cut in half (its second lag was
+    // validated over the first when it was added).
+    const int partner = effect.together_with.empty() ? -1 : design.Find(effect.together_with);
+    if (partner >= 0 && design.terms[partner].source == effect.term.source) {
+      Design without = design;
+      without.Erase(std::max(at, partner));
+      without.Erase(std::min(at, partner));
+      without = d_.Recomputed(without);
+      auto keep = d_.Gain(without, design);
+      if (keep.ok() && Finding(without, *keep, true)) {
+        ++e;
+        continue;
+      }
+      const std::string pair[2] = {effect.term.Name(), effect.together_with};
+      for (const std::string& name : pair) {
+        auto it = std::find_if(r.effects.begin(), r.effects.end(),
+                               [&](const AddedEffect& a) { return a.term.Name() == name; });
+        if (it == r.effects.end()) continue;
+        r.superseded.push_back(it->term);
+        r.superseded_reasons[name] =
+            "with the other effects in, the pair of lags it belongs to no longer earns its "
+            "place (its removal does not qualify as a loss)";
+        r.effects.erase(it);
+      }
+      design = without;
+      if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
+      e = 0;
       continue;
     }
     Design without = design;
@@ -296,6 +346,82 @@ std::optional<ScoredCandidate> Search::ReviseForm(const Design& design, const Bl
     if (first.Name() != lag.Name()) retuned_[lag.Name()] = first;
   }
   return best;
+}
+
+std::optional<ScoredCandidate> Search::NewForm(const Design& design, const LinearFit& fit,
+                                               const BlockErrors& base,
+                                               const std::vector<ScoredCandidate>& shortlisted,
+                                               EffectTerm* second) {
+  // The sources of the strongest lags the round found, whose response no
+  // lag in the model reads yet (ReviseForm refines those). Three: a form
+  // refines a lag that already took most of its share.
+  constexpr size_t kSources = 3;
+  std::vector<const ScoredCandidate*> lags;
+  for (const ScoredCandidate& c : shortlisted) {
+    if (c.term.kind != EffectKind::kLag || !(c.gain.relative > 0)) continue;
+    const bool read = std::any_of(design.terms.begin(), design.terms.end(), [&](const auto& t) {
+      return t.source == c.term.source &&
+             (t.kind == EffectKind::kLag || t.kind == EffectKind::kAsymmetricLag);
+    });
+    if (!read) lags.push_back(&c);
+  }
+  std::stable_sort(lags.begin(), lags.end(), [](const auto* a, const auto* b) {
+    return a->gain.relative > b->gain.relative;
+  });
+  std::optional<ScoredCandidate> best;
+  std::set<std::string> sources;
+  const double noise_sse = NoiseSse(design, fit);
+  for (const ScoredCandidate* lag : lags) {
+    if (sources.size() == kSources) break;
+    if (!sources.insert(lag->term.source).second) continue;
+    const Design one = d_.With(design, lag->term);
+    // The form must be a finding over the model and over its own lag
+    // alone: a second time constant is a parameter more to fit noise with.
+    auto consider = [&](const EffectTerm& term, const Design& with, const EffectTerm* slow) {
+      auto g = d_.Gain(design, with);
+      auto over_lag = d_.Gain(one, with);
+      const bool over_lag_holds = over_lag.ok() && Finding(one, *over_lag, true);
+      const bool holds = g.ok() && (slow ? Finding(design, *g, true) : Finding(design, *g));
+      if (!holds || !over_lag_holds) return;
+      // Lags average noise: a form must gain more than that could (as a
+      // single lag must, Qualify).
+      if (g->gain <= opt_.noise_margin * noise_sse + 2 * g->se) return;
+      if (best && g->gain <= best->gain.gain) return;
+      best = ScoredCandidate{term, base.Rmse() * std::sqrt(std::max(0.0, 1.0 - g->relative)),
+                             lag->p_adjusted, *g};
+      *second = slow ? *slow : EffectTerm{};
+    };
+    const EffectTerm asym = d_.RefineAsymmetric(design, fit, lag->term);
+    const double ratio = std::max(asym.tau_min, asym.tau2_min) /
+                         std::max(std::min(asym.tau_min, asym.tau2_min), 1e-9);
+    if (ratio >= opt_.asymmetry_min_ratio) consider(asym, d_.With(design, asym), nullptr);
+    EffectTerm first;
+    if (auto two = d_.WithSecondLag(one, one.terms.size() - 1, &first)) {
+      const EffectTerm slow = two->terms.back();
+      // Re-tuned, the two must still be two responses (3x apart, as the
+      // second was chosen), not one lag split in two.
+      const double ratio = std::max(slow.tau_min, first.tau_min) /
+                           std::max(std::min(slow.tau_min, first.tau_min), 1e-9);
+      if (ratio > 3) consider(first, *two, &slow);
+    }
+  }
+  return best;
+}
+
+bool Search::FormPasses(const Design& design, const LinearFit& fit, const ScoredCandidate& c,
+                        const EffectTerm* second, EffectSearchResult& r) {
+  std::string why;
+  if (!Guard(design, fit, c, &why)) {
+    r.set_aside.push_back({c, why});
+    return false;
+  }
+  Design with = d_.With(design, c.term);
+  if (second) with = d_.With(with, *second);
+  if (std::string fails = ForwardFails(design, with, c); !fails.empty()) {
+    r.set_aside.push_back({c, fails});
+    return false;
+  }
+  return true;
 }
 
 Status Search::FilterDeclaredSensors(Design& design, LinearFit& fit, EffectSearchResult& r) {
@@ -714,6 +840,7 @@ StatusOr<EffectSearchResult> Search::Run() {
   candidates_ = GenerateCandidates(in_, opt_);
   const std::vector<EffectTerm>& candidates = candidates_;
   r.candidates = static_cast<int>(candidates.size());
+  if (over_runs_) lag_pairs_ = LagPairs(candidates_);
   for (int round = 0; round < opt_.max_effects; ++round) {
     auto base = d_.Blocked(design);
     if (!base.ok()) return base.status();
@@ -742,8 +869,36 @@ StatusOr<EffectSearchResult> Search::Run() {
       added.replaces = revised_lag;
     } else {
       retuned_.clear();
-      chosen = Choose(design, fit, qualified, &added.replaces, &added.alternatives, r);
+      chosen.reset();
     }
+    // Over runs a new sensor's form may come before a single term: on few
+    // runs the single stand-ins of a form (one of its lags, a proxy) lose
+    // runs and none qualifies. Over days they qualify, and the form comes
+    // as a revision of the lag (ReviseForm).
+    EffectTerm form_second;
+    if (!chosen && over_runs_) {
+      std::vector<ScoredCandidate> shortlisted = qualified;
+      shortlisted.insert(shortlisted.end(), r.closest.begin(), r.closest.end());
+      auto form = NewForm(design, fit, *base, shortlisted, &form_second);
+      // Beside a single term that qualifies, a form (a parameter or a term
+      // more) must predict better than it by a gain that qualifies: on five
+      // days a pair of lags of the spindle's sensor otherwise stood in for
+      // the coolant's one lag.
+      bool clearly = form.has_value();
+      if (form && !qualified.empty()) {
+        Design with_form = d_.With(design, form->term);
+        if (!form_second.source.empty()) with_form = d_.With(with_form, form_second);
+        auto over_single = d_.Gain(d_.With(design, qualified[0].term), with_form);
+        clearly = over_single.ok() && Qualifies(*over_single, opt_);
+      }
+      if (clearly &&
+          FormPasses(design, fit, *form, form_second.source.empty() ? nullptr : &form_second, r)) {
+        chosen = form;
+      } else {
+        form_second = EffectTerm{};
+      }
+    }
+    if (!chosen) chosen = Choose(design, fit, qualified, &added.replaces, &added.alternatives, r);
     if (!chosen) break;
     added.term = chosen->term;
     added.p_adjusted = chosen->p_adjusted;
@@ -779,6 +934,10 @@ StatusOr<EffectSearchResult> Search::Run() {
       }
     }
     design = d_.With(design, chosen->term);
+    if (!form_second.source.empty()) {
+      design = d_.With(design, form_second);
+      added.together_with = form_second.Name();
+    }
     if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
     added.residual_correlation = d_.ResidualCorrelation(previous_design, previous, chosen->term);
     // A term the new effect explains better stops being significant: drop it.
@@ -816,11 +975,24 @@ StatusOr<EffectSearchResult> Search::Run() {
     }
     auto after = d_.Blocked(design);
     added.cv_rmse_after_mm = after.ok() ? after->Rmse() : INFINITY;
+    const size_t earlier_effects = r.effects.size();
     r.effects.push_back(added);
+    if (!form_second.source.empty()) {
+      // The slow lag of a fast and slow pair: an effect of its own in the
+      // report, validated by what it adds to the fast one alone.
+      AddedEffect slow = added;
+      slow.term = form_second;
+      slow.together_with = chosen->term.Name();
+      slow.runners_up.clear();
+      slow.residual_correlation = 0;
+      auto over_first = d_.Gain(d_.With(previous_design, chosen->term), design);
+      if (over_first.ok()) slow.confidence = *over_first;
+      r.effects.push_back(slow);
+    }
     // Greedy choices can be revised: with the new effect in, an earlier one
     // may have a simpler or better replacement (a lag that stood in for two
     // effects, say). Swap when the replacement cross-validates as well.
-    for (size_t e = 0; e + 1 < r.effects.size(); ++e) {
+    for (size_t e = 0; e < earlier_effects; ++e) {
       AddedEffect& earlier = r.effects[e];
       const std::string name = earlier.term.Name();
       const int at = design.Find(name);

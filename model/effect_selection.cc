@@ -7,6 +7,10 @@
 // Apart from effect_design.cc, which holds what every step shares.
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <boost/math/distributions/fisher_f.hpp>
 
@@ -14,9 +18,28 @@
 
 namespace thermocomp {
 
-StatusOr<PairedGain> DesignContext::SelectionGain(const Design& d,
-                                                  const std::vector<EffectTerm>& candidates) {
-  auto key = std::make_pair(d.Names(), Fingerprint(d));
+std::vector<std::pair<EffectTerm, EffectTerm>> LagPairs(const std::vector<EffectTerm>& candidates) {
+  std::map<std::string, std::vector<const EffectTerm*>> lags;
+  for (const EffectTerm& t : candidates) {
+    if (t.kind == EffectKind::kLag) lags[t.source].push_back(&t);
+  }
+  std::vector<std::pair<EffectTerm, EffectTerm>> pairs;
+  for (const auto& [source, own] : lags) {
+    for (const EffectTerm* fast : own) {
+      for (const EffectTerm* slow : own) {
+        if (slow->tau_min > 3 * fast->tau_min) pairs.emplace_back(*fast, *slow);
+      }
+    }
+  }
+  return pairs;
+}
+
+StatusOr<PairedGain> DesignContext::SelectionGain(
+    const Design& d, const std::vector<EffectTerm>& candidates, const std::string& pool_name,
+    const std::vector<std::pair<EffectTerm, EffectTerm>>& pairs) {
+  std::vector<std::string> names = d.Names();
+  if (!pool_name.empty()) names.push_back("pool: " + pool_name);
+  auto key = std::make_pair(std::move(names), Fingerprint(d));
   if (auto it = selection_.find(key); it != selection_.end()) return it->second;
   const int n = d.n(), p = static_cast<int>(d.terms.size()) + 1;
   Eigen::MatrixXd a(n, p);
@@ -29,8 +52,12 @@ StatusOr<PairedGain> DesignContext::SelectionGain(const Design& d,
   // delay, not by the level both share). Read in place from the cached
   // columns (over all points): copies of every candidate on every row
   // would multiply the memory the search needs on long continuous
-  // recordings.
-  std::vector<const Eigen::VectorXd*> pool;
+  // recordings. One column, or two for a pair (`b` set).
+  struct Entry {
+    const Eigen::VectorXd* a = nullptr;
+    const Eigen::VectorXd* b = nullptr;
+  };
+  std::vector<Entry> pool;
   // Which candidates the collinearity limit lets in is judged once, on all
   // the design's rows, as the search's own screening judges it: it reads
   // the columns only, never the drift, so nothing of a held-out run's
@@ -41,12 +68,12 @@ StatusOr<PairedGain> DesignContext::SelectionGain(const Design& d,
   Eigen::HouseholderQR<Eigen::MatrixXd> all_qr(a);
   const Eigen::MatrixXd all_q = all_qr.householderQ() * Eigen::MatrixXd::Identity(n, p);
   Eigen::VectorXd column(n), spread_all(n);
-  for (const EffectTerm& term : candidates) {
-    if (d.Has(term)) continue;
+  auto eligible = [&](const EffectTerm& term) -> const Eigen::VectorXd* {
+    if (d.Has(term)) return nullptr;
     const Eigen::VectorXd& full = Column(term);
-    bool known = true;
-    for (int i = 0; i < n && known; ++i) known = std::isfinite(full(train_[d.rows[i]]));
-    if (!known) continue;
+    for (int i = 0; i < n; ++i) {
+      if (!std::isfinite(full(train_[d.rows[i]]))) return nullptr;
+    }
     const Eigen::VectorXd* own = nullptr;
     if (term.kind == EffectKind::kLag && d.Has(EffectTerm::Sensor(term.source)))
       own = &Column(EffectTerm::Sensor(term.source));
@@ -56,10 +83,18 @@ StatusOr<PairedGain> DesignContext::SelectionGain(const Design& d,
       spread_all(i) = own ? column(i) - (*own)(row) : column(i);
     }
     const double sst = (spread_all.array() - spread_all.mean()).matrix().squaredNorm();
-    if (!(sst > 1e-24 * n)) continue;
+    if (!(sst > 1e-24 * n)) return nullptr;
     if ((column - all_q * (all_q.transpose() * column)).squaredNorm() < sst / opt_.vif_max)
-      continue;
-    pool.push_back(&full);
+      return nullptr;
+    return &full;
+  };
+  for (const EffectTerm& term : candidates) {
+    if (const Eigen::VectorXd* c = eligible(term)) pool.push_back({c, nullptr});
+  }
+  for (const auto& [fast, slow] : pairs) {
+    const Eigen::VectorXd* c = eligible(fast);
+    const Eigen::VectorXd* c2 = c ? eligible(slow) : nullptr;
+    if (c2) pool.push_back({c, c2});
   }
   const int buffer = block_kind_ == "run" ? opt_.run_buffer : 0;
   BlockErrors base, chosen;
@@ -94,42 +129,92 @@ StatusOr<PairedGain> DesignContext::SelectionGain(const Design& d,
     const Eigen::VectorXd beta = qr.solve(yf);
     const Eigen::VectorXd e = yf - af * beta;
     // The screening on the other blocks: the largest fall of the SSE among
-    // the candidates let in, then its partial F-test, Bonferroni-corrected
-    // over all of them.
+    // the single candidates let in, and among the pairs; then the smaller
+    // p of their partial F-tests (1 and 2 degrees of freedom),
+    // Bonferroni-corrected over all of them.
     const int tried = static_cast<int>(pool.size());
-    int best = -1;
-    double best_gain = 0, best_coefficient = 0;
-    Eigen::VectorXd cf(m), best_cf;
-    for (size_t k = 0; k < pool.size(); ++k) {
-      for (int i = 0; i < m; ++i) cf(i) = (*pool[k])(train_[d.rows[fit_rows[i]]]);
-      const Eigen::VectorXd c_res = cf - q * (q.transpose() * cf);
+    const double ee = e.squaredNorm();
+    int best = -1, best_pair = -1;
+    double best_gain = 0, best_coefficient = 0, pair_gain = 0;
+    Eigen::Vector2d pair_coefficients;
+    Eigen::VectorXd cf(m), cf2(m);
+    auto residual_of = [&](const Eigen::VectorXd& full, Eigen::VectorXd& out) {
+      for (int i = 0; i < m; ++i) out(i) = full(train_[d.rows[fit_rows[i]]]);
+      const Eigen::VectorXd c_res = out - q * (q.transpose() * out);
       const double ss_res = c_res.squaredNorm();
       // Constant on these rows, or nothing of it left beyond the model.
-      if (!(ss_res > 1e-12 * cf.squaredNorm() && ss_res > 1e-24 * m)) continue;
-      const double ec = e.dot(c_res);
-      if (ec * ec / ss_res > best_gain) {
-        best_gain = ec * ec / ss_res;
-        best_coefficient = ec / ss_res;
-        best = static_cast<int>(k);
-        best_cf = cf;
+      const bool usable = ss_res > 1e-12 * out.squaredNorm() && ss_res > 1e-24 * m;
+      return std::make_pair(usable, c_res);
+    };
+    for (size_t k = 0; k < pool.size(); ++k) {
+      const auto [usable, c_res] = residual_of(*pool[k].a, cf);
+      if (!usable) continue;
+      const double ss_res = c_res.squaredNorm(), ec = e.dot(c_res);
+      if (!pool[k].b) {
+        if (ec * ec / ss_res > best_gain) {
+          best_gain = ec * ec / ss_res;
+          best_coefficient = ec / ss_res;
+          best = static_cast<int>(k);
+        }
+        continue;
+      }
+      const auto [usable2, c2_res] = residual_of(*pool[k].b, cf2);
+      if (!usable2) continue;
+      Eigen::Matrix2d gram;
+      gram << ss_res, c_res.dot(c2_res), c_res.dot(c2_res), c2_res.squaredNorm();
+      const Eigen::Vector2d ec2(ec, e.dot(c2_res));
+      // Nearly one column twice: the pair adds nothing a single term lacks.
+      if (!(gram.determinant() > 1e-9 * gram(0, 0) * gram(1, 1))) continue;
+      const Eigen::Vector2d coefficients = gram.ldlt().solve(ec2);
+      if (ec2.dot(coefficients) > pair_gain) {
+        pair_gain = ec2.dot(coefficients);
+        pair_coefficients = coefficients;
+        best_pair = static_cast<int>(k);
       }
     }
-    const int df = m - p - 1;
-    if (best >= 0 && df > 0) {
-      const double f = best_gain / (std::max(e.squaredNorm() - best_gain, 1e-300) / df);
-      const double pv = boost::math::cdf(
-          boost::math::complement(boost::math::fisher_f_distribution<double>(1, df), f));
-      if (pv * tried >= opt_.alpha) best = -1;
+    auto p_value = [&](double gain, int df1) {
+      const int df2 = m - p - df1;
+      if (gain <= 0 || df2 <= 0) return 1.0;
+      const double f = (gain / df1) / (std::max(ee - gain, 1e-300) / df2);
+      return boost::math::cdf(
+          boost::math::complement(boost::math::fisher_f_distribution<double>(df1, df2), f));
+    };
+    const double p_single = best >= 0 ? p_value(best_gain, 1) : 1.0;
+    const double p_pair = best_pair >= 0 ? p_value(pair_gain, 2) : 1.0;
+    if (p_pair < p_single) {
+      best = -1;
+      if (p_pair * tried >= opt_.alpha) best_pair = -1;
+    } else {
+      best_pair = -1;
+      if (p_single * tried >= opt_.alpha) best = -1;
     }
-    // Frisch-Waugh: with the chosen column c added, the prediction is the
-    // base's plus the coefficient times c's part the base does not explain.
-    Eigen::VectorXd delta;
-    if (best >= 0) delta = qr.solve(best_cf);
+    // Frisch-Waugh: with the chosen columns added, the prediction is the
+    // base's plus their coefficients times their parts the base does not
+    // explain.
+    auto part = [&](const Eigen::VectorXd& full, const Eigen::VectorXd& delta, int i) {
+      return full(train_[d.rows[i]]) - a.row(i).dot(delta);
+    };
+    Eigen::VectorXd delta, delta2;
+    if (best >= 0) {
+      for (int i = 0; i < m; ++i) cf(i) = (*pool[best].a)(train_[d.rows[fit_rows[i]]]);
+      delta = qr.solve(cf);
+    }
+    if (best_pair >= 0) {
+      for (int i = 0; i < m; ++i) {
+        cf(i) = (*pool[best_pair].a)(train_[d.rows[fit_rows[i]]]);
+        cf2(i) = (*pool[best_pair].b)(train_[d.rows[fit_rows[i]]]);
+      }
+      delta = qr.solve(cf);
+      delta2 = qr.solve(cf2);
+    }
     for (int i : test_rows) {
       const double base_prediction = a.row(i).dot(beta);
       double prediction = base_prediction;
-      if (best >= 0)
-        prediction += best_coefficient * ((*pool[best])(train_[d.rows[i]]) - a.row(i).dot(delta));
+      if (best >= 0) prediction += best_coefficient * part(*pool[best].a, delta, i);
+      if (best_pair >= 0) {
+        prediction += pair_coefficients(0) * part(*pool[best_pair].a, delta, i) +
+                      pair_coefficients(1) * part(*pool[best_pair].b, delta2, i);
+      }
       base.sse[b] += (y(i) - base_prediction) * (y(i) - base_prediction);
       chosen.sse[b] += (y(i) - prediction) * (y(i) - prediction);
       ++base.n[b];
