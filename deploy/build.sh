@@ -8,7 +8,11 @@
 # top CMakeLists.txt); the clang build of deploy/test.sh compiles each alone.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+# lld when it is there (deploy/install-deps.sh test installs it): the
+# links of the test programs take a fifth of ld's time.
+linker=()
+if command -v ld.lld > /dev/null; then linker=(-DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld); fi
+cmake -S . -B build "${linker[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
   -DTHERMOCOMP_TESTS=ON -DTHERMOCOMP_BENCH=ON -DTHERMOCOMP_UNITY=ON "$@" > /dev/null
 cmake --build build -j "$(nproc)" ${THERMOCOMP_TARGET:+--target "$THERMOCOMP_TARGET"}
