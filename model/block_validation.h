@@ -28,14 +28,12 @@ struct BlockErrors {
 // With `buffer` > 0 the blocks next to the predicted one are left out of
 // its fit too (BufferedCrossValidate).
 StatusOr<BlockErrors> BlockCrossValidate(const Eigen::MatrixXd& x, const Eigen::VectorXd& y,
-                                         const std::vector<int>& block, int blocks,
-                                         int buffer = 0);
+                                         const std::vector<int>& block, int blocks, int buffer = 0);
 // Each block predicted by the model fitted on the blocks more than
 // `buffer` away: neighbouring runs share slow thermal states, so leaving
 // one run out still lets a model learn its hours from the runs around it.
 StatusOr<BlockErrors> BufferedCrossValidate(const Eigen::MatrixXd& x, const Eigen::VectorXd& y,
-                                            const std::vector<int>& block, int blocks,
-                                            int buffer);
+                                            const std::vector<int>& block, int blocks, int buffer);
 
 // How much better `candidate` predicts than `base`, paired over blocks.
 struct PairedGain {
@@ -45,6 +43,7 @@ struct PairedGain {
   double relative = 0;  // gain / base SSE
   int blocks = 0;
   std::vector<int> won;  // the blocks in which the candidate's error is smaller
+  int Lost() const { return blocks - static_cast<int>(won.size()); }
 };
 PairedGain CompareBlocks(const BlockErrors& base, const BlockErrors& candidate);
 

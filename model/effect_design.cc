@@ -75,7 +75,7 @@ double RequiredT(int blocks, const EffectSearchOptions& opt) {
 bool Qualifies(const PairedGain& g, const EffectSearchOptions& opt) {
   if (!(g.relative >= opt.min_gain)) return false;
   if (g.t >= RequiredT(g.blocks, opt)) return true;
-  const int lost = g.blocks - static_cast<int>(g.won.size());
+  const int lost = g.Lost();
   return g.blocks >= opt.strong_min_blocks && g.relative >= opt.strong_gain &&
          lost <= opt.strong_lost_blocks;
 }

@@ -70,6 +70,10 @@ double RequiredT(int blocks, const EffectSearchOptions& opt);
 // Each sensor's lags among `candidates` in pairs, the slow one more than a
 // factor 3 longer: the fast and slow responses SelectionGain may pick.
 std::vector<std::pair<EffectTerm, EffectTerm>> LagPairs(const std::vector<EffectTerm>& candidates);
+// Each sensor's lags among `candidates` as lags that heat and cool at two
+// of those time constants, at most `max_ratio` apart, either one the
+// faster: the asymmetric forms SelectionGain may pick.
+std::vector<EffectTerm> AsymmetricLags(const std::vector<EffectTerm>& candidates, double max_ratio);
 
 class DesignContext {
  public:

@@ -49,6 +49,16 @@ bool InModel(const Design& d, const EffectTerm& t) {
   });
 }
 
+// How far apart two time constants are (>= 1).
+double Apart(double a, double b) {
+  return std::max(a, b) / std::max(std::min(a, b), 1e-9);
+}
+
+// How far apart an asymmetric lag's heating and cooling time constants are.
+double Asymmetry(const EffectTerm& t) {
+  return Apart(t.tau_min, t.tau2_min);
+}
+
 bool Smoothing(const Design& d, const EffectTerm& t) {
   return t.kind == EffectKind::kLag || t.kind == EffectKind::kAsymmetricLag ||
          (t.kind == EffectKind::kRate && d.Has(EffectTerm::Sensor(t.source)));
@@ -61,11 +71,13 @@ class Search {
   StatusOr<EffectSearchResult> Run();
 
  private:
+  // What the choice validated as a choice picks from besides the single
+  // candidates: nothing, the fast and slow pairs of every sensor's lags,
+  // or every sensor's asymmetric lags (for a gain of such a form).
+  enum class Pool { kSingles, kPairs, kAsymmetric };
   // Whether a validated gain over `base` is a finding: Qualifies, or over
   // runs the arm of the choice validated as a choice (run_chosen_gain).
-  // `with_pairs` adds the fast and slow pairs of every sensor's lags to
-  // the choice validated as a choice (for a gain of such a pair).
-  bool Finding(const Design& base, const PairedGain& g, bool with_pairs = false);
+  bool Finding(const Design& base, const PairedGain& g, Pool pool = Pool::kSingles);
   // Whether `g` qualifies by that arm alone.
   bool ByChoice(const PairedGain& g) const;
   // Whether `t` is a term of a declared sensor (a revision of its response).
@@ -82,9 +94,11 @@ class Search {
   std::optional<std::string> Guard(const Design& design, const LinearFit& fit,
                                    const ScoredCandidate& c, std::string* why);
   // Guard and forward check together, memoised per round (nullopt: refused,
-  // the reason in r.set_aside).
+  // the reason in r.set_aside). A term with a partner (the slow lag of a
+  // form, or else its masked pair's follow-up) is checked with it.
   std::optional<std::string> Passes(const Design& design, const LinearFit& fit,
-                                    const ScoredCandidate& c, EffectSearchResult& r);
+                                    const ScoredCandidate& c, EffectSearchResult& r,
+                                    const EffectTerm* partner = nullptr);
   // Why `c`, added to `design` as `with` (with its masked partner, when it
   // has one), fails the forward check; "" when it holds.
   std::string ForwardFails(const Design& design, const Design& with, const ScoredCandidate& c);
@@ -97,7 +111,8 @@ class Search {
   // Whether `a` explains what `b` does: adding `b` after `a` gains nothing
   // while adding `a` after `b` still does.
   bool Adds(const Design& design, const EffectTerm& first, const EffectTerm& then);
-  std::map<std::string, std::optional<std::string>> passes_;  // this round's checks
+  // This round's checks, by the term and its partner's name.
+  std::map<std::string, std::optional<std::string>> passes_;
   std::map<std::string, double>
       two_step_;  // this round's lookahead: error after the best follow-up
   // The index into `qualified` of the candidate whose best follow-up leads
@@ -130,55 +145,61 @@ class Search {
   std::optional<ScoredCandidate> ReviseForm(const Design& design, const BlockErrors& base,
                                             std::string* replaces);
   std::map<std::string, EffectTerm> retuned_;  // the chosen revision's re-tuned lags
+  // A new sensor's form: its (first) term, the slow lag of a fast and slow
+  // pair, and the model with both.
+  struct Form {
+    ScoredCandidate candidate;
+    std::optional<EffectTerm> second;
+    Design with;
+  };
   // A sensor whose lags the round found but no single lag holds, acting
   // through a form: heating and cooling time constants apart, or a fast
   // and a slow response. The strongest such form among the round's best
   // lags (`shortlisted`) that is a finding and beats its own single lag by
-  // one; a fast and slow pair carries its slow lag in *second.
-  std::optional<ScoredCandidate> NewForm(const Design& design, const LinearFit& fit,
-                                         const BlockErrors& base,
-                                         const std::vector<ScoredCandidate>& shortlisted,
-                                         EffectTerm* second);
-  // Guard and forward check of a form (with its second lag, when it has
-  // one): whether it may be added (the reason in r.set_aside when not).
-  bool FormPasses(const Design& design, const LinearFit& fit, const ScoredCandidate& c,
-                  const EffectTerm* second, EffectSearchResult& r);
+  // one.
+  std::optional<Form> NewForm(const Design& design, const LinearFit& fit, const BlockErrors& base,
+                              const std::vector<ScoredCandidate>& shortlisted);
 
   const EffectSearchInput& in_;
   EffectSearchOptions opt_;  // a copy: the block kind decides whether the sign arm applies
   bool over_runs_ = false;   // runs are the blocks
   std::vector<EffectTerm> candidates_;
-  // Each sensor's candidate lags in pairs more than a factor 3 apart.
+  // Over runs: each sensor's candidate lags in pairs more than a factor 3
+  // apart, and the candidates with each sensor's asymmetric lags.
   std::vector<std::pair<EffectTerm, EffectTerm>> lag_pairs_;
+  std::vector<EffectTerm> with_asymmetric_;
   DesignContext d_;
   std::set<std::string> declared_sources_;
   std::map<std::string, double> noise_c_, interval_min_;
 };
 
 bool Search::ByChoice(const PairedGain& g) const {
-  const int lost = g.blocks - static_cast<int>(g.won.size());
+  const int lost = g.Lost();
   return over_runs_ && g.blocks >= opt_.strong_min_blocks && g.relative >= opt_.run_chosen_gain &&
          lost <= opt_.run_chosen_lost_blocks && !Qualifies(g, opt_);
 }
 
-bool Search::Finding(const Design& base, const PairedGain& g, bool with_pairs) {
+bool Search::Finding(const Design& base, const PairedGain& g, Pool pool) {
   static const std::vector<std::pair<EffectTerm, EffectTerm>> none;
-  const auto& pairs = with_pairs ? lag_pairs_ : none;
-  const std::string pool_name = with_pairs ? "with pairs" : "";
+  const auto& pairs = pool == Pool::kPairs ? lag_pairs_ : none;
+  const auto& candidates = pool == Pool::kAsymmetric ? with_asymmetric_ : candidates_;
+  const std::string pool_name = pool == Pool::kPairs        ? "with pairs"
+                                : pool == Pool::kAsymmetric ? "with asymmetric lags"
+                                                            : "";
   if (Qualifies(g, opt_)) {
     if (!over_runs_ || !opt_.run_t_checks_choice) return true;
     // A t over runs that share slow states is where false effects on
     // machines with nothing hidden came in: the choice must also gain
     // something in total on runs it did not see.
-    auto chosen = d_.SelectionGain(base, candidates_, pool_name, pairs);
+    auto chosen = d_.SelectionGain(base, candidates, pool_name, pairs);
     return chosen.ok() && chosen->relative > 0;
   }
   if (!ByChoice(g)) return false;
   // The candidate was picked as the best of many on these runs; the
   // picking must hold too, on runs it did not see.
-  auto chosen = d_.SelectionGain(base, candidates_, pool_name, pairs);
+  auto chosen = d_.SelectionGain(base, candidates, pool_name, pairs);
   if (!chosen.ok()) return false;
-  const int lost = chosen->blocks - static_cast<int>(chosen->won.size());
+  const int lost = chosen->Lost();
   return chosen->relative >= opt_.run_chosen_gain && lost <= opt_.run_chosen_lost_blocks;
 }
 
@@ -219,7 +240,7 @@ Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
       without.Erase(std::min(at, partner));
       without = d_.Recomputed(without);
       auto keep = d_.Gain(without, design);
-      if (keep.ok() && Finding(without, *keep, true)) {
+      if (keep.ok() && Finding(without, *keep, Pool::kPairs)) {
         ++e;
         continue;
       }
@@ -261,8 +282,10 @@ Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
     const Design retuned = Retuned(without, r, &moved);
     auto keep = d_.Gain(without, with);
     auto keep_retuned = d_.Gain(retuned, with);
-    const bool superfluous = keep.ok() && !Finding(without, *keep);
-    if (superfluous || (keep_retuned.ok() && !Finding(retuned, *keep_retuned))) {
+    // An asymmetric lag is judged against the choice that can pick one.
+    const Pool pool = term.kind == EffectKind::kAsymmetricLag ? Pool::kAsymmetric : Pool::kSingles;
+    const bool superfluous = keep.ok() && !Finding(without, *keep, pool);
+    if (superfluous || (keep_retuned.ok() && !Finding(retuned, *keep_retuned, pool))) {
       r.superseded.push_back(effect.term);
       r.superseded_reasons[effect.term.Name()] =
           "with the other effects in, it no longer earns its place (its removal does not "
@@ -318,9 +341,7 @@ std::optional<ScoredCandidate> Search::ReviseForm(const Design& design, const Bl
     LinearFit fit;
     if (!d_.Refit(without, &fit).ok()) continue;
     const EffectTerm asym = d_.RefineAsymmetric(without, fit, lag);
-    const double ratio = std::max(asym.tau_min, asym.tau2_min) /
-                         std::max(std::min(asym.tau_min, asym.tau2_min), 1e-9);
-    if (ratio < opt_.asymmetry_min_ratio) continue;
+    if (Asymmetry(asym) < opt_.asymmetry_min_ratio) continue;
     auto g = d_.Gain(design, d_.With(without, asym));
     if (!g.ok() || !Qualifies(*g, opt_)) continue;
     if (best && g->gain <= best->gain.gain) continue;
@@ -348,10 +369,9 @@ std::optional<ScoredCandidate> Search::ReviseForm(const Design& design, const Bl
   return best;
 }
 
-std::optional<ScoredCandidate> Search::NewForm(const Design& design, const LinearFit& fit,
-                                               const BlockErrors& base,
-                                               const std::vector<ScoredCandidate>& shortlisted,
-                                               EffectTerm* second) {
+std::optional<Search::Form> Search::NewForm(const Design& design, const LinearFit& fit,
+                                            const BlockErrors& base,
+                                            const std::vector<ScoredCandidate>& shortlisted) {
   // The sources of the strongest lags the round found, whose response no
   // lag in the model reads yet (ReviseForm refines those). Three: a form
   // refines a lag that already took most of its share.
@@ -368,60 +388,44 @@ std::optional<ScoredCandidate> Search::NewForm(const Design& design, const Linea
   std::stable_sort(lags.begin(), lags.end(), [](const auto* a, const auto* b) {
     return a->gain.relative > b->gain.relative;
   });
-  std::optional<ScoredCandidate> best;
+  std::optional<Form> best;
   std::set<std::string> sources;
   const double noise_sse = NoiseSse(design, fit);
   for (const ScoredCandidate* lag : lags) {
     if (sources.size() == kSources) break;
     if (!sources.insert(lag->term.source).second) continue;
     const Design one = d_.With(design, lag->term);
-    // The form must be a finding over the model and over its own lag
-    // alone: a second time constant is a parameter more to fit noise with.
-    auto consider = [&](const EffectTerm& term, const Design& with, const EffectTerm* slow) {
+    // The cheap tests first: a finding may validate the choice, which
+    // refits every fold for every candidate of its pool.
+    auto consider = [&](const EffectTerm& term, const Design& with,
+                        std::optional<EffectTerm> slow) {
       auto g = d_.Gain(design, with);
-      auto over_lag = d_.Gain(one, with);
-      const bool over_lag_holds = over_lag.ok() && Finding(one, *over_lag, true);
-      const bool holds = g.ok() && (slow ? Finding(design, *g, true) : Finding(design, *g));
-      if (!holds || !over_lag_holds) return;
       // Lags average noise: a form must gain more than that could (as a
       // single lag must, Qualify).
-      if (g->gain <= opt_.noise_margin * noise_sse + 2 * g->se) return;
-      if (best && g->gain <= best->gain.gain) return;
-      best = ScoredCandidate{term, base.Rmse() * std::sqrt(std::max(0.0, 1.0 - g->relative)),
-                             lag->p_adjusted, *g};
-      *second = slow ? *slow : EffectTerm{};
+      if (!g.ok() || g->gain <= opt_.noise_margin * noise_sse + 2 * g->se) return;
+      if (best && g->gain <= best->candidate.gain.gain) return;
+      // A finding over the model, and over its own lag alone too: a second
+      // time constant is a parameter more to fit noise with.
+      const Pool pool = slow ? Pool::kPairs : Pool::kAsymmetric;
+      if (!Finding(design, *g, pool)) return;
+      auto over_lag = d_.Gain(one, with);
+      if (!over_lag.ok() || !Finding(one, *over_lag, pool)) return;
+      best = Form{ScoredCandidate{term, base.Rmse() * std::sqrt(std::max(0.0, 1.0 - g->relative)),
+                                  lag->p_adjusted, *g},
+                  std::move(slow), with};
     };
     const EffectTerm asym = d_.RefineAsymmetric(design, fit, lag->term);
-    const double ratio = std::max(asym.tau_min, asym.tau2_min) /
-                         std::max(std::min(asym.tau_min, asym.tau2_min), 1e-9);
-    if (ratio >= opt_.asymmetry_min_ratio) consider(asym, d_.With(design, asym), nullptr);
+    if (Asymmetry(asym) >= opt_.asymmetry_min_ratio)
+      consider(asym, d_.With(design, asym), std::nullopt);
     EffectTerm first;
     if (auto two = d_.WithSecondLag(one, one.terms.size() - 1, &first)) {
       const EffectTerm slow = two->terms.back();
       // Re-tuned, the two must still be two responses (3x apart, as the
       // second was chosen), not one lag split in two.
-      const double ratio = std::max(slow.tau_min, first.tau_min) /
-                           std::max(std::min(slow.tau_min, first.tau_min), 1e-9);
-      if (ratio > 3) consider(first, *two, &slow);
+      if (Apart(slow.tau_min, first.tau_min) > 3) consider(first, *two, slow);
     }
   }
   return best;
-}
-
-bool Search::FormPasses(const Design& design, const LinearFit& fit, const ScoredCandidate& c,
-                        const EffectTerm* second, EffectSearchResult& r) {
-  std::string why;
-  if (!Guard(design, fit, c, &why)) {
-    r.set_aside.push_back({c, why});
-    return false;
-  }
-  Design with = d_.With(design, c.term);
-  if (second) with = d_.With(with, *second);
-  if (std::string fails = ForwardFails(design, with, c); !fails.empty()) {
-    r.set_aside.push_back({c, fails});
-    return false;
-  }
-  return true;
 }
 
 Status Search::FilterDeclaredSensors(Design& design, LinearFit& fit, EffectSearchResult& r) {
@@ -627,23 +631,27 @@ size_t Search::Lookahead(const Design& design, const std::vector<ScoredCandidate
 }
 
 std::optional<std::string> Search::Passes(const Design& design, const LinearFit& fit,
-                                          const ScoredCandidate& c, EffectSearchResult& r) {
-  auto it = passes_.find(c.term.Name());
+                                          const ScoredCandidate& c, EffectSearchResult& r,
+                                          const EffectTerm* partner) {
+  if (auto p = partners_.find(c.term.Name()); !partner && p != partners_.end())
+    partner = &p->second;
+  // A form's fast lag may share its name with a single candidate.
+  const std::string key = partner ? c.term.Name() + " with " + partner->Name() : c.term.Name();
+  auto it = passes_.find(key);
   if (it != passes_.end()) return it->second;
   std::string why;
   std::optional<std::string> guard = Guard(design, fit, c, &why);
   if (guard) {
-    // A masked pair is checked as the pair.
+    // A pair is checked as the pair.
     Design with = d_.With(design, c.term);
-    if (auto p = partners_.find(c.term.Name()); p != partners_.end())
-      with = d_.With(with, p->second);
+    if (partner) with = d_.With(with, *partner);
     if (std::string fails = ForwardFails(design, with, c); !fails.empty()) {
       why = std::move(fails);
       guard.reset();
     }
   }
   if (!guard) r.set_aside.push_back({c, why});
-  return passes_[c.term.Name()] = guard;
+  return passes_[key] = guard;
 }
 
 std::string Search::ForwardFails(const Design& design, const Design& with,
@@ -840,7 +848,14 @@ StatusOr<EffectSearchResult> Search::Run() {
   candidates_ = GenerateCandidates(in_, opt_);
   const std::vector<EffectTerm>& candidates = candidates_;
   r.candidates = static_cast<int>(candidates.size());
-  if (over_runs_) lag_pairs_ = LagPairs(candidates_);
+  if (over_runs_) {
+    lag_pairs_ = LagPairs(candidates_);
+    // At most 16x apart: the heating and cooling time constants of one
+    // element differ by its film coefficients' ratio (forced convection
+    // while it runs, natural at rest).
+    with_asymmetric_ = candidates_;
+    for (EffectTerm& t : AsymmetricLags(candidates_, 16)) with_asymmetric_.push_back(std::move(t));
+  }
   for (int round = 0; round < opt_.max_effects; ++round) {
     auto base = d_.Blocked(design);
     if (!base.ok()) return base.status();
@@ -879,23 +894,24 @@ StatusOr<EffectSearchResult> Search::Run() {
     if (!chosen && over_runs_) {
       std::vector<ScoredCandidate> shortlisted = qualified;
       shortlisted.insert(shortlisted.end(), r.closest.begin(), r.closest.end());
-      auto form = NewForm(design, fit, *base, shortlisted, &form_second);
+      auto form = NewForm(design, fit, *base, shortlisted);
       // Beside a single term that qualifies, a form (a parameter or a term
       // more) must predict better than it by a gain that qualifies: on five
       // days a pair of lags of the spindle's sensor otherwise stood in for
       // the coolant's one lag.
       bool clearly = form.has_value();
       if (form && !qualified.empty()) {
-        Design with_form = d_.With(design, form->term);
-        if (!form_second.source.empty()) with_form = d_.With(with_form, form_second);
-        auto over_single = d_.Gain(d_.With(design, qualified[0].term), with_form);
+        auto over_single = d_.Gain(d_.With(design, qualified[0].term), form->with);
         clearly = over_single.ok() && Qualifies(*over_single, opt_);
       }
-      if (clearly &&
-          FormPasses(design, fit, *form, form_second.source.empty() ? nullptr : &form_second, r)) {
-        chosen = form;
-      } else {
-        form_second = EffectTerm{};
+      if (clearly) {
+        const EffectTerm* second = form->second ? &*form->second : nullptr;
+        // Added beside the declared terms: the replacement Guard may offer
+        // is judged with the form's first term alone.
+        if (Passes(design, fit, form->candidate, r, second)) {
+          chosen = form->candidate;
+          if (second) form_second = *second;
+        }
       }
     }
     if (!chosen) chosen = Choose(design, fit, qualified, &added.replaces, &added.alternatives, r);

@@ -34,6 +34,25 @@ std::vector<std::pair<EffectTerm, EffectTerm>> LagPairs(const std::vector<Effect
   return pairs;
 }
 
+std::vector<EffectTerm> AsymmetricLags(const std::vector<EffectTerm>& candidates,
+                                       double max_ratio) {
+  std::vector<EffectTerm> out;
+  for (const EffectTerm& up : candidates) {
+    if (up.kind != EffectKind::kLag) continue;
+    for (const EffectTerm& down : candidates) {
+      if (down.kind != EffectKind::kLag || down.source != up.source || down.tau_min == up.tau_min ||
+          std::max(up.tau_min, down.tau_min) > max_ratio * std::min(up.tau_min, down.tau_min)) {
+        continue;
+      }
+      EffectTerm t = up;
+      t.kind = EffectKind::kAsymmetricLag;
+      t.tau2_min = down.tau_min;
+      out.push_back(t);
+    }
+  }
+  return out;
+}
+
 StatusOr<PairedGain> DesignContext::SelectionGain(
     const Design& d, const std::vector<EffectTerm>& candidates, const std::string& pool_name,
     const std::vector<std::pair<EffectTerm, EffectTerm>>& pairs) {

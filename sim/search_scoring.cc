@@ -176,7 +176,7 @@ StatusOr<PairedGain> TrueEffectGain(const SimRecording& rec, const EffectSearchI
 }
 
 bool PassesStrongRule(const PairedGain& g, const EffectSearchOptions& opt) {
-  const int lost = g.blocks - static_cast<int>(g.won.size());
+  const int lost = g.Lost();
   return g.blocks >= opt.strong_min_blocks && g.relative >= opt.strong_gain &&
          lost <= opt.strong_lost_blocks;
 }

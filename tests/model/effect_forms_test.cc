@@ -10,7 +10,7 @@
 // warmed by a duty cycle within 8 min, S3 the shop air, S4 a column node
 // the spindle also warms, through 40 min: a tempting stand-in), six 3-h
 // runs a day with a point every 10 min, drift 8 um/degC of S1 plus the
-// effect plus 0.3 um of probe noise. A generator of its own (splitmix64)
+// effect plus 0.3 um of probe noise. A generator of the tests' own (tests/model/draw.h)
 // keeps the data the same on every platform.
 #include <cmath>
 #include <cstdint>
@@ -21,6 +21,7 @@
 
 #include "model/effect_search.h"
 #include "sim/search_scoring.h"
+#include "tests/model/draw.h"
 
 namespace thermocomp {
 namespace {
@@ -29,23 +30,7 @@ constexpr int64_t kStart = 1772323200000;  // 2026-03-01T00:00:00Z
 constexpr int64_t kMinute = 60000;
 constexpr double kPi = 3.14159265358979323846;
 
-class Draw {
- public:
-  explicit Draw(uint64_t seed) : s_(seed) {}
-  double Uniform() {
-    uint64_t z = (s_ += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-  }
-  double Normal() {  // Box-Muller, one of the pair
-    const double u = 1.0 - Uniform();
-    return std::sqrt(-2.0 * std::log(u)) * std::cos(2 * kPi * Uniform());
-  }
-
- private:
-  uint64_t s_;
-};
+using test::Draw;
 
 double Approach(double x, double target, double tau_min) {
   return target + (x - target) * std::exp(-1.0 / tau_min);
