@@ -28,7 +28,7 @@ case $purpose in
     packages+=(
       python3-jsonschema libgtest-dev libbenchmark-dev
       clang libclang-rt-14-dev clang-tidy-14
-      # both builds' generator and linker: Ninja starts
+      # the sanitizer build's generator and both builds' linker: Ninja starts
       # a program's sources before the libraries it needs are linked, which
       # keeps both cores busy; lld links in a fifth of ld's time
       ninja-build lld
