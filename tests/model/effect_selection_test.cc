@@ -161,6 +161,20 @@ TEST(ChoiceValidated, NamesALeftOutSensorCollinearWithTheDeclaredOnTwoDays) {
   }
 }
 
+// The options as the search sets them over runs.
+EffectSearchOptions OverRuns() {
+  EffectSearchOptions options;
+  options.vif_max = options.run_vif_max;
+  return options;
+}
+
+// The design of the declared terms alone.
+Design Declared(DesignContext& d, const EffectSearchInput& in) {
+  Design declared = d.Empty();
+  for (const EffectTerm& t : in.declared) declared = d.With(declared, t, true);
+  return declared;
+}
+
 // Two-day recordings of the first family where the spindle housing's
 // sensor, left out, acts through a fast and a slow lag of opposite signs
 // (seeds 5 and 6). No single term holds: the choice validated among
@@ -173,13 +187,11 @@ TEST(ChoiceValidated, NamesASensorActingThroughAFastAndASlowLagOnTwoDays) {
     ASSERT_TRUE(rec.ok()) << rec.status().message();
     std::vector<double> truth;
     const EffectSearchInput in = ToSearchInput(*rec, "Y", 0, &truth);
-    EffectSearchOptions options;
-    options.vif_max = options.run_vif_max;  // as the search sets it over runs
+    const EffectSearchOptions options = OverRuns();
     DesignContext d(in, options);
     ASSERT_TRUE(d.Prepare().ok());
     ASSERT_EQ(d.block_kind(), "run");
-    Design declared = d.Empty();
-    for (const EffectTerm& t : in.declared) declared = d.With(declared, t, true);
+    const Design declared = Declared(d, in);
     const std::vector<EffectTerm> candidates = GenerateCandidates(in, options);
     auto single = d.SelectionGain(declared, candidates);
     auto paired = d.SelectionGain(declared, candidates, "pairs", LagPairs(candidates));
@@ -218,13 +230,11 @@ TEST(ChoiceValidated, NamesASensorThatHeatsFasterThanItCoolsOnTwoDays) {
     ASSERT_TRUE(rec.ok()) << rec.status().message();
     std::vector<double> truth;
     const EffectSearchInput in = ToSearchInput(*rec, "Y", 0, &truth);
-    EffectSearchOptions options;
-    options.vif_max = options.run_vif_max;  // as the search sets it over runs
+    const EffectSearchOptions options = OverRuns();
     DesignContext d(in, options);
     ASSERT_TRUE(d.Prepare().ok());
     ASSERT_EQ(d.block_kind(), "run");
-    Design declared = d.Empty();
-    for (const EffectTerm& t : in.declared) declared = d.With(declared, t, true);
+    const Design declared = Declared(d, in);
     const std::vector<EffectTerm> candidates = GenerateCandidates(in, options);
     std::vector<EffectTerm> with_asymmetric = candidates;
     for (const EffectTerm& t : AsymmetricLags(candidates, 16)) with_asymmetric.push_back(t);
