@@ -359,22 +359,10 @@ std::vector<Screened> DesignContext::Score(const Design& d, const LinearFit& fit
     Eigen::VectorXd c(on.n());
     for (int i = 0; i < on.n(); ++i) c(i) = full(train_[on.rows[i]]);
     c.array() -= c.mean();
-    double sst_c = c.squaredNorm();
-    if (!(sst_c > 1e-24 * on.n())) continue;  // constant on the training points
+    if (!(c.squaredNorm() > 1e-24 * on.n())) continue;  // constant on the training points
     const Eigen::VectorXd c_res = c - b->q * (b->q.transpose() * c);
     const double ss_res = c_res.squaredNorm();
-    // A lag of a sensor in the model is its delayed response: its
-    // collinearity is that of the delay (the lag less the sensor), not of
-    // the level both share.
-    if (term.kind == EffectKind::kLag && d.Has(EffectTerm::Sensor(term.source))) {
-      const Eigen::VectorXd& own = Column(EffectTerm::Sensor(term.source));
-      Eigen::VectorXd delay(on.n());
-      for (int i = 0; i < on.n(); ++i)
-        delay(i) = full(train_[on.rows[i]]) - own(train_[on.rows[i]]);
-      delay.array() -= delay.mean();
-      sst_c = delay.squaredNorm();
-    }
-    if (ss_res < sst_c / opt_.vif_max) continue;  // collinear with the model: VIF above the limit
+    if (Collinear(d, term, on.rows, ss_res)) continue;
     ++*tried;
     const double ec = b->e.dot(c_res);
     Screened s;
@@ -392,6 +380,22 @@ std::vector<Screened> DesignContext::Score(const Design& d, const LinearFit& fit
   if (not_evaluable_ < 0) not_evaluable_ = unknown;
   for (auto& s : out) s.p_adjusted = std::min(1.0, s.p * *tried);
   return out;
+}
+
+bool DesignContext::Collinear(const Design& d, const EffectTerm& term, const std::vector<int>& rows,
+                              double ss_res) {
+  if (rows.empty()) return true;
+  const Eigen::VectorXd& full = Column(term);
+  const Eigen::VectorXd* own = nullptr;
+  if (term.kind == EffectKind::kLag && d.Has(EffectTerm::Sensor(term.source)))
+    own = &Column(EffectTerm::Sensor(term.source));
+  Eigen::VectorXd spread(rows.size());
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const int row = train_[rows[i]];
+    spread(i) = own ? full(row) - (*own)(row) : full(row);
+  }
+  spread.array() -= spread.mean();
+  return ss_res < spread.squaredNorm() / opt_.vif_max;
 }
 
 std::vector<Screened> DesignContext::Shortlist(const Design& d, const LinearFit& fit,

@@ -171,6 +171,14 @@ class DesignContext {
   Eigen::VectorXd Y(const Design& d) const;
   std::vector<int> Blocks(const Design& d) const;
   static uint64_t Fingerprint(const Design& d);  // of its rows
+  // Whether `term`, whose column on `rows` (training-row indices) leaves
+  // `ss_res` beyond the model `d`, is collinear with it: a VIF above the
+  // limit. A lag of a sensor the model reads is its delayed response, so
+  // its spread is the delay's (the lag less the sensor), not the level's
+  // both share. The screening and the choice validated as a choice judge
+  // a candidate by this one test.
+  bool Collinear(const Design& d, const EffectTerm& term, const std::vector<int>& rows,
+                 double ss_res);
   std::vector<Screened> Score(const Design& d, const LinearFit& fit,
                               const std::vector<EffectTerm>& candidates, int* tried);
 

@@ -67,8 +67,7 @@ StatusOr<PairedGain> DesignContext::SelectionGain(
   const Eigen::VectorXd y = Y(d);
   const std::vector<int> blocks = Blocks(d);
   // The candidates known on every row of the design, as the screening
-  // reads them (a lag of a sensor in the model is judged collinear by its
-  // delay, not by the level both share). Read in place from the cached
+  // reads them (DesignContext::Collinear). Read in place from the cached
   // columns (over all points): copies of every candidate on every row
   // would multiply the memory the search needs on long continuous
   // recordings. One column, or two for a pair (`b` set).
@@ -86,26 +85,17 @@ StatusOr<PairedGain> DesignContext::SelectionGain(
   // extrapolates), which tells of the limit, not of the choice.
   Eigen::HouseholderQR<Eigen::MatrixXd> all_qr(a);
   const Eigen::MatrixXd all_q = all_qr.householderQ() * Eigen::MatrixXd::Identity(n, p);
-  Eigen::VectorXd column(n), spread_all(n);
+  Eigen::VectorXd column(n);
   auto eligible = [&](const EffectTerm& term) -> const Eigen::VectorXd* {
     if (d.Has(term)) return nullptr;
     const Eigen::VectorXd& full = Column(term);
     for (int i = 0; i < n; ++i) {
-      if (!std::isfinite(full(train_[d.rows[i]]))) return nullptr;
+      column(i) = full(train_[d.rows[i]]);
+      if (!std::isfinite(column(i))) return nullptr;
     }
-    const Eigen::VectorXd* own = nullptr;
-    if (term.kind == EffectKind::kLag && d.Has(EffectTerm::Sensor(term.source)))
-      own = &Column(EffectTerm::Sensor(term.source));
-    for (int i = 0; i < n; ++i) {
-      const int row = train_[d.rows[i]];
-      column(i) = full(row);
-      spread_all(i) = own ? column(i) - (*own)(row) : column(i);
-    }
-    const double sst = (spread_all.array() - spread_all.mean()).matrix().squaredNorm();
-    if (!(sst > 1e-24 * n)) return nullptr;
-    if ((column - all_q * (all_q.transpose() * column)).squaredNorm() < sst / opt_.vif_max)
-      return nullptr;
-    return &full;
+    if (!((column.array() - column.mean()).matrix().squaredNorm() > 1e-24 * n)) return nullptr;
+    const double ss_res = (column - all_q * (all_q.transpose() * column)).squaredNorm();
+    return Collinear(d, term, d.rows, ss_res) ? nullptr : &full;
   };
   for (const EffectTerm& term : candidates) {
     if (const Eigen::VectorXd* c = eligible(term)) pool.push_back({c, nullptr});
