@@ -10,6 +10,7 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kMsPerHour = 3.6e6;
 constexpr double kMsPerDay = 86.4e6;
+constexpr size_t kLagCacheBytes = size_t{64} << 20;  // lagged series at the points, in all
 
 int IndexOf(const std::vector<std::string>& names, const std::string& name) {
   auto it = std::find(names.begin(), names.end(), name);
@@ -86,12 +87,21 @@ const std::pair<Eigen::VectorXd, Eigen::VectorXd>& FeatureBuilder::RawAtPoints(b
   return LagAtPoints(signal, index, 0.0);
 }
 
-const std::pair<Eigen::VectorXd, Eigen::VectorXd>& FeatureBuilder::LagAtPoints(bool signal,
-                                                                               int index,
-                                                                               double tau_min,
-                                                                               double tau_down_min) {
+const std::pair<Eigen::VectorXd, Eigen::VectorXd>& FeatureBuilder::LagAtPoints(
+    bool signal, int index, double tau_min, double tau_down_min) {
   auto key = std::make_tuple(signal, index, tau_min, tau_down_min);
   if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+  // The raw readings are kept; the lagged series up to kLagCacheBytes. A
+  // search probes hundreds of time constants again in every round, but on
+  // a long continuous recording keeping each would hold hundreds of MB
+  // (a five-day recording at 15 s: 520 MB at the peak, 167 MB with the
+  // budget, in the same time; docs/benchmarks.md): past the budget the
+  // lagged ones are dropped and computed anew. References to them stay
+  // valid until the next lagged series is asked for.
+  const size_t bytes = 2 * sizeof(double) * static_cast<size_t>(size());
+  if (tau_min > 0 && (cache_.size() + 1) * bytes > kLagCacheBytes) {
+    std::erase_if(cache_, [](const auto& entry) { return std::get<2>(entry.first) > 0; });
+  }
   const auto& channels = signal ? in_.signal_raw : in_.sensor_raw;
   const int n = size();
   std::pair<Eigen::VectorXd, Eigen::VectorXd> out{Eigen::VectorXd::Constant(n, kNaN),
