@@ -140,8 +140,19 @@ class Search {
                  std::map<std::string, EffectTerm>* moved);
   // What the sensors' noise adds to the design's squared error.
   double NoiseSse(const Design& design, const LinearFit& fit);
-  // A revision of an added lag's form that qualifies: the lag with its own
-  // heating and cooling time constants, replacing it (*replaces names it).
+  // The best revision of the form of the added lag at `j` that qualifies:
+  // the lag with its own heating and cooling time constants in its place,
+  // or a second lag of its sensor beside it (the first re-tuned).
+  struct Revision {
+    EffectTerm term;                    // what is added
+    bool replaces = false;              // in the lag's place, else beside it
+    std::optional<EffectTerm> retuned;  // the lag, re-tuned beside a second one
+    Design with;
+    PairedGain gain;  // over `design`
+  };
+  std::optional<Revision> Revise(const Design& design, size_t j);
+  // The best such revision of any added lag, as a candidate of the round
+  // (*replaces names the lag it replaces; retuned_ the re-tuned one).
   std::optional<ScoredCandidate> ReviseForm(const Design& design, const BlockErrors& base,
                                             std::string* replaces);
   std::map<std::string, EffectTerm> retuned_;  // the chosen revision's re-tuned lags
@@ -170,6 +181,7 @@ class Search {
   std::vector<EffectTerm> with_asymmetric_;
   DesignContext d_;
   std::set<std::string> declared_sources_;
+  std::set<std::string> declared_names_;  // the declared terms as filtered
   std::map<std::string, double> noise_c_, interval_min_;
 };
 
@@ -329,44 +341,51 @@ double Search::NoiseSse(const Design& design, const LinearFit& fit) {
   });
 }
 
-std::optional<ScoredCandidate> Search::ReviseForm(const Design& design, const BlockErrors& base,
-                                                  std::string* replaces) {
-  std::optional<ScoredCandidate> best;
-  for (size_t j = 0; j < design.terms.size(); ++j) {
-    const EffectTerm& lag = design.terms[j];
-    if (design.declared[j] || lag.kind != EffectKind::kLag) continue;
-    Design without = design;
-    without.Erase(j);
-    without = d_.Recomputed(without);
-    LinearFit fit;
-    if (!d_.Refit(without, &fit).ok()) continue;
+std::optional<Search::Revision> Search::Revise(const Design& design, size_t j) {
+  const EffectTerm& lag = design.terms[j];
+  std::optional<Revision> best;
+  Design without = design;
+  without.Erase(j);
+  without = d_.Recomputed(without);
+  LinearFit fit;
+  if (d_.Refit(without, &fit).ok()) {
     const EffectTerm asym = d_.RefineAsymmetric(without, fit, lag);
-    if (Asymmetry(asym) < opt_.asymmetry_min_ratio) continue;
-    auto g = d_.Gain(design, d_.With(without, asym));
-    if (!g.ok() || !Qualifies(*g, opt_)) continue;
-    if (best && g->gain <= best->gain.gain) continue;
-    best =
-        ScoredCandidate{asym, base.Rmse() * std::sqrt(std::max(0.0, 1.0 - g->relative)), 1.0, *g};
-    *replaces = lag.Name();
-    retuned_.clear();
+    const Design with = d_.With(without, asym);
+    auto g = d_.Gain(design, with);
+    if (Asymmetry(asym) >= opt_.asymmetry_min_ratio && g.ok() && Qualifies(*g, opt_))
+      best = Revision{asym, true, std::nullopt, with, *g};
   }
   // A second response of the same sensor: a fast and a slow part.
-  for (size_t j = 0; j < design.terms.size(); ++j) {
-    const EffectTerm& lag = design.terms[j];
-    if (design.declared[j] || lag.kind != EffectKind::kLag) continue;
-    EffectTerm first;
-    auto two = d_.WithSecondLag(design, j, &first);
-    if (!two) continue;
+  EffectTerm first;
+  if (auto two = d_.WithSecondLag(design, j, &first)) {
     auto g = d_.Gain(design, *two);
-    if (!g.ok() || !Qualifies(*g, opt_)) continue;
-    if (best && g->gain <= best->gain.gain) continue;
-    best = ScoredCandidate{two->terms.back(),
-                           base.Rmse() * std::sqrt(std::max(0.0, 1.0 - g->relative)), 1.0, *g};
-    replaces->clear();
-    retuned_.clear();
-    if (first.Name() != lag.Name()) retuned_[lag.Name()] = first;
+    if (g.ok() && Qualifies(*g, opt_) && (!best || g->gain > best->gain.gain))
+      best = Revision{two->terms.back(), false, first, *two, *g};
   }
   return best;
+}
+
+std::optional<ScoredCandidate> Search::ReviseForm(const Design& design, const BlockErrors& base,
+                                                  std::string* replaces) {
+  std::optional<Revision> best;
+  size_t at = 0;
+  for (size_t j = 0; j < design.terms.size(); ++j) {
+    if (design.declared[j] || design.terms[j].kind != EffectKind::kLag) continue;
+    auto revision = Revise(design, j);
+    if (revision && (!best || revision->gain.gain > best->gain.gain)) {
+      best = std::move(revision);
+      at = j;
+    }
+  }
+  if (!best) return std::nullopt;
+  const EffectTerm& lag = design.terms[at];
+  replaces->clear();
+  retuned_.clear();
+  if (best->replaces) *replaces = lag.Name();
+  if (best->retuned && best->retuned->Name() != lag.Name()) retuned_[lag.Name()] = *best->retuned;
+  return ScoredCandidate{best->term,
+                         base.Rmse() * std::sqrt(std::max(0.0, 1.0 - best->gain.relative)), 1.0,
+                         best->gain};
 }
 
 std::optional<Search::Form> Search::NewForm(const Design& design, const LinearFit& fit,
@@ -605,11 +624,28 @@ size_t Search::Lookahead(const Design& design, const std::vector<ScoredCandidate
     // follow-up that fails the forward check would never be added, and a
     // first step chosen for it would stay alone (a slow trend taken for
     // the sensor it was to be followed by, extrapolating).
+    double value = first.cv_rmse;
     for (const ScoredCandidate& next : Qualify(d, f, *base, candidates, &tried, nullptr)) {
-      if (ForwardFails(d, d_.With(d, next.term), next).empty())
-        return first.cv_rmse * std::sqrt(std::max(0.0, 1.0 - next.gain.relative));
+      if (ForwardFails(d, d_.With(d, next.term), next).empty()) {
+        value = first.cv_rmse * std::sqrt(std::max(0.0, 1.0 - next.gain.relative));
+        break;
+      }
     }
-    return first.cv_rmse;
+    // A lag's own form refined (its second time constant, different
+    // heating and cooling) is a follow-up too (parsimony): a sensor through
+    // a fast and a slow lag was otherwise passed over for another sensor's
+    // lag whose path, with the fast lag following, led further than the
+    // fast lag with one more single term.
+    if (first.term.kind == EffectKind::kLag) {
+      auto revision = Revise(d, d.terms.size() - 1);
+      if (revision &&
+          ForwardFails(d, revision->with, ScoredCandidate{revision->term, 0, 1, revision->gain})
+              .empty()) {
+        value = std::min(value,
+                         first.cv_rmse * std::sqrt(std::max(0.0, 1.0 - revision->gain.relative)));
+      }
+    }
+    return value;
   };
   std::vector<double> value;
   for (size_t i = 0; i < qualified.size() && i < static_cast<size_t>(opt_.lookahead); ++i) {
@@ -844,6 +880,7 @@ StatusOr<EffectSearchResult> Search::Run() {
   r.blocked_rmse_before_mm = blocked_before->Rmse();
 
   if (Status s = FilterDeclaredSensors(design, fit, r); !s.ok()) return s;
+  for (const EffectTerm& t : design.terms) declared_names_.insert(t.Name());
 
   candidates_ = GenerateCandidates(in_, opt_);
   const std::vector<EffectTerm>& candidates = candidates_;
@@ -916,6 +953,19 @@ StatusOr<EffectSearchResult> Search::Run() {
     }
     if (!chosen) chosen = Choose(design, fit, qualified, &added.replaces, &added.alternatives, r);
     if (!chosen) break;
+    // A declared term that left (replaced by a term a later revision
+    // replaced in turn) and is chosen again is the declared model put
+    // back, not an effect found: it returns as declared, and the report no
+    // longer lists it as dropped.
+    if (added.replaces.empty() && form_second.source.empty() &&
+        declared_names_.count(chosen->term.Name())) {
+      const std::string name = chosen->term.Name();
+      design = d_.With(design, chosen->term, true);
+      if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
+      std::erase_if(r.superseded, [&](const EffectTerm& t) { return t.Name() == name; });
+      r.superseded_reasons.erase(name);
+      continue;
+    }
     added.term = chosen->term;
     added.p_adjusted = chosen->p_adjusted;
     added.candidates_tried = tried;
