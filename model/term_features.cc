@@ -94,8 +94,8 @@ const std::pair<Eigen::VectorXd, Eigen::VectorXd>& FeatureBuilder::LagAtPoints(
   // The raw readings are kept; the lagged series up to kLagCacheBytes. A
   // search probes hundreds of time constants again in every round, but on
   // a long continuous recording keeping each would hold hundreds of MB
-  // (a five-day recording at 15 s: 520 MB at the peak, 167 MB with the
-  // budget, in the same time; docs/benchmarks.md): past the budget the
+  // (five days at 15 s: 524 MB at the peak, 166 MB with the budget, 9 %
+  // more time; docs/benchmarks.md): past the budget the
   // lagged ones are dropped and computed anew. References to them stay
   // valid until the next lagged series is asked for.
   const size_t bytes = 2 * sizeof(double) * static_cast<size_t>(size());
