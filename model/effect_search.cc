@@ -59,6 +59,12 @@ double Asymmetry(const EffectTerm& t) {
   return Apart(t.tau_min, t.tau2_min);
 }
 
+// The cross-validated error left of `rmse` once a gain removes the share
+// `relative` of its sum of squares (negative: more error, never below 0).
+double Remaining(double rmse, double relative) {
+  return rmse * std::sqrt(std::max(0.0, 1.0 - relative));
+}
+
 bool Smoothing(const Design& d, const EffectTerm& t) {
   return t.kind == EffectKind::kLag || t.kind == EffectKind::kAsymmetricLag ||
          (t.kind == EffectKind::kRate && d.Has(EffectTerm::Sensor(t.source)));
@@ -383,9 +389,7 @@ std::optional<ScoredCandidate> Search::ReviseForm(const Design& design, const Bl
   retuned_.clear();
   if (best->replaces) *replaces = lag.Name();
   if (best->retuned && best->retuned->Name() != lag.Name()) retuned_[lag.Name()] = *best->retuned;
-  return ScoredCandidate{best->term,
-                         base.Rmse() * std::sqrt(std::max(0.0, 1.0 - best->gain.relative)), 1.0,
-                         best->gain};
+  return ScoredCandidate{best->term, Remaining(base.Rmse(), best->gain.relative), 1.0, best->gain};
 }
 
 std::optional<Search::Form> Search::NewForm(const Design& design, const LinearFit& fit,
@@ -429,8 +433,7 @@ std::optional<Search::Form> Search::NewForm(const Design& design, const LinearFi
       if (!Finding(design, *g, pool)) return;
       auto over_lag = d_.Gain(one, with);
       if (!over_lag.ok() || !Finding(one, *over_lag, pool)) return;
-      best = Form{ScoredCandidate{term, base.Rmse() * std::sqrt(std::max(0.0, 1.0 - g->relative)),
-                                  lag->p_adjusted, *g},
+      best = Form{ScoredCandidate{term, Remaining(base.Rmse(), g->relative), lag->p_adjusted, *g},
                   std::move(slow), with};
     };
     const EffectTerm asym = d_.RefineAsymmetric(design, fit, lag->term);
@@ -551,7 +554,7 @@ std::vector<ScoredCandidate> Search::Qualify(const Design& design, const LinearF
     auto g = d_.Gain(design, d_.With(design, s.term));
     if (!g.ok()) continue;
     // The error it would leave, on the scale of the current model's.
-    const double cv = base.Rmse() * std::sqrt(std::max(0.0, 1.0 - g->relative));
+    const double cv = Remaining(base.Rmse(), g->relative);
     ScoredCandidate c{s.term, cv, s.p_adjusted, *g};
     // A lag of a source the model does not read yet must beat the source
     // read directly by a finding of its own; otherwise the direct reading
@@ -563,9 +566,8 @@ std::vector<ScoredCandidate> Search::Qualify(const Design& design, const LinearF
       auto plain_gain = d_.Gain(design, with_plain);
       if (over_plain.ok() && plain_gain.ok() && !Finding(with_plain, *over_plain) &&
           Finding(design, *plain_gain)) {
-        c = ScoredCandidate{*plain,
-                            base.Rmse() * std::sqrt(std::max(0.0, 1.0 - plain_gain->relative)),
-                            s.p_adjusted, *plain_gain};
+        c = ScoredCandidate{*plain, Remaining(base.Rmse(), plain_gain->relative), s.p_adjusted,
+                            *plain_gain};
       }
     }
     if (!Finding(design, c.gain)) {
@@ -627,7 +629,7 @@ size_t Search::Lookahead(const Design& design, const std::vector<ScoredCandidate
     double value = first.cv_rmse;
     for (const ScoredCandidate& next : Qualify(d, f, *base, candidates, &tried, nullptr)) {
       if (ForwardFails(d, d_.With(d, next.term), next).empty()) {
-        value = first.cv_rmse * std::sqrt(std::max(0.0, 1.0 - next.gain.relative));
+        value = Remaining(first.cv_rmse, next.gain.relative);
         break;
       }
     }
@@ -641,8 +643,7 @@ size_t Search::Lookahead(const Design& design, const std::vector<ScoredCandidate
       if (revision &&
           ForwardFails(d, revision->with, ScoredCandidate{revision->term, 0, 1, revision->gain})
               .empty()) {
-        value = std::min(value,
-                         first.cv_rmse * std::sqrt(std::max(0.0, 1.0 - revision->gain.relative)));
+        value = std::min(value, Remaining(first.cv_rmse, revision->gain.relative));
       }
     }
     return value;
@@ -740,7 +741,7 @@ std::optional<ScoredCandidate> Search::MaskedPair(const Design& design,
     if (best && joint->gain <= best->gain.gain) continue;
     best = first;
     best->gain = *joint;
-    best->cv_rmse = base_errors->Rmse() * std::sqrt(std::max(0.0, 1.0 - joint->relative));
+    best->cv_rmse = Remaining(base_errors->Rmse(), joint->relative);
     *partner = next[0].term.Name();
     partners_.insert_or_assign(first.term.Name(), next[0].term);
   }
