@@ -58,8 +58,10 @@ struct TermPoint {
   std::vector<double> datum_position_mm;
 };
 
-// Evaluates terms at a fixed set of points. Lagged series are computed once
-// per (channel, tau) and reused, so trying many candidates stays cheap.
+// Evaluates terms at a fixed set of points. The raw readings at the points
+// are kept; lagged series are kept per (channel, tau) up to a memory budget
+// (term_features.cc) and computed again past it, so trying many candidates
+// stays cheap without holding every time constant a refinement probed.
 class FeatureBuilder {
  public:
   FeatureBuilder(const TermInputs& inputs, const std::vector<TermPoint>& points)
@@ -75,7 +77,8 @@ class FeatureBuilder {
 
  private:
   // Lagged channel sampled at each point's time and at its datum's time.
-  // tau_down_min 0: a symmetric lag.
+  // tau_down_min 0: a symmetric lag. The reference stays valid until the
+  // next call (the budget may drop it then).
   const std::pair<Eigen::VectorXd, Eigen::VectorXd>& LagAtPoints(bool signal, int index,
                                                                  double tau_min,
                                                                  double tau_down_min = 0);
@@ -83,7 +86,8 @@ class FeatureBuilder {
 
   const TermInputs& in_;
   const std::vector<TermPoint>& points_;
-  std::map<std::tuple<bool, int, double, double>, std::pair<Eigen::VectorXd, Eigen::VectorXd>> cache_;
+  std::map<std::tuple<bool, int, double, double>, std::pair<Eigen::VectorXd, Eigen::VectorXd>>
+      cache_;
 };
 
 }  // namespace thermocomp
