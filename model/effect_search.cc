@@ -629,6 +629,17 @@ size_t Search::Lookahead(const Design& design, const std::vector<ScoredCandidate
     double value = first.cv_rmse;
     for (const ScoredCandidate& next : Qualify(d, f, *base, candidates, &tried, nullptr)) {
       if (ForwardFails(d, d_.With(d, next.term), next).empty()) {
+        // The path counts only when its first step still qualifies with
+        // the follow-up in; otherwise the first stood in for part of the
+        // follow-up's effect on the way (a coolant sensor taken before the
+        // spindle sensor's 4-min lag, which alone led nearly as far) and
+        // stays beside it, a companion. A follow-up of the first's own
+        // source refines it (a sensor, then its lag) and is not asked.
+        if (next.term.source != first.term.source) {
+          const Design with_next = d_.With(design, next.term);
+          auto first_after = d_.Gain(with_next, d_.With(with_next, first.term));
+          if (!first_after.ok() || !Qualifies(*first_after, opt_)) break;
+        }
         value = Remaining(first.cv_rmse, next.gain.relative);
         break;
       }
