@@ -82,20 +82,13 @@ Tally Run(char family, int days, const std::string& scenario, uint64_t first, in
   const EffectSearchOptions options;
   const EffectSearchOptions search = SearchOptions();
   for (uint64_t seed = first; seed < first + seeds; ++seed) {
-    auto rec = StudyMachine(family, scenario, seed, days);
-    if (!rec.ok()) {
-      std::fprintf(stderr, "%s\n", rec.status().message().c_str());
+    // A study that cannot build or search a machine is broken: stop.
+    auto study = SearchStudyMachine(family, scenario, seed, days, search);
+    if (!study.ok()) {
+      std::fprintf(stderr, "%s\n", study.status().message().c_str());
       std::exit(2);
     }
-    std::vector<double> truth;
-    EffectSearchInput in = ToSearchInput(*rec, "Y", 0, &truth);
-    auto r = SearchEffects(in, search);
-    if (!r.ok()) {
-      std::fprintf(stderr, "%c%d %s seed %llu: %s\n", family, days, scenario.c_str(),
-                   static_cast<unsigned long long>(seed), r.status().message().c_str());
-      continue;
-    }
-    const SearchScore s = ScoreSearch(*rec, in, truth, *r);
+    const SearchScore& s = study->score;
     ++t.cases;
     t.named += s.AllNamed();
     t.within += s.FloorRatio() <= 1.3;
@@ -103,8 +96,8 @@ Tally Run(char family, int days, const std::string& scenario, uint64_t first, in
     t.machines_with_extras += !s.extras.empty();
     t.companions += static_cast<int>(s.companions.size());
     bool strong = false;
-    if (!rec->hidden.empty()) {
-      auto g = TrueEffectGain(*rec, in, options);
+    if (!study->recording.hidden.empty()) {
+      auto g = TrueEffectGain(study->recording, study->input, options);
       if (g.ok()) {
         t.detectable += PassesBar(*g, options);
         strong = PassesStrongRule(*g, options);
@@ -118,7 +111,7 @@ Tally Run(char family, int days, const std::string& scenario, uint64_t first, in
                          std::to_string(seed) + (strong ? " (strong)" : "") + ":";
       for (const auto& m : s.missed) line += " missed " + m + ";";
       for (const auto& e : s.extras) line += " extra " + e + ";";
-      for (const auto& e : r->effects) line += " [" + e.term.Name() + "]";
+      for (const auto& e : study->result.effects) line += " [" + e.term.Name() + "]";
       std::fprintf(stderr, "%s held-out %.2f um, floor %.2f um\n", line.c_str(),
                    s.holdout_rmse_mm * 1e3, s.noise_floor_mm * 1e3);
     }

@@ -211,6 +211,23 @@ StatusOr<SimRecording> StudyMachine(char family, const std::string& scenario, ui
   return rec;
 }
 
+StatusOr<StudySearch> SearchStudyMachine(char family, const std::string& scenario, uint64_t seed,
+                                         int days, const EffectSearchOptions& options) {
+  auto rec = StudyMachine(family, scenario, seed, days);
+  if (!rec.ok()) return rec.status();
+  StudySearch out;
+  out.recording = std::move(*rec);
+  out.input = ToSearchInput(out.recording, "Y", 0, &out.true_drift);
+  auto r = SearchEffects(out.input, options);
+  if (!r.ok()) {
+    return Status::Internal(std::string(1, family) + std::to_string(days) + " " + scenario +
+                            " seed " + std::to_string(seed) + ": " + r.status().message());
+  }
+  out.result = std::move(*r);
+  out.score = ScoreSearch(out.recording, out.input, out.true_drift, out.result);
+  return out;
+}
+
 namespace {
 
 StatusOr<SimRecording> StudyRecording(char family, const std::vector<std::string>& names,

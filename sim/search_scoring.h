@@ -79,4 +79,16 @@ bool PassesStrongRule(const PairedGain& gain, const EffectSearchOptions& options
 StatusOr<SimRecording> StudyMachine(char family, const std::string& scenario, uint64_t seed,
                                     int days = 0);
 
+// A study machine searched as the studies search it (axis Y, the server's
+// default held-out runs) and scored: what a study needs of one case.
+struct StudySearch {
+  SimRecording recording;
+  EffectSearchInput input;
+  std::vector<double> true_drift;  // per row, for the noise floor
+  EffectSearchResult result;
+  SearchScore score;
+};
+StatusOr<StudySearch> SearchStudyMachine(char family, const std::string& scenario, uint64_t seed,
+                                         int days = 0, const EffectSearchOptions& options = {});
+
 }  // namespace thermocomp

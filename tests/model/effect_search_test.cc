@@ -193,17 +193,12 @@ struct Searched {
 
 Searched Study(const std::string& scenario, uint64_t seed, char family = 'A', int days = 0) {
   Searched out;
-  auto rec = StudyMachine(family, scenario, seed, days);
-  EXPECT_TRUE(rec.ok());
-  if (!rec.ok()) return out;
-  std::vector<double> truth;
-  const EffectSearchInput in = ToSearchInput(*rec, "Y", 0, &truth);
-  auto r = SearchEffects(in, EffectSearchOptions{});
-  EXPECT_TRUE(r.ok());
-  if (!r.ok()) return out;
-  out.result = *r;
-  out.score = ScoreSearch(*rec, in, truth, *r);
-  for (const auto& e : r->effects) out.effects += e.term.Name() + " ";
+  auto s = SearchStudyMachine(family, scenario, seed, days);
+  EXPECT_TRUE(s.ok()) << s.status().message();
+  if (!s.ok()) return out;
+  out.result = std::move(s->result);
+  out.score = s->score;
+  for (const auto& e : out.result.effects) out.effects += e.term.Name() + " ";
   return out;
 }
 

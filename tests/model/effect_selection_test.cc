@@ -103,17 +103,13 @@ TEST(ChoiceValidated, NothingToFindWinsFewRunsAndRemovesNothing) {
 // need. The arm of the choice validated names it; without that arm it is
 // missed, and the held-out error stays about four times the noise floor.
 TEST(ChoiceValidated, NamesALeftOutSensorOnTwoDaysThatTheSignAloneMisses) {
-  auto rec = StudyMachine('A', "sensor", 9, 2);
-  ASSERT_TRUE(rec.ok()) << rec.status().message();
-  std::vector<double> truth;
-  const EffectSearchInput in = ToSearchInput(*rec, "Y", 0, &truth);
   EffectSearchOptions off;
   off.run_chosen_gain = 2.0;
   for (const bool with_arm : {true, false}) {
-    auto r = SearchEffects(in, with_arm ? EffectSearchOptions{} : off);
-    ASSERT_TRUE(r.ok()) << r.status().message();
-    EXPECT_EQ(r->block_kind, "run");
-    const SearchScore s = ScoreSearch(*rec, in, truth, *r);
+    auto study = SearchStudyMachine('A', "sensor", 9, 2, with_arm ? EffectSearchOptions{} : off);
+    ASSERT_TRUE(study.ok()) << study.status().message();
+    EXPECT_EQ(study->result.block_kind, "run");
+    const SearchScore& s = study->score;
     EXPECT_EQ(s.AllNamed(), with_arm);
     EXPECT_TRUE(s.extras.empty()) << s.extras.front();
     if (with_arm) {
@@ -141,16 +137,12 @@ TEST(ChoiceValidated, NamesALeftOutSensorCollinearWithTheDeclaredOnTwoDays) {
   };
   for (const Expect& e : {Expect{3, 10.0, true}, Expect{3, 20.0, true}, Expect{11, 20.0, true},
                           Expect{11, 10.0, false}}) {
-    auto rec = StudyMachine('A', "sensor", e.seed, 2);
-    ASSERT_TRUE(rec.ok()) << rec.status().message();
-    std::vector<double> truth;
-    const EffectSearchInput in = ToSearchInput(*rec, "Y", 0, &truth);
     EffectSearchOptions o;
     o.run_vif_max = e.run_vif_max;
-    auto r = SearchEffects(in, o);
-    ASSERT_TRUE(r.ok()) << r.status().message();
-    EXPECT_EQ(r->block_kind, "run");
-    const SearchScore s = ScoreSearch(*rec, in, truth, *r);
+    auto study = SearchStudyMachine('A', "sensor", e.seed, 2, o);
+    ASSERT_TRUE(study.ok()) << study.status().message();
+    EXPECT_EQ(study->result.block_kind, "run");
+    const SearchScore& s = study->score;
     EXPECT_EQ(s.AllNamed(), e.named) << "seed " << e.seed << " VIF " << e.run_vif_max;
     EXPECT_TRUE(s.extras.empty()) << "seed " << e.seed << ": " << s.extras.front();
     if (e.named) {
@@ -183,10 +175,9 @@ Design Declared(DesignContext& d, const EffectSearchInput& in) {
 // 80 % of the error, and the search names both lags with nothing else.
 TEST(ChoiceValidated, NamesASensorActingThroughAFastAndASlowLagOnTwoDays) {
   for (const uint64_t seed : {5u, 6u}) {
-    auto rec = StudyMachine('A', "two_lags", seed, 2);
-    ASSERT_TRUE(rec.ok()) << rec.status().message();
-    std::vector<double> truth;
-    const EffectSearchInput in = ToSearchInput(*rec, "Y", 0, &truth);
+    auto study = SearchStudyMachine('A', "two_lags", seed, 2);
+    ASSERT_TRUE(study.ok()) << study.status().message();
+    const EffectSearchInput& in = study->input;
     const EffectSearchOptions options = OverRuns();
     DesignContext d(in, options);
     ASSERT_TRUE(d.Prepare().ok());
@@ -205,9 +196,8 @@ TEST(ChoiceValidated, NamesASensorActingThroughAFastAndASlowLagOnTwoDays) {
     EXPECT_GE(paired->won.size(), 7u) << "seed " << seed;
     EXPECT_GT(paired->relative, 0.8) << "seed " << seed;
 
-    auto r = SearchEffects(in, EffectSearchOptions{});
-    ASSERT_TRUE(r.ok()) << r.status().message();
-    const SearchScore s = ScoreSearch(*rec, in, truth, *r);
+    const EffectSearchResult* r = &study->result;
+    const SearchScore& s = study->score;
     EXPECT_TRUE(s.AllNamed()) << "seed " << seed << ": " << (s.missed.empty() ? "" : s.missed[0]);
     EXPECT_TRUE(s.extras.empty()) << "seed " << seed << ": " << s.extras.front();
     ASSERT_EQ(r->effects.size(), 2u) << "seed " << seed;
@@ -226,10 +216,9 @@ TEST(ChoiceValidated, NamesASensorActingThroughAFastAndASlowLagOnTwoDays) {
 // all runs but one, and the search names the asymmetric lag alone.
 TEST(ChoiceValidated, NamesASensorThatHeatsFasterThanItCoolsOnTwoDays) {
   for (const uint64_t seed : {4u, 5u}) {
-    auto rec = StudyMachine('A', "asymmetric_lag", seed, 2);
-    ASSERT_TRUE(rec.ok()) << rec.status().message();
-    std::vector<double> truth;
-    const EffectSearchInput in = ToSearchInput(*rec, "Y", 0, &truth);
+    auto study = SearchStudyMachine('A', "asymmetric_lag", seed, 2);
+    ASSERT_TRUE(study.ok()) << study.status().message();
+    const EffectSearchInput& in = study->input;
     const EffectSearchOptions options = OverRuns();
     DesignContext d(in, options);
     ASSERT_TRUE(d.Prepare().ok());
@@ -248,9 +237,8 @@ TEST(ChoiceValidated, NamesASensorThatHeatsFasterThanItCoolsOnTwoDays) {
     EXPECT_LE(asymmetric->Lost(), 1) << "seed " << seed;
     EXPECT_GT(asymmetric->relative, 0.9) << "seed " << seed;
 
-    auto r = SearchEffects(in, EffectSearchOptions{});
-    ASSERT_TRUE(r.ok()) << r.status().message();
-    const SearchScore s = ScoreSearch(*rec, in, truth, *r);
+    const EffectSearchResult* r = &study->result;
+    const SearchScore& s = study->score;
     EXPECT_TRUE(s.AllNamed()) << "seed " << seed << ": " << (s.missed.empty() ? "" : s.missed[0]);
     EXPECT_TRUE(s.extras.empty()) << "seed " << seed << ": " << s.extras.front();
     ASSERT_EQ(r->effects.size(), 1u) << "seed " << seed;

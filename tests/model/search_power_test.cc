@@ -65,20 +65,14 @@ struct Case {
 
 Case Study(const ShortCase& c, const std::string& scenario, uint64_t seed) {
   Case out;
-  auto rec = StudyMachine(c.family, scenario, seed, c.days);
-  EXPECT_TRUE(rec.ok()) << rec.status().message();
-  if (!rec.ok()) return out;
-  std::vector<double> truth;
-  EffectSearchInput in = ToSearchInput(*rec, "Y", 0, &truth);
   const EffectSearchOptions options;
-  auto r = SearchEffects(in, options);
-  EXPECT_TRUE(r.ok()) << c.name << " " << scenario << " seed " << seed << ": "
-                      << r.status().message();
-  if (!r.ok()) return out;
+  auto s = SearchStudyMachine(c.family, scenario, seed, c.days, options);
+  EXPECT_TRUE(s.ok()) << c.name << ": " << s.status().message();
+  if (!s.ok()) return out;
   out.ok = true;
-  out.score = ScoreSearch(*rec, in, truth, *r);
-  if (!rec->hidden.empty()) {
-    auto g = TrueEffectGain(*rec, in, options);
+  out.score = s->score;
+  if (!s->recording.hidden.empty()) {
+    auto g = TrueEffectGain(s->recording, s->input, options);
     if (g.ok()) {
       out.passes_bar = PassesBar(*g, options);
       out.strong = PassesStrongRule(*g, options);

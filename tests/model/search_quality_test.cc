@@ -24,21 +24,12 @@ namespace thermocomp {
 namespace {
 
 // A machine of a family with the hidden effects named in `scenario`
-// ("lag+signal"); "" hides nothing. Family C is B logged every 15 s.
-SimRecording Machine(char family, const std::string& scenario, uint64_t seed) {
-  auto rec = StudyMachine(family, scenario, seed);
-  EXPECT_TRUE(rec.ok()) << rec.status().message();
-  return rec.ok() ? std::move(*rec) : SimRecording{};
-}
-
+// ("lag+signal"; "" hides nothing), searched and scored. Family C is B
+// logged every 15 s.
 SearchScore Search(char family, const std::string& scenario, uint64_t seed) {
-  SimRecording rec = Machine(family, scenario, seed);
-  std::vector<double> truth;
-  EffectSearchInput in = ToSearchInput(rec, "Y", 0, &truth);
-  auto r = SearchEffects(in, EffectSearchOptions{});
-  EXPECT_TRUE(r.ok()) << r.status().message();
-  if (!r.ok()) return {};
-  return ScoreSearch(rec, in, truth, *r);
+  auto s = SearchStudyMachine(family, scenario, seed);
+  EXPECT_TRUE(s.ok()) << s.status().message();
+  return s.ok() ? s->score : SearchScore{};
 }
 
 std::string Line(const std::string& scenario, uint64_t seed, const SearchScore& s) {
