@@ -140,6 +140,10 @@ class Search {
   // errors, the others' time constants re-tuned), at the time constant
   // that is best there.
   Status Settle(Design& design, LinearFit& fit, EffectSearchResult& r);
+  // Two added terms of one undeclared sensor (its rate and a lag) that do
+  // not predict better, by a finding, than the sensor's own reading are
+  // that reading split in two: replaced by it.
+  Status Collapse(Design& design, LinearFit& fit, EffectSearchResult& r);
   // `design` with each added effect that has a time constant at the one
   // best for it there; *moved maps the old names to the new terms.
   Design Retuned(const Design& design, const EffectSearchResult& r,
@@ -240,6 +244,69 @@ Design Search::Retuned(const Design& design, const EffectSearchResult& r,
   return d;
 }
 
+Status Search::Collapse(Design& design, LinearFit& fit, EffectSearchResult& r) {
+  for (size_t a = 0; a < r.effects.size(); ++a) {
+    for (size_t b = a + 1; b < r.effects.size(); ++b) {
+      const EffectTerm first = r.effects[a].term;
+      const EffectTerm second = r.effects[b].term;
+      // A fast and slow pair was validated as the form it is.
+      if (first.source.empty() || first.source != second.source || Revises(first) ||
+          first.kind == EffectKind::kSignal || second.kind == EffectKind::kSignal ||
+          r.effects[a].together_with == second.Name() || r.effects[b].together_with == first.Name())
+        continue;
+      const int i = design.Find(first.Name());
+      const int j = design.Find(second.Name());
+      if (i < 0 || j < 0) continue;
+      const EffectTerm sensor = EffectTerm::Sensor(first.source);
+      Design without = design;
+      without.Erase(std::max(i, j));
+      without.Erase(std::min(i, j));
+      without = d_.Recomputed(without);
+      // A declared term either replaced comes back, unless leaving it out
+      // predicts better by a margin (the rule a declared term leaves by).
+      std::vector<std::string> restored;
+      for (const std::string& name : {r.effects[a].replaces, r.effects[b].replaces}) {
+        auto it = std::find_if(r.superseded.begin(), r.superseded.end(),
+                               [&](const EffectTerm& t) { return t.Name() == name; });
+        if (name.empty() || it == r.superseded.end() || without.Has(*it)) continue;
+        const Design back = d_.With(without, *it, true);
+        auto removal = d_.Gain(back, without);
+        if (removal.ok() && removal->gain > 0 && removal->t >= opt_.equivalent_t) continue;
+        without = back;
+        restored.push_back(name);
+      }
+      const Design collapsed = without.Has(sensor) ? without : d_.With(without, sensor);
+      auto keep = d_.Gain(collapsed, design);
+      if (!keep.ok() || Finding(collapsed, *keep)) continue;
+      for (const std::string& name : restored) {
+        std::erase_if(r.superseded, [&](const EffectTerm& t) { return t.Name() == name; });
+        r.superseded_reasons.erase(name);
+      }
+      AddedEffect& kept = r.effects[a];
+      std::erase_if(kept.runners_up,
+                    [&](const ScoredCandidate& q) { return q.term.Name() == sensor.Name(); });
+      kept.runners_up.insert(kept.runners_up.begin(),
+                             {first, kept.cv_rmse_after_mm, kept.p_adjusted, kept.confidence});
+      if (auto alone = d_.Gain(without, collapsed); alone.ok() && !without.Has(sensor))
+        kept.confidence = *alone;
+      auto after = d_.Blocked(collapsed);
+      kept.cv_rmse_after_mm = after.ok() ? after->Rmse() : INFINITY;
+      kept.term = sensor;
+      kept.replaces.clear();
+      kept.revised = true;
+      r.superseded.push_back(second);
+      r.superseded_reasons[second.Name()] =
+          "with " + first.Name() + ", the reading of " + first.source +
+          " split in two: its own reading predicts as well (their gain over it does not qualify)";
+      r.effects.erase(r.effects.begin() + b);
+      design = collapsed;
+      if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
+      return Collapse(design, fit, r);  // the indices moved: start again
+    }
+  }
+  return Status::Ok();
+}
+
 Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
   for (size_t e = 0; e < r.effects.size();) {
     AddedEffect& effect = r.effects[e];
@@ -326,7 +393,8 @@ Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
     }
     ++e;
   }
-  return Status::Ok();
+  // After the others settled: a stand-in they dropped is not a split.
+  return Collapse(design, fit, r);
 }
 
 double Search::NoiseSse(const Design& design, const LinearFit& fit) {
@@ -570,6 +638,12 @@ std::vector<ScoredCandidate> Search::Qualify(const Design& design, const LinearF
                             *plain_gain};
       }
     }
+    // A lag read as its plain sensor may meet that sensor, shortlisted in
+    // its own right: one candidate, once (else it is listed twice as a
+    // runner-up and takes two of the lookahead's places).
+    if (std::any_of(out.begin(), out.end(),
+                    [&](const ScoredCandidate& o) { return o.term.Name() == c.term.Name(); }))
+      continue;
     if (!Finding(design, c.gain)) {
       r.closest.push_back(c);
       continue;

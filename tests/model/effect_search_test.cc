@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -239,6 +240,40 @@ TEST(EffectSearchParsimony, AStandInOnTheWayToAnotherSensorsEffectIsNotTakenFirs
   EXPECT_TRUE(s.score.AllNamed()) << s.effects;
   EXPECT_TRUE(s.score.extras.empty()) << s.effects;
   EXPECT_TRUE(s.score.companions.empty()) << s.effects;
+}
+
+// Five days of the second family, the spindle sensor left out of the
+// declared model: its rate was taken, then its 9-min lag (which replaced
+// the declared Tgl), the two together the sensor's reading split in two.
+// They are now read as the sensor, and Tgl, replaced by the lag, is back.
+TEST(EffectSearchParsimony, ASensorsRateAndLagAreReadAsTheSensor) {
+  for (uint64_t seed : {9, 11}) {
+    const Searched s = Study("left_out_sensor", seed, 'B', 5);
+    EXPECT_TRUE(s.score.AllNamed()) << "seed " << seed << ": " << s.effects;
+    EXPECT_TRUE(s.score.extras.empty()) << "seed " << seed << ": " << s.effects;
+    EXPECT_LE(s.score.FloorRatio(), 1.3) << "seed " << seed;
+    const auto& terms = s.result.terms;
+    EXPECT_TRUE(std::any_of(terms.begin(), terms.end(),
+                            [](const EffectTerm& t) { return t.Name() == "Tgl"; }))
+        << "seed " << seed;
+    EXPECT_EQ(s.result.superseded_reasons.count("Tgl"), 0u) << "seed " << seed;
+  }
+}
+
+// Five days of the first family, Tco acting through a 150-min lag:
+// a lag of the undeclared Tcu, read as Tcu itself because the plain
+// reading explains as much, met Tcu shortlisted in its own right, and the
+// report listed Tcu twice among the effect's runners-up.
+TEST(EffectSearchReport, ListsEachRunnerUpOnce) {
+  const Searched s = Study("lag", 3, 'A', 5);
+  ASSERT_FALSE(s.result.effects.empty());
+  for (const auto& e : s.result.effects) {
+    std::set<std::string> names;
+    for (const auto& q : e.runners_up) {
+      EXPECT_TRUE(names.insert(q.term.Name()).second)
+          << q.term.Name() << " listed twice for " << e.term.Name();
+    }
+  }
 }
 
 }  // namespace

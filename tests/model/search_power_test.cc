@@ -180,8 +180,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(ShortCase{"A2", 'A', 2, 16, kSinglesA, kFormsA, {0.6, 0.3, 0.25, 0.05, 1}},
                       ShortCase{"A5", 'A', 5, 16, kSinglesA, kFormsA, {0.85, 0.85, 0.85, 0.05, 1}},
                       ShortCase{"B2", 'B', 2, 16, kSinglesB, kFormsB, {0.3, 0, 0, 0.05, 1}},
-                      ShortCase{"B5", 'B', 5, 16, kSinglesB, kFormsB, {0.7, 0.44, 0.35, 0.05, 1}},
-                      ShortCase{"D2", 'D', 2, 8, kSinglesD, kFormsB, {0.38, 0.26, 0.25, 0.05, 1}},
+                      ShortCase{"B5", 'B', 5, 16, kSinglesB, kFormsB, {0.72, 0.44, 0.35, 0.05, 1}},
+                      ShortCase{"D2", 'D', 2, 8, kSinglesD, kFormsB, {0.45, 0.26, 0.25, 0.05, 1}},
                       ShortCase{"D5", 'D', 5, 4, kSinglesD, kFormsB, {0.4, 0.2, 0.1, 0.1, 1}}),
     [](const auto& info) { return info.param.name; });
 
