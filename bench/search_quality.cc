@@ -24,7 +24,8 @@
 // off), THERMOCOMP_RUN_T_CHECKS_CHOICE=0 the same check of the t arm
 // over runs (run_t_checks_choice), THERMOCOMP_VIF_MAX and
 // THERMOCOMP_RUN_VIF_MAX the collinearity limit of a new term (vif_max,
-// and run_vif_max over runs), for a comparison in the same build; the
+// and run_vif_max over runs), THERMOCOMP_RUN_BUFFER the neighbours left
+// out beside a run (run_buffer), for a comparison in the same build; the
 // truth is judged by the defaults either way.
 #include <chrono>
 #include <cstdio>
@@ -72,6 +73,7 @@ EffectSearchOptions SearchOptions() {
     o.run_chosen_gain = std::atof(gain);
   if (const char* lost = std::getenv("THERMOCOMP_RUN_CHOSEN_LOST"))
     o.run_chosen_lost_blocks = std::atoi(lost);
+  if (const char* b = std::getenv("THERMOCOMP_RUN_BUFFER")) o.run_buffer = std::atoi(b);
   if (const char* check = std::getenv("THERMOCOMP_RUN_T_CHECKS_CHOICE"))
     o.run_t_checks_choice = std::atoi(check) != 0;
   return o;
