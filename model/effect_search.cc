@@ -1144,6 +1144,7 @@ StatusOr<EffectSearchResult> Search::Run() {
     // Greedy choices can be revised: with the new effect in, an earlier one
     // may have a simpler or better replacement (a lag that stood in for two
     // effects, say). Swap when the replacement cross-validates as well.
+    std::vector<size_t> returned;  // effects whose declared term came back
     for (size_t e = 0; e < earlier_effects; ++e) {
       AddedEffect& earlier = r.effects[e];
       const std::string name = earlier.term.Name();
@@ -1159,9 +1160,21 @@ StatusOr<EffectSearchResult> Search::Run() {
       auto alternatives =
           Qualify(without, without_fit, *without_blocked, candidates, &swap_tried, nullptr);
       if (alternatives.empty() || alternatives[0].term.Name() == name) continue;
-      const Design swapped = d_.With(without, alternatives[0].term);
+      const std::string alternative = alternatives[0].term.Name();
+      const bool declared_back = declared_names_.count(alternative) > 0;
+      const Design swapped = d_.With(without, alternatives[0].term, declared_back);
       auto vs_now = d_.Gain(design, swapped);
       if (!vs_now.ok() || vs_now->relative < -opt_.simpler_within) continue;
+      if (declared_back) {
+        // The declared term the earlier effect had replaced: the declared
+        // model put back (as in a round), not an effect found.
+        std::erase_if(r.superseded, [&](const EffectTerm& t) { return t.Name() == alternative; });
+        r.superseded_reasons.erase(alternative);
+        returned.push_back(e);
+        design = swapped;
+        if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
+        continue;
+      }
       earlier.runners_up.insert(
           earlier.runners_up.begin(),
           {earlier.term, alternatives[0].cv_rmse, earlier.p_adjusted, earlier.confidence});
@@ -1170,6 +1183,12 @@ StatusOr<EffectSearchResult> Search::Run() {
       earlier.revised = true;
       design = swapped;
       if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
+    }
+    for (auto e = returned.rbegin(); e != returned.rend(); ++e) {
+      // The next effect was added to the model before this one's.
+      if (*e + 1 < r.effects.size())
+        r.effects[*e + 1].cv_rmse_before_mm = r.effects[*e].cv_rmse_before_mm;
+      r.effects.erase(r.effects.begin() + static_cast<std::ptrdiff_t>(*e));
     }
   }
 

@@ -260,6 +260,24 @@ TEST(EffectSearchParsimony, ASensorsRateAndLagAreReadAsTheSensor) {
   }
 }
 
+// Five days of the second family logged and measured every 15 s, the
+// spindle sensor left out: a quadratic of it replaced the declared Tgl,
+// then the sensor itself was added, and revising the earlier choice found
+// Tgl best in the quadratic's place. Tgl returns as declared: not an
+// effect, not listed as dropped, and the sensor's error before is the
+// declared model's.
+TEST(EffectSearchParsimony, ADeclaredSensorARevisionPutsBackReturnsAsDeclared) {
+  const Searched s = Study("left_out_sensor", 3, 'D', 5);
+  EXPECT_TRUE(s.score.AllNamed()) << s.effects;
+  EXPECT_TRUE(s.score.extras.empty()) << s.effects;
+  const auto& terms = s.result.terms;
+  EXPECT_TRUE(std::any_of(terms.begin(), terms.end(),
+                          [](const EffectTerm& t) { return t.Name() == "Tgl"; }));
+  EXPECT_EQ(s.result.superseded_reasons.count("Tgl"), 0u);
+  ASSERT_EQ(s.result.effects.size(), 1u) << s.effects;
+  EXPECT_NEAR(s.result.effects[0].cv_rmse_before_mm, s.result.blocked_rmse_before_mm, 1e-9);
+}
+
 // Five days of the first family, Tco acting through a 150-min lag:
 // a lag of the undeclared Tcu, read as Tcu itself because the plain
 // reading explains as much, met Tcu shortlisted in its own right, and the
