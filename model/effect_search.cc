@@ -249,15 +249,22 @@ Status Search::Collapse(Design& design, LinearFit& fit, EffectSearchResult& r) {
     for (size_t b = a + 1; b < r.effects.size(); ++b) {
       const EffectTerm first = r.effects[a].term;
       const EffectTerm second = r.effects[b].term;
-      // A fast and slow pair was validated as the form it is.
+      // Responses of the reading in time (its rate, its lags) split it; a
+      // position term or a curvature is another effect. A fast and slow
+      // pair was validated as the form it is.
+      auto in_time = [](const EffectTerm& t) {
+        return t.kind == EffectKind::kRate || t.kind == EffectKind::kLag ||
+               t.kind == EffectKind::kAsymmetricLag;
+      };
       if (first.source.empty() || first.source != second.source || Revises(first) ||
-          first.kind == EffectKind::kSignal || second.kind == EffectKind::kSignal ||
-          r.effects[a].together_with == second.Name() || r.effects[b].together_with == first.Name())
+          !in_time(first) || !in_time(second) || r.effects[a].together_with == second.Name() ||
+          r.effects[b].together_with == first.Name())
         continue;
+      const EffectTerm sensor = EffectTerm::Sensor(first.source);
       const int i = design.Find(first.Name());
       const int j = design.Find(second.Name());
-      if (i < 0 || j < 0) continue;
-      const EffectTerm sensor = EffectTerm::Sensor(first.source);
+      // With the reading itself in, a term of it is judged when settling.
+      if (i < 0 || j < 0 || design.Has(sensor)) continue;
       Design without = design;
       without.Erase(std::max(i, j));
       without.Erase(std::min(i, j));
@@ -268,14 +275,16 @@ Status Search::Collapse(Design& design, LinearFit& fit, EffectSearchResult& r) {
       for (const std::string& name : {r.effects[a].replaces, r.effects[b].replaces}) {
         auto it = std::find_if(r.superseded.begin(), r.superseded.end(),
                                [&](const EffectTerm& t) { return t.Name() == name; });
-        if (name.empty() || it == r.superseded.end() || without.Has(*it)) continue;
+        // `replaces` also names an added lag its heating and cooling form
+        // replaced: that one stays out.
+        if (!declared_names_.count(name) || it == r.superseded.end() || without.Has(*it)) continue;
         const Design back = d_.With(without, *it, true);
         auto removal = d_.Gain(back, without);
         if (removal.ok() && removal->gain > 0 && removal->t >= opt_.equivalent_t) continue;
         without = back;
         restored.push_back(name);
       }
-      const Design collapsed = without.Has(sensor) ? without : d_.With(without, sensor);
+      const Design collapsed = d_.With(without, sensor);
       auto keep = d_.Gain(collapsed, design);
       if (!keep.ok() || Finding(collapsed, *keep)) continue;
       for (const std::string& name : restored) {
@@ -287,8 +296,7 @@ Status Search::Collapse(Design& design, LinearFit& fit, EffectSearchResult& r) {
                     [&](const ScoredCandidate& q) { return q.term.Name() == sensor.Name(); });
       kept.runners_up.insert(kept.runners_up.begin(),
                              {first, kept.cv_rmse_after_mm, kept.p_adjusted, kept.confidence});
-      if (auto alone = d_.Gain(without, collapsed); alone.ok() && !without.Has(sensor))
-        kept.confidence = *alone;
+      if (auto alone = d_.Gain(without, collapsed); alone.ok()) kept.confidence = *alone;
       auto after = d_.Blocked(collapsed);
       kept.cv_rmse_after_mm = after.ok() ? after->Rmse() : INFINITY;
       kept.term = sensor;
