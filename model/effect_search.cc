@@ -65,6 +65,12 @@ double Remaining(double rmse, double relative) {
   return rmse * std::sqrt(std::max(0.0, 1.0 - relative));
 }
 
+// A term back in the model is no longer listed as dropped.
+void Reinstate(EffectSearchResult& r, const std::string& name) {
+  std::erase_if(r.superseded, [&](const EffectTerm& t) { return t.Name() == name; });
+  r.superseded_reasons.erase(name);
+}
+
 bool Smoothing(const Design& d, const EffectTerm& t) {
   return t.kind == EffectKind::kLag || t.kind == EffectKind::kAsymmetricLag ||
          (t.kind == EffectKind::kRate && d.Has(EffectTerm::Sensor(t.source)));
@@ -272,6 +278,7 @@ Status Search::Collapse(Design& design, LinearFit& fit, EffectSearchResult& r) {
       // A declared term either replaced comes back, unless leaving it out
       // predicts better by a margin (the rule a declared term leaves by).
       std::vector<std::string> restored;
+      std::string stays_out;  // a declared term replaced that stays replaced
       for (const std::string& name : {r.effects[a].replaces, r.effects[b].replaces}) {
         auto it = std::find_if(r.superseded.begin(), r.superseded.end(),
                                [&](const EffectTerm& t) { return t.Name() == name; });
@@ -280,28 +287,40 @@ Status Search::Collapse(Design& design, LinearFit& fit, EffectSearchResult& r) {
         if (!declared_names_.count(name) || it == r.superseded.end() || without.Has(*it)) continue;
         const Design back = d_.With(without, *it, true);
         auto removal = d_.Gain(back, without);
-        if (removal.ok() && removal->gain > 0 && removal->t >= opt_.equivalent_t) continue;
+        if (removal.ok() && removal->gain > 0 && removal->t >= opt_.equivalent_t) {
+          if (stays_out.empty()) stays_out = name;
+          continue;
+        }
         without = back;
         restored.push_back(name);
       }
       const Design collapsed = d_.With(without, sensor);
       auto keep = d_.Gain(collapsed, design);
       if (!keep.ok() || Finding(collapsed, *keep)) continue;
-      for (const std::string& name : restored) {
-        std::erase_if(r.superseded, [&](const EffectTerm& t) { return t.Name() == name; });
-        r.superseded_reasons.erase(name);
-      }
+      for (const std::string& name : restored) Reinstate(r, name);
       AddedEffect& kept = r.effects[a];
       std::erase_if(kept.runners_up,
                     [&](const ScoredCandidate& q) { return q.term.Name() == sensor.Name(); });
       kept.runners_up.insert(kept.runners_up.begin(),
                              {first, kept.cv_rmse_after_mm, kept.p_adjusted, kept.confidence});
       if (auto alone = d_.Gain(without, collapsed); alone.ok()) kept.confidence = *alone;
+      // The pair it stands for was added over two rounds: its error after is
+      // the settled model's, and its adjusted p the screening's of the term
+      // it reads (as for a lag read as its plain sensor, Qualify).
       auto after = d_.Blocked(collapsed);
       kept.cv_rmse_after_mm = after.ok() ? after->Rmse() : INFINITY;
       kept.term = sensor;
-      kept.replaces.clear();
+      kept.replaces = stays_out;
       kept.revised = true;
+      if (!stays_out.empty()) {
+        r.superseded_reasons[stays_out] = "replaced by " + sensor.Name() +
+                                          ", which explains at least as well (the model "
+                                          "without it predicts better by a margin)";
+      }
+      for (auto& other : r.effects) {  // a partner of either now pairs with the reading
+        if (other.together_with == first.Name() || other.together_with == second.Name())
+          other.together_with = sensor.Name();
+      }
       r.superseded.push_back(second);
       r.superseded_reasons[second.Name()] =
           "with " + first.Name() + ", the reading of " + first.source +
@@ -1056,8 +1075,7 @@ StatusOr<EffectSearchResult> Search::Run() {
       const std::string name = chosen->term.Name();
       design = d_.With(design, chosen->term, true);
       if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
-      std::erase_if(r.superseded, [&](const EffectTerm& t) { return t.Name() == name; });
-      r.superseded_reasons.erase(name);
+      Reinstate(r, name);
       continue;
     }
     added.term = chosen->term;
@@ -1176,8 +1194,15 @@ StatusOr<EffectSearchResult> Search::Run() {
       if (declared_back) {
         // The declared term the earlier effect had replaced: the declared
         // model put back (as in a round), not an effect found.
-        std::erase_if(r.superseded, [&](const EffectTerm& t) { return t.Name() == alternative; });
-        r.superseded_reasons.erase(alternative);
+        // The effect itself leaves, listed as dropped, and a partner that
+        // qualified together with it stands alone.
+        Reinstate(r, alternative);
+        r.superseded.push_back(earlier.term);
+        r.superseded_reasons[name] = "with " + chosen->term.Name() + " in, the declared " +
+                                     alternative + " it replaced predicts as well in its place";
+        for (auto& other : r.effects) {
+          if (other.together_with == name) other.together_with.clear();
+        }
         returned.push_back(e);
         design = swapped;
         if (Status s = d_.Refit(design, &fit); !s.ok()) return s;

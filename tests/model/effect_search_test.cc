@@ -274,6 +274,11 @@ TEST(EffectSearchParsimony, ADeclaredSensorARevisionPutsBackReturnsAsDeclared) {
   EXPECT_TRUE(std::any_of(terms.begin(), terms.end(),
                           [](const EffectTerm& t) { return t.Name() == "Tgl"; }));
   EXPECT_EQ(s.result.superseded_reasons.count("Tgl"), 0u);
+  // The term that had replaced it is listed as dropped, saying why.
+  EXPECT_TRUE(std::any_of(
+      s.result.superseded_reasons.begin(), s.result.superseded_reasons.end(), [](const auto& why) {
+        return why.second.find("the declared Tgl it replaced") != std::string::npos;
+      }));
   ASSERT_EQ(s.result.effects.size(), 1u) << s.effects;
   EXPECT_NEAR(s.result.effects[0].cv_rmse_before_mm, s.result.blocked_rmse_before_mm, 1e-9);
 }
