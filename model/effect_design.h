@@ -145,9 +145,11 @@ class DesignContext {
   // A lag of `lag.source` with separate heating and cooling time constants
   // that best adds to `d` (which lacks the lag), from `lag`'s tau: each
   // time constant by golden-section over log tau in turn, between tau/8
-  // and 8 tau (within MinTau and max_tau_min). Implemented in
-  // effect_forms.cc.
-  EffectTerm RefineAsymmetric(const Design& d, const LinearFit& fit, const EffectTerm& lag);
+  // and 8 tau (within MinTau and max_tau_min). From each of `starts` too
+  // (both time constants equal there), the best training gain kept.
+  // Implemented in effect_forms.cc.
+  EffectTerm RefineAsymmetric(const Design& d, const LinearFit& fit, const EffectTerm& lag,
+                              const std::vector<double>& starts = {});
   // `d` with a second lag of the sensor of its lag term j (a fast and a
   // slow response of one sensor): the second's tau from the grid at least
   // a factor 3 from the first's, then both refined in turn with the other

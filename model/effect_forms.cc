@@ -4,16 +4,15 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <vector>
 
 #include "model/effect_design.h"
 
 namespace thermocomp {
 
 EffectTerm DesignContext::RefineAsymmetric(const Design& d, const LinearFit& fit,
-                                           const EffectTerm& lag) {
-  EffectTerm best = lag;
-  best.kind = EffectKind::kAsymmetricLag;
-  best.tau2_min = lag.tau_min;
+                                           const EffectTerm& lag,
+                                           const std::vector<double>& starts) {
   auto gain_of = [&](const EffectTerm& t) {
     const bool cached = columns_.count(t.Name()) > 0;  // a probe's column is not kept
     int tried = 0;
@@ -21,27 +20,58 @@ EffectTerm DesignContext::RefineAsymmetric(const Design& d, const LinearFit& fit
     if (!cached) columns_.erase(t.Name());
     return s.empty() ? -1.0 : s[0].gain;
   };
-  double best_gain = gain_of(best);
   const double lowest = MinTau(lag), highest = opt_.max_tau_min;
-  // Coordinate-wise: heating, then cooling, twice; each a golden-section
-  // search of the training gain over log tau.
-  for (int pass = 0; pass < 4; ++pass) {
-    const bool up = pass % 2 == 0;
-    const double centre = up ? best.tau_min : best.tau2_min;
-    const double lo = std::max(centre / 8.0, lowest), hi = std::min(centre * 8.0, highest);
-    if (!(hi > lo)) continue;
-    EffectTerm trial = best;
-    double& moving = up ? trial.tau_min : trial.tau2_min;
-    const auto [gain, tau] = GoldenSectionTau(lo, hi, 14, [&](double tau_min) {
-      moving = tau_min;
-      return gain_of(trial);
-    });
-    if (gain > best_gain) {
-      best_gain = gain;
-      moving = tau;
-      best = trial;
+  // Coordinate-wise from (up, down): heating, then
+  // cooling, twice; each a golden-section search of the training gain
+  // over log tau within 8x of where it stands.
+  auto refined = [&](double up, double down, double* best_gain) {
+    EffectTerm best = lag;
+    best.kind = EffectKind::kAsymmetricLag;
+    best.tau_min = up;
+    best.tau2_min = down;
+    *best_gain = gain_of(best);
+    for (int pass = 0; pass < 4; ++pass) {
+      const bool heating = pass % 2 == 0;
+      const double centre = heating ? best.tau_min : best.tau2_min;
+      const double lo = std::max(centre / 8.0, lowest), hi = std::min(centre * 8.0, highest);
+      if (!(hi > lo)) continue;
+      EffectTerm trial = best;
+      double& moving = heating ? trial.tau_min : trial.tau2_min;
+      const auto [gain, tau] = GoldenSectionTau(lo, hi, 14, [&](double tau_min) {
+        moving = tau_min;
+        return gain_of(trial);
+      });
+      if (gain > *best_gain) {
+        *best_gain = gain;
+        moving = tau;
+        best = trial;
+      }
+    }
+    return best;
+  };
+  double best_gain = 0;
+  EffectTerm best = refined(lag.tau_min, lag.tau_min, &best_gain);
+  if (starts.empty()) return best;
+  // The pairs of `starts` as heating and cooling time constants, each
+  // probed once; the best refined when it already gains more.
+  EffectTerm coarse = best;
+  double coarse_gain = best_gain;
+  for (double up : starts) {
+    for (double down : starts) {
+      if (up == down || std::min(up, down) < lowest || std::max(up, down) > highest) continue;
+      EffectTerm probe = best;
+      probe.tau_min = up;
+      probe.tau2_min = down;
+      if (const double gain = gain_of(probe); gain > coarse_gain) {
+        coarse_gain = gain;
+        coarse = probe;
+      }
     }
   }
+  if (coarse.Name() == best.Name()) return best;
+  double gain = 0;
+  EffectTerm other = refined(coarse.tau_min, coarse.tau2_min, &gain);
+  if (gain > best_gain) best = other;
   return best;
 }
 

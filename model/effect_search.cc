@@ -71,6 +71,10 @@ void Reinstate(EffectSearchResult& r, const std::string& name) {
   r.superseded_reasons.erase(name);
 }
 
+// Where a new sensor's heating and cooling form is also searched from
+// (min), in pairs: the time constants the grid spans, a factor 4 apart.
+const std::vector<double> kAsymmetricStarts = {7.5, 30, 120, 480};
+
 bool Smoothing(const Design& d, const EffectTerm& t) {
   return t.kind == EffectKind::kLag || t.kind == EffectKind::kAsymmetricLag ||
          (t.kind == EffectKind::kRate && d.Has(EffectTerm::Sensor(t.source)));
@@ -567,7 +571,10 @@ std::optional<Search::Form> Search::NewForm(const Design& design, const LinearFi
       best = Form{ScoredCandidate{term, Remaining(base.Rmse(), g->relative), lag->p_adjusted, *g},
                   std::move(slow), with};
     };
-    const EffectTerm asym = d_.RefineAsymmetric(design, fit, lag->term);
+    // The round's lag of a sensor acting through a heating and a cooling
+    // time constant may sit far from both (a slow lag following the drift's
+    // envelope): the form is searched from a few other starts too.
+    const EffectTerm asym = d_.RefineAsymmetric(design, fit, lag->term, kAsymmetricStarts);
     if (Asymmetry(asym) >= opt_.asymmetry_min_ratio)
       consider(asym, d_.With(design, asym), std::nullopt);
     EffectTerm first;
