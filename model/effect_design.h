@@ -124,15 +124,20 @@ class DesignContext {
   // The search's choice validated as a choice: each block predicted by `d`
   // with the candidate the screening picks on the other blocks alone
   // (their neighbours left out over runs; nothing when none passes),
-  // paired against `d` alone. Candidates unknown on some of the design's
-  // rows are not picked. `pool` names the candidates (their results are
-  // kept under it with the design's): "" for all of the search's. `pairs`
-  // are candidates of two terms (a fast and a slow lag of one sensor),
-  // judged beside the single ones by their F-test's p with two degrees of
-  // freedom. Implemented in effect_selection.cc.
+  // paired against `d` alone. Candidates unknown on a few of the design's
+  // rows are judged on the rows all of them are known on (KnownToAll);
+  // those unknown on more than 1 - min_known_share of them are not picked. `pool` names the
+  // candidates (their results are kept under it with the design's): "" for all of the search's.
+  // `pairs` are candidates of two terms (a fast and a slow lag of one sensor), judged beside the
+  // single ones by their F-test's p with two degrees of freedom. Implemented in
+  // effect_selection.cc.
   StatusOr<PairedGain> SelectionGain(
       const Design& d, const std::vector<EffectTerm>& candidates, const std::string& pool = "",
       const std::vector<std::pair<EffectTerm, EffectTerm>>& pairs = {});
+  // The design's rows on which every candidate known on at least
+  // min_known_share of them is known (all its rows when that leaves fewer).
+  std::vector<int> KnownToAll(const Design& d, const std::vector<EffectTerm>& candidates,
+                              const std::vector<std::pair<EffectTerm, EffectTerm>>& pairs);
   // Candidates passing the Bonferroni-corrected F-test and the VIF limit,
   // the strongest of each family (a sensor's lags are one), tau refined.
   // A candidate unknown on some of the design's rows is scored on the rest
