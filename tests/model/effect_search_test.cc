@@ -239,6 +239,7 @@ TEST(EffectSearchParsimony, AStandInOnTheWayToAnotherSensorsEffectIsNotTakenFirs
   const Searched s = Study("short_lag", 2, 'B', 5);
   EXPECT_TRUE(s.score.AllNamed()) << s.effects;
   EXPECT_TRUE(s.score.extras.empty()) << s.effects;
+  EXPECT_TRUE(s.score.companions.empty()) << s.effects;
 }
 
 // Five days of the second family, the spindle sensor left out of the
