@@ -150,8 +150,9 @@ class DesignContext {
   // A lag of `lag.source` with separate heating and cooling time constants
   // that best adds to `d` (which lacks the lag), from `lag`'s tau: each
   // time constant by golden-section over log tau in turn, between tau/8
-  // and 8 tau (within MinTau and max_tau_min). From each of `starts` too
-  // (both time constants equal there), the best training gain kept.
+  // and 8 tau (within MinTau and max_tau_min). With `starts`, each pair of
+  // them (heating != cooling) is probed once too, and the form is also
+  // refined from the best probe when it already gains more; the better kept.
   // Implemented in effect_forms.cc.
   EffectTerm RefineAsymmetric(const Design& d, const LinearFit& fit, const EffectTerm& lag,
                               const std::vector<double>& starts = {});
@@ -161,6 +162,9 @@ class DesignContext {
   // in. *first receives the first lag as re-tuned. nullopt when none fits.
   // Implemented in effect_forms.cc.
   std::optional<Design> WithSecondLag(const Design& d, size_t j, EffectTerm* first);
+  // The grid lags of `lag`'s sensor a second time constant is picked from:
+  // at least MinTau, more than a factor 3 from `lag`'s.
+  std::vector<EffectTerm> SecondLagGrid(const EffectTerm& lag) const;
   double ResidualCorrelation(const Design& d, const LinearFit& fit, const EffectTerm& t);
   // What the sensors' white noise adds to the design's squared error,
   // summed over its rows: each reading (a sensor's filtered value, a lag of

@@ -21,9 +21,9 @@ EffectTerm DesignContext::RefineAsymmetric(const Design& d, const LinearFit& fit
     return s.empty() ? -1.0 : s[0].gain;
   };
   const double lowest = MinTau(lag), highest = opt_.max_tau_min;
-  // Coordinate-wise from (up, down): heating, then
-  // cooling, twice; each a golden-section search of the training gain
-  // over log tau within 8x of where it stands.
+  // Coordinate-wise from (up, down): heating, then cooling, twice; each a
+  // golden-section search of the training gain over log tau within 8x of
+  // where it stands.
   auto refined = [&](double up, double down, double* best_gain) {
     EffectTerm best = lag;
     best.kind = EffectKind::kAsymmetricLag;
@@ -75,17 +75,21 @@ EffectTerm DesignContext::RefineAsymmetric(const Design& d, const LinearFit& fit
   return best;
 }
 
-std::optional<Design> DesignContext::WithSecondLag(const Design& d, size_t j, EffectTerm* first) {
-  const EffectTerm lag = d.terms[j];
-  LinearFit fit;
-  if (!Refit(d, &fit).ok()) return std::nullopt;
+std::vector<EffectTerm> DesignContext::SecondLagGrid(const EffectTerm& lag) const {
   std::vector<EffectTerm> grid;
   for (double tau : opt_.tau_grid_min) {
     if (tau >= MinTau(lag) && (tau > 3 * lag.tau_min || tau * 3 < lag.tau_min))
       grid.push_back(EffectTerm::Lag(lag.source, tau));
   }
+  return grid;
+}
+
+std::optional<Design> DesignContext::WithSecondLag(const Design& d, size_t j, EffectTerm* first) {
+  const EffectTerm lag = d.terms[j];
+  LinearFit fit;
+  if (!Refit(d, &fit).ok()) return std::nullopt;
   int tried = 0;
-  const auto scored = Score(d, fit, grid, &tried);
+  const auto scored = Score(d, fit, SecondLagGrid(lag), &tried);
   if (scored.empty()) return std::nullopt;
   const auto strongest = std::max_element(
       scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.gain < b.gain; });

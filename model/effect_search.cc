@@ -472,12 +472,7 @@ bool Search::SecondLagChosen(const Design& design, const EffectTerm& lag, const 
   // at most one, while the choice reads the first lag at its fixed time
   // constant (on five days of the second family an 18 and 121-min pair
   // gained 61 % losing 1 of 13 runs, its choice 52 % losing 3).
-  std::vector<EffectTerm> grid;
-  for (double tau : opt_.tau_grid_min) {
-    if (tau >= d_.MinTau(lag) && Apart(tau, lag.tau_min) > 3)
-      grid.push_back(EffectTerm::Lag(lag.source, tau));
-  }
-  auto chosen = d_.SelectionGain(design, grid, "second lag of " + lag.Name());
+  auto chosen = d_.SelectionGain(design, d_.SecondLagGrid(lag), "second lag of " + lag.Name());
   return chosen.ok() && chosen->relative >= opt_.run_chosen_gain;
 }
 

@@ -58,14 +58,17 @@ std::vector<int> DesignContext::KnownToAll(
     const std::vector<std::pair<EffectTerm, EffectTerm>>& pairs) {
   const int n = d.n();
   std::vector<char> unknown(n, 0);
+  std::vector<int> missing;
   auto mark = [&](const EffectTerm& t) {
     if (d.Has(t)) return;
     const Eigen::VectorXd& full = Column(t);
-    int missing = 0;
-    for (int i : d.rows) missing += std::isfinite(full(train_[i])) ? 0 : 1;
+    missing.clear();
+    for (int i = 0; i < n; ++i) {
+      if (!std::isfinite(full(train_[d.rows[i]]))) missing.push_back(i);
+    }
     // Unknown on more: not evaluable, left out of the pool (as in Score).
-    if (missing == 0 || missing > (1.0 - opt_.min_known_share) * n) return;
-    for (int i = 0; i < n; ++i) unknown[i] |= std::isfinite(full(train_[d.rows[i]])) ? 0 : 1;
+    if (static_cast<double>(missing.size()) > (1.0 - opt_.min_known_share) * n) return;
+    for (int i : missing) unknown[i] = 1;
   };
   for (const EffectTerm& t : candidates) mark(t);
   for (const auto& [fast, slow] : pairs) {
