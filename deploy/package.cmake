@@ -104,11 +104,16 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION misc)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 # The shared libraries' packages come from dpkg-shlibdeps (dpkg-dev), run on
-# the binary; the rest is what the program reads or its scripts call: the
-# charting library of the pages, the zone database, adduser for the user,
-# procps for the unit's ExecReload (/bin/kill), and node for the OPC UA face
-# (Debian 12's nodejs is 18.19; a newer one from NodeSource satisfies it too).
-set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+# the binary when cpack packs (deploy/package-depends.cmake says why not by
+# CPACK_DEBIAN_PACKAGE_SHLIBDEPS); the rest is what the program reads or
+# its scripts call: the charting library of the pages, the zone database,
+# adduser for the user, procps for the unit's ExecReload (/bin/kill), and
+# node for the OPC UA face (Debian 12's nodejs is 18.19; a newer one from
+# NodeSource satisfies it too).
+file(GENERATE OUTPUT ${CMAKE_BINARY_DIR}/package/binary-path.txt CONTENT "$<TARGET_FILE:thermocomp>")
+set(CPACK_THERMOCOMP_BINARY_FILE ${CMAKE_BINARY_DIR}/package/binary-path.txt)
+set(CPACK_THERMOCOMP_PACKAGE_WORK ${CMAKE_BINARY_DIR}/package)
+set(CPACK_PROJECT_CONFIG_FILE ${PROJECT_SOURCE_DIR}/deploy/package-depends.cmake)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser, libjs-dygraphs, procps, tzdata, nodejs (>= 18.19)")
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
