@@ -12,13 +12,7 @@ cd "$(dirname "$0")/.."
 # links of the test programs take a fifth of ld's time.
 linker=()
 if command -v ld.lld > /dev/null; then linker=(-DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld); fi
-# Ninja when it is there (the test packages install it) and the folder is
-# fresh (a folder keeps the generator it was made with): it compiles a
-# program's sources while the libraries it needs still link, where make
-# waits for them, and so keeps both cores busy.
-generator=()
-if [[ ! -f build/CMakeCache.txt ]] && command -v ninja > /dev/null; then generator=(-G Ninja); fi
-cmake -S . -B build "${generator[@]}" "${linker[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+cmake -S . -B build "${linker[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
   -DTHERMOCOMP_TESTS=ON -DTHERMOCOMP_BENCH=ON -DTHERMOCOMP_UNITY=ON "$@" > /dev/null
 cmake --build build -j "$(nproc)" ${THERMOCOMP_TARGET:+--target "$THERMOCOMP_TARGET"}
