@@ -171,11 +171,17 @@ class Search {
     PairedGain gain;  // over `design`
   };
   std::optional<Revision> Revise(const Design& design, size_t j);
+  // The added sensor at `j` read through a short lag in its place (its
+  // time constant refined between half and twice the grid's shortest),
+  // when that qualifies or gains by the sign over runs, and gains more
+  // than averaging the sensor's noise could.
+  std::optional<Revision> ReviseSensor(const Design& design, size_t j);
   // Over runs, a second time constant of `lag` that gains `g` (over
   // `design`) by the arm of the choice: the second lag picked on the other
   // runs from `lag`'s own grid must hold on the run it did not see.
   bool SecondLagChosen(const Design& design, const EffectTerm& lag, const PairedGain& g);
-  // The best such revision of any added lag, as a candidate of the round
+  // The best such revision of any added lag (over runs, of an added
+  // sensor too: ReviseSensor), as a candidate of the round
   // (*replaces names the lag it replaces; retuned_ the re-tuned one).
   std::optional<ScoredCandidate> ReviseForm(const Design& design, const BlockErrors& base,
                                             std::string* replaces);
@@ -501,13 +507,46 @@ std::optional<Search::Revision> Search::Revise(const Design& design, size_t j) {
   return best;
 }
 
+std::optional<Search::Revision> Search::ReviseSensor(const Design& design, size_t j) {
+  const EffectTerm& sensor = design.terms[j];
+  Design without = design;
+  without.Erase(j);
+  without = d_.Recomputed(without);
+  LinearFit fit;
+  if (!d_.Refit(without, &fit).ok()) return std::nullopt;
+  // From the grid's shortest time constant, half to twice it.
+  const double shortest = opt_.tau_grid_min.front();
+  const EffectTerm lag = d_.RefineTau(without, fit, EffectTerm::Lag(sensor.source, shortest));
+  const Design with = d_.With(without, lag);
+  auto g = d_.Gain(design, with);
+  if (!g.ok() || !(Qualifies(*g, opt_) || ByChoice(*g))) return std::nullopt;
+  // What averaging the sensor's noise through the lag could gain (its
+  // coefficient squared times the noise removed, at the point and at the
+  // datum, on every row), as the filter of a declared sensor is judged.
+  LinearFit fit_design;
+  const auto sigma = noise_c_.find(sensor.source);
+  if (!d_.Refit(design, &fit_design).ok() || sigma == noise_c_.end()) return std::nullopt;
+  const TermStats* beta = fit_design.Find(sensor.Name());
+  if (!beta) return std::nullopt;
+  const double alpha = d_.SensorAlpha(sensor.source);
+  const double averaged =
+      beta->estimate * beta->estimate * 2 * design.n() *
+      (FilteredNoiseVariance(sigma->second, alpha) -
+       FilteredNoiseVariance(sigma->second,
+                             AlphaFor(lag.tau_min, interval_min_.at(sensor.source))));
+  if (g->gain <= opt_.noise_margin * std::max(averaged, 0.0)) return std::nullopt;
+  return Revision{lag, true, std::nullopt, with, *g};
+}
+
 std::optional<ScoredCandidate> Search::ReviseForm(const Design& design, const BlockErrors& base,
                                                   std::string* replaces) {
   std::optional<Revision> best;
   size_t at = 0;
   for (size_t j = 0; j < design.terms.size(); ++j) {
-    if (design.declared[j] || design.terms[j].kind != EffectKind::kLag) continue;
-    auto revision = Revise(design, j);
+    if (design.declared[j]) continue;
+    const EffectKind kind = design.terms[j].kind;
+    if (kind != EffectKind::kLag && !(kind == EffectKind::kSensor && over_runs_)) continue;
+    auto revision = kind == EffectKind::kLag ? Revise(design, j) : ReviseSensor(design, j);
     if (revision && (!best || revision->gain.gain > best->gain.gain)) {
       best = std::move(revision);
       at = j;

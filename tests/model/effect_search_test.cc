@@ -326,6 +326,20 @@ TEST(EffectSearchChoice, ASensorWithAGapInItsRecordCanBeChosen) {
   EXPECT_LE(s.score.FloorRatio(), 2.3) << s.effects;
 }
 
+// Two days of the second family, the spindle sensor acting through a
+// 3-min lag: a lag that short is the sensor itself at most of the probe
+// points, so the round takes the plain reading (its lag gained 93 % over
+// it, t 1.4, but was no finding of its own among all the candidates) and
+// the lag was never tried again. An added sensor's short lag in its place
+// is now a revision of its form.
+TEST(EffectSearchForms, AnAddedSensorsShortLagReplacesIt) {
+  const Searched s = Study("short_lag", 12, 'B', 2);
+  EXPECT_TRUE(s.score.AllNamed()) << s.effects;
+  EXPECT_TRUE(s.score.extras.empty()) << s.effects;
+  // Held out: 1.34 µm against a floor of 1.09 (1.57 µm with the sensor).
+  EXPECT_LE(s.score.FloorRatio(), 1.3) << s.effects;
+}
+
 // Five days of the first family, Tco acting through a 150-min lag:
 // a lag of the undeclared Tcu, read as Tcu itself because the plain
 // reading explains as much, met Tcu shortlisted in its own right, and the
