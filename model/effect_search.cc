@@ -182,7 +182,8 @@ class Search {
   bool SecondLagChosen(const Design& design, const EffectTerm& lag, const PairedGain& g);
   // The best such revision of any added lag (over runs, of an added
   // sensor too: ReviseSensor), as a candidate of the round
-  // (*replaces names the lag it replaces; retuned_ the re-tuned one).
+  // (*replaces names the lag or sensor it replaces; retuned_ the re-tuned
+  // lag).
   std::optional<ScoredCandidate> ReviseForm(const Design& design, const BlockErrors& base,
                                             std::string* replaces);
   std::map<std::string, EffectTerm> retuned_;  // the chosen revision's re-tuned lags
