@@ -171,19 +171,27 @@ class Search {
     PairedGain gain;  // over `design`
   };
   std::optional<Revision> Revise(const Design& design, size_t j);
-  // The added sensor at `j` read through a short lag in its place (its
-  // time constant refined between half and twice the grid's shortest),
-  // when that qualifies or gains by the sign over runs, and gains more
-  // than averaging the sensor's noise could.
-  std::optional<Revision> ReviseSensor(const Design& design, size_t j);
+  // An undeclared sensor (`source`) read through a short lag in place of
+  // the added term at `j` (its time constant refined between half and
+  // twice the grid's shortest), when that qualifies or gains by the sign
+  // over runs, and gains over the sensor's plain reading in that place
+  // more than averaging its noise could.
+  std::optional<Revision> ReviseSensor(const Design& design, size_t j, const std::string& source);
+  // The sensors whose short lag may stand in place of the added term at
+  // `j`: its own sensor (a plain reading, its square), and the sensors
+  // whose plain reading explained about as well in the round it came in
+  // (stand_ins_); only undeclared sensors the model reads nowhere else.
+  std::vector<std::string> StandIns(const Design& design, size_t j) const;
+  // Added term -> the sensors among its round's runners-up.
+  std::map<std::string, std::vector<std::string>> stand_ins_;
   // Over runs, a second time constant of `lag` that gains `g` (over
   // `design`) by the arm of the choice: the second lag picked on the other
   // runs from `lag`'s own grid must hold on the run it did not see.
   bool SecondLagChosen(const Design& design, const EffectTerm& lag, const PairedGain& g);
-  // The best such revision of any added lag (over runs, of an added
-  // sensor too: ReviseSensor), as a candidate of the round
-  // (*replaces names the lag or sensor it replaces; retuned_ the re-tuned
-  // lag).
+  // The best such revision of any added lag (over runs, of any other
+  // added term too: a sensor's short lag in its place, ReviseSensor), as a
+  // candidate of the round (*replaces names the term it replaces;
+  // retuned_ the re-tuned lag).
   std::optional<ScoredCandidate> ReviseForm(const Design& design, const BlockErrors& base,
                                             std::string* replaces);
   std::map<std::string, EffectTerm> retuned_;  // the chosen revision's re-tuned lags
@@ -508,8 +516,30 @@ std::optional<Search::Revision> Search::Revise(const Design& design, size_t j) {
   return best;
 }
 
-std::optional<Search::Revision> Search::ReviseSensor(const Design& design, size_t j) {
-  const EffectTerm& sensor = design.terms[j];
+std::vector<std::string> Search::StandIns(const Design& design, size_t j) const {
+  const EffectTerm& t = design.terms[j];
+  std::vector<std::string> sources;
+  if (t.kind == EffectKind::kSensor || t.kind == EffectKind::kSquare ||
+      t.kind == EffectKind::kQuadratic)
+    sources.push_back(t.source);
+  if (auto it = stand_ins_.find(t.Name()); it != stand_ins_.end())
+    sources.insert(sources.end(), it->second.begin(), it->second.end());
+  std::vector<std::string> kept;
+  for (const std::string& s : sources) {
+    // An undeclared sensor the model reads nowhere else: a lag of a read
+    // sensor is the form ReviseForm's Revise and NewForm search.
+    bool read_elsewhere = false;
+    for (size_t k = 0; k < design.terms.size(); ++k) {
+      if (k != j && design.terms[k].source == s) read_elsewhere = true;
+    }
+    if (read_elsewhere || Revises(EffectTerm::Sensor(s)) || !noise_c_.count(s)) continue;
+    if (std::find(kept.begin(), kept.end(), s) == kept.end()) kept.push_back(s);
+  }
+  return kept;
+}
+
+std::optional<Search::Revision> Search::ReviseSensor(const Design& design, size_t j,
+                                                     const std::string& source) {
   Design without = design;
   without.Erase(j);
   without = d_.Recomputed(without);
@@ -517,25 +547,25 @@ std::optional<Search::Revision> Search::ReviseSensor(const Design& design, size_
   if (!d_.Refit(without, &fit).ok()) return std::nullopt;
   // From the grid's shortest time constant, half to twice it.
   const double shortest = opt_.tau_grid_min.front();
-  const EffectTerm lag = d_.RefineTau(without, fit, EffectTerm::Lag(sensor.source, shortest));
+  const EffectTerm lag = d_.RefineTau(without, fit, EffectTerm::Lag(source, shortest));
   const Design with = d_.With(without, lag);
   auto g = d_.Gain(design, with);
   if (!g.ok() || !(Qualifies(*g, opt_) || ByChoice(*g))) return std::nullopt;
-  // What averaging the sensor's noise through the lag could gain (its
-  // coefficient squared times the noise removed, at the point and at the
-  // datum, on every row), as the filter of a declared sensor is judged.
-  LinearFit fit_design;
-  const auto sigma = noise_c_.find(sensor.source);
-  if (!d_.Refit(design, &fit_design).ok() || sigma == noise_c_.end()) return std::nullopt;
-  const TermStats* beta = fit_design.Find(sensor.Name());
-  if (!beta) return std::nullopt;
-  const double alpha = d_.SensorAlpha(sensor.source);
+  // Over the sensor's plain reading in the same place, the lag must gain
+  // more than averaging the sensor's noise could, as the filter of a
+  // declared sensor is judged.
+  const EffectTerm plain = EffectTerm::Sensor(source);
+  const bool in_place = design.terms[j].Name() == plain.Name();
+  const Design read = in_place ? design : d_.With(without, plain);
+  LinearFit read_fit;
+  if (!d_.Refit(read, &read_fit).ok()) return std::nullopt;
+  const TermStats* beta = read_fit.Find(plain.Name());
+  auto over_plain = in_place ? g : d_.Gain(read, with);
+  if (!beta || !over_plain.ok()) return std::nullopt;
   const double averaged =
-      beta->estimate * beta->estimate * 2 * design.n() *
-      (FilteredNoiseVariance(sigma->second, alpha) -
-       FilteredNoiseVariance(sigma->second,
-                             AlphaFor(lag.tau_min, interval_min_.at(sensor.source))));
-  if (g->gain <= opt_.noise_margin * std::max(averaged, 0.0)) return std::nullopt;
+      NoiseAveragingGain(beta->estimate, noise_c_.at(source), d_.SensorAlpha(source),
+                         AlphaFor(lag.tau_min, interval_min_.at(source)), read.n());
+  if (over_plain->gain <= opt_.noise_margin * averaged) return std::nullopt;
   return Revision{lag, true, std::nullopt, with, *g};
 }
 
@@ -545,12 +575,20 @@ std::optional<ScoredCandidate> Search::ReviseForm(const Design& design, const Bl
   size_t at = 0;
   for (size_t j = 0; j < design.terms.size(); ++j) {
     if (design.declared[j]) continue;
-    const EffectKind kind = design.terms[j].kind;
-    if (kind != EffectKind::kLag && !(kind == EffectKind::kSensor && over_runs_)) continue;
-    auto revision = kind == EffectKind::kLag ? Revise(design, j) : ReviseSensor(design, j);
-    if (revision && (!best || revision->gain.gain > best->gain.gain)) {
-      best = std::move(revision);
-      at = j;
+    // An added lag's own forms; over runs, a sensor's short lag in place
+    // of the other added terms.
+    std::vector<std::optional<Revision>> revisions;
+    if (design.terms[j].kind == EffectKind::kLag) {
+      revisions.push_back(Revise(design, j));
+    } else if (over_runs_) {
+      for (const std::string& source : StandIns(design, j))
+        revisions.push_back(ReviseSensor(design, j, source));
+    }
+    for (auto& revision : revisions) {
+      if (revision && (!best || revision->gain.gain > best->gain.gain)) {
+        best = std::move(revision);
+        at = j;
+      }
     }
   }
   if (!best) return std::nullopt;
@@ -654,10 +692,8 @@ Status Search::FilterDeclaredSensors(Design& design, LinearFit& fit, EffectSearc
     best.current_alpha = alpha;
     best.current_tau_min = TauFor(alpha, dt);
     best.recommended_alpha = AlphaFor(best.recommended_tau_min, dt);
-    best.expected_gain_mm2 = beta->estimate * beta->estimate * 2 *
-                             (FilteredNoiseVariance(sigma, alpha) -
-                              FilteredNoiseVariance(sigma, best.recommended_alpha)) *
-                             design.n();
+    best.expected_gain_mm2 =
+        NoiseAveragingGain(beta->estimate, sigma, alpha, best.recommended_alpha, design.n());
     // More than removing the noise can give is physics (the sensor acts
     // through a lag): left to the effect search, which names it.
     if (best.validated.gain > opt_.noise_margin * best.expected_gain_mm2 + 2 * best.validated.se) {
@@ -1168,6 +1204,8 @@ StatusOr<EffectSearchResult> Search::Run() {
     for (const auto& q : qualified) {
       if (q.term.Name() != chosen->term.Name() && added.runners_up.size() < 3) {
         added.runners_up.push_back(q);
+        if (q.term.kind == EffectKind::kSensor)
+          stand_ins_[chosen->term.Name()].push_back(q.term.source);
       }
     }
     const LinearFit previous = fit;

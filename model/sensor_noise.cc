@@ -39,6 +39,12 @@ double FilteredNoiseVariance(double sigma, double alpha) {
   return sigma * sigma * alpha / (2.0 - alpha);
 }
 
+double NoiseAveragingGain(double beta, double sigma, double alpha_from, double alpha_to, size_t n) {
+  const double drop =
+      FilteredNoiseVariance(sigma, alpha_from) - FilteredNoiseVariance(sigma, alpha_to);
+  return std::max(drop, 0.0) * 2 * beta * beta * static_cast<double>(n);
+}
+
 double AlphaFor(double tau_min, double dt_min) {
   return tau_min > 0 ? -std::expm1(-dt_min / tau_min) : 1.0;
 }

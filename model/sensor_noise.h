@@ -5,6 +5,8 @@
 // physics (docs/model.md §9).
 #pragma once
 
+#include <cstddef>
+
 #include "model/term_features.h"
 
 namespace thermocomp {
@@ -20,6 +22,12 @@ double SampleIntervalMin(const TimeSeries& raw);
 // Variance of white noise of standard deviation sigma after an EWMA with
 // this alpha: sigma^2 * alpha / (2 - alpha).
 double FilteredNoiseVariance(double sigma, double alpha);
+// What averaging a sensor's noise could remove from the squared error of
+// a fit on n points where the sensor's change enters with coefficient beta
+// (mm/K), when its filter goes from alpha_from to alpha_to: beta^2 times
+// the drop in the filtered noise variance, twice (at the point and at the
+// datum), on every point (mm^2). 0 when the variance does not drop.
+double NoiseAveragingGain(double beta, double sigma, double alpha_from, double alpha_to, size_t n);
 // EWMA alpha at sample interval dt equivalent to a first-order lag tau
 // (both minutes): 1 - exp(-dt/tau); 1 for tau 0.
 double AlphaFor(double tau_min, double dt_min);

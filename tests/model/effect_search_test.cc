@@ -340,6 +340,31 @@ TEST(EffectSearchForms, AnAddedSensorsShortLagReplacesIt) {
   EXPECT_LE(s.score.FloorRatio(), 1.3) << s.effects;
 }
 
+// Two days of the second family, the spindle sensor acting through a
+// 3-min lag: the round took the spindle signal through 17.7 min (1.81 µm
+// cross-validated), the sensor's plain reading a runner-up (2.38 µm). A
+// sensor whose reading explained about as well when an effect came in may
+// now stand in its place through a short lag (1.29 µm).
+TEST(EffectSearchForms, ARunnerUpSensorsShortLagReplacesTheSignalTakenFirst) {
+  const Searched s = Study("short_lag", 15, 'B', 2);
+  EXPECT_TRUE(s.score.AllNamed()) << s.effects;
+  EXPECT_TRUE(s.score.extras.empty()) << s.effects;
+  // Held out: 1.80 µm against a floor of 1.45 (1.71 µm with the signal).
+  EXPECT_LE(s.score.FloorRatio(), 1.3) << s.effects;
+}
+
+// Two days of the second family, the spindle sensor acting through a
+// 4-min lag: the round took the square of the sensor's change (2.37 µm
+// cross-validated); the sensor's short lag in its place is the form the
+// square stood in for (1.77 µm).
+TEST(EffectSearchForms, ASquaredSensorsShortLagReplacesIt) {
+  const Searched s = Study("short_lag", 13, 'B', 2);
+  EXPECT_TRUE(s.score.AllNamed()) << s.effects;
+  EXPECT_TRUE(s.score.extras.empty()) << s.effects;
+  // Held out: 1.01 µm against a floor of 0.86 (2.13 µm with the square).
+  EXPECT_LE(s.score.FloorRatio(), 1.3) << s.effects;
+}
+
 // Five days of the first family, Tco acting through a 150-min lag:
 // a lag of the undeclared Tcu, read as Tcu itself because the plain
 // reading explains as much, met Tcu shortlisted in its own right, and the
