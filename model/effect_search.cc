@@ -147,9 +147,15 @@ class Search {
   // Once no more is found: an added effect superseded by a later one leaves
   // the list; each other must still earn its place in the final model by
   // the bar it entered by (its removal costs at least min_t standard
-  // errors, the others' time constants re-tuned), at the time constant
-  // that is best there.
+  // errors, the others' time constants re-tuned, a declared term it
+  // replaced put back), at the time constant that is best there.
   Status Settle(Design& design, LinearFit& fit, EffectSearchResult& r);
+  // The term `effect` replaced, when it is out of the design: a declared
+  // one (*declared; from r.superseded) or an earlier effect (from `left`).
+  std::optional<AddedEffect> Replaced(const Design& design, const AddedEffect& effect,
+                                      const EffectSearchResult& r,
+                                      const std::map<std::string, AddedEffect>& left,
+                                      bool* declared) const;
   // Two added terms of one undeclared sensor (its rate and a lag) that do
   // not predict better, by a finding, than the sensor's own reading are
   // that reading split in two: replaced by it.
@@ -357,11 +363,34 @@ Status Search::Collapse(Design& design, LinearFit& fit, EffectSearchResult& r) {
   return Status::Ok();
 }
 
+std::optional<AddedEffect> Search::Replaced(const Design& design, const AddedEffect& effect,
+                                            const EffectSearchResult& r,
+                                            const std::map<std::string, AddedEffect>& left,
+                                            bool* declared) const {
+  if (effect.replaces.empty() || design.Find(effect.replaces) >= 0) return std::nullopt;
+  *declared = declared_names_.count(effect.replaces) > 0;
+  if (!*declared) {
+    auto it = left.find(effect.replaces);
+    if (it == left.end()) return std::nullopt;
+    return it->second;
+  }
+  for (const EffectTerm& t : r.superseded) {
+    if (t.Name() == effect.replaces) {
+      AddedEffect back;
+      back.term = t;
+      return back;
+    }
+  }
+  return std::nullopt;
+}
+
 Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
+  std::map<std::string, AddedEffect> left;  // effects a later one replaced
   for (size_t e = 0; e < r.effects.size();) {
     AddedEffect& effect = r.effects[e];
     const int at = design.Find(effect.term.Name());
     if (at < 0) {  // superseded by a later effect
+      left.emplace(effect.term.Name(), effect);
       r.effects.erase(r.effects.begin() + e);
       continue;
     }
@@ -395,22 +424,28 @@ Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
       e = 0;
       continue;
     }
-    Design without = design;
-    without.Erase(at);
-    without = d_.Recomputed(without);
-    LinearFit without_fit;
-    if (!d_.Refit(without, &without_fit).ok()) {
+    Design rest = design;
+    rest.Erase(at);
+    rest = d_.Recomputed(rest);
+    LinearFit rest_fit;
+    if (!d_.Refit(rest, &rest_fit).ok()) {
       ++e;
       continue;
     }
+    // An effect that replaced a term (a declared one, or an earlier effect
+    // it revised) leaves it back in its place: what it must beat is the
+    // model it entered, not one without either.
+    bool declared_back = false;
+    const std::optional<AddedEffect> put_back = Replaced(design, effect, r, left, &declared_back);
+    const Design without = put_back ? d_.With(rest, put_back->term, declared_back) : rest;
     EffectTerm term = effect.term;
     if (term.tau_min > 0) {
-      const EffectTerm tuned = d_.RefineTau(without, without_fit, term);
-      auto g = d_.Gain(design, d_.With(without, tuned));
-      if (tuned.Name() != term.Name() && !without.Has(tuned) && g.ok() && g->relative >= 0)
+      const EffectTerm tuned = d_.RefineTau(rest, rest_fit, term);
+      auto g = d_.Gain(design, d_.With(rest, tuned));
+      if (tuned.Name() != term.Name() && !rest.Has(tuned) && g.ok() && g->relative >= 0)
         term = tuned;
     }
-    const Design with = d_.With(without, term);
+    const Design with = d_.With(rest, term);
     // Without it, the other effects may take their own time constants back
     // (one lag that stood in for part of another's response).
     std::map<std::string, EffectTerm> moved;
@@ -430,15 +465,28 @@ Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
       }
       return false;
     };
-    const bool superfluous =
-        keep.ok() && !Finding(without, *keep, pool) && !second_of(without, *keep);
-    if (superfluous || (keep_retuned.ok() && !Finding(retuned, *keep_retuned, pool) &&
-                        !second_of(retuned, *keep_retuned))) {
+    // A revision of an earlier effect's form (that effect put back): judged
+    // as it was taken, over that effect alone (ReviseForm).
+    auto revises = [&](const PairedGain& g) {
+      return put_back && !declared_back && (Qualifies(g, opt_) || ByChoice(g));
+    };
+    auto earns = [&](const Design& base, const PairedGain& g) {
+      return Finding(base, g, pool) || second_of(base, g) || revises(g);
+    };
+    const bool superfluous = keep.ok() && !earns(without, *keep);
+    if (superfluous || (keep_retuned.ok() && !earns(retuned, *keep_retuned))) {
       r.superseded.push_back(effect.term);
       r.superseded_reasons[effect.term.Name()] =
           "with the other effects in, it no longer earns its place (its removal does not "
           "qualify as a loss)";
       r.effects.erase(r.effects.begin() + e);
+      if (put_back) {
+        Reinstate(r, put_back->term.Name());
+        if (!declared_back) {  // judged again as the others are
+          r.effects.insert(r.effects.begin() + e, *put_back);
+          left.erase(put_back->term.Name());
+        }
+      }
       design = superfluous ? without : retuned;
       if (!superfluous) {
         for (auto& other : r.effects) {
@@ -450,6 +498,11 @@ Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
       continue;
     }
     if (term.Name() != effect.term.Name()) {
+      // The reasons name the term the model holds.
+      const std::string was = "replaced by " + effect.term.Name() + ",";
+      for (auto& [name, why] : r.superseded_reasons) {
+        if (why.rfind(was, 0) == 0) why = "replaced by " + term.Name() + why.substr(was.size() - 1);
+      }
       effect.term = term;
       design = with;
       if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
