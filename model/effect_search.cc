@@ -65,6 +65,16 @@ double Remaining(double rmse, double relative) {
   return rmse * std::sqrt(std::max(0.0, 1.0 - relative));
 }
 
+// An added effect that now reads `now` (re-tuned, swapped, collapsed):
+// the reasons that name it as a replacement name the term the model holds.
+void Rename(EffectSearchResult& r, AddedEffect& effect, const EffectTerm& now) {
+  const std::string was = "replaced by " + effect.term.Name() + ",";
+  for (auto& [name, why] : r.superseded_reasons) {
+    if (why.rfind(was, 0) == 0) why = "replaced by " + now.Name() + why.substr(was.size() - 1);
+  }
+  effect.term = now;
+}
+
 // A term back in the model is no longer listed as dropped.
 void Reinstate(EffectSearchResult& r, const std::string& name) {
   std::erase_if(r.superseded, [&](const EffectTerm& t) { return t.Name() == name; });
@@ -147,8 +157,8 @@ class Search {
   // Once no more is found: an added effect superseded by a later one leaves
   // the list; each other must still earn its place in the final model by
   // the bar it entered by (its removal costs at least min_t standard
-  // errors, the others' time constants re-tuned, a declared term it
-  // replaced put back), at the time constant that is best there.
+  // errors, the others' time constants re-tuned, the term it replaced put
+  // back), at the time constant that is best there.
   Status Settle(Design& design, LinearFit& fit, EffectSearchResult& r);
   // The term `effect` replaced, when it is out of the design: a declared
   // one (*declared; from r.superseded) or an earlier effect (from `left`).
@@ -184,7 +194,7 @@ class Search {
   // more than averaging its noise could.
   std::optional<Revision> ReviseSensor(const Design& design, size_t j, const std::string& source);
   // The sensors whose short lag may stand in place of the added term at
-  // `j`: its own sensor (a plain reading, its square), and the sensors
+  // `j`: its own sensor (a plain reading, its square or quadratic), and the sensors
   // whose plain reading explained about as well in the round it came in
   // (stand_ins_); only undeclared sensors the model reads nowhere else.
   std::vector<std::string> StandIns(const Design& design, size_t j) const;
@@ -338,7 +348,7 @@ Status Search::Collapse(Design& design, LinearFit& fit, EffectSearchResult& r) {
       // it reads (as for a lag read as its plain sensor, Qualify).
       auto after = d_.Blocked(collapsed);
       kept.cv_rmse_after_mm = after.ok() ? after->Rmse() : INFINITY;
-      kept.term = sensor;
+      Rename(r, kept, sensor);
       kept.replaces = stays_out;
       kept.revised = true;
       if (!stays_out.empty()) {
@@ -490,7 +500,7 @@ Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
       design = superfluous ? without : retuned;
       if (!superfluous) {
         for (auto& other : r.effects) {
-          if (auto m = moved.find(other.term.Name()); m != moved.end()) other.term = m->second;
+          if (auto m = moved.find(other.term.Name()); m != moved.end()) Rename(r, other, m->second);
         }
       }
       if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
@@ -498,12 +508,7 @@ Status Search::Settle(Design& design, LinearFit& fit, EffectSearchResult& r) {
       continue;
     }
     if (term.Name() != effect.term.Name()) {
-      // The reasons name the term the model holds.
-      const std::string was = "replaced by " + effect.term.Name() + ",";
-      for (auto& [name, why] : r.superseded_reasons) {
-        if (why.rfind(was, 0) == 0) why = "replaced by " + term.Name() + why.substr(was.size() - 1);
-      }
-      effect.term = term;
+      Rename(r, effect, term);
       design = with;
       if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
     }
@@ -628,20 +633,19 @@ std::optional<ScoredCandidate> Search::ReviseForm(const Design& design, const Bl
   size_t at = 0;
   for (size_t j = 0; j < design.terms.size(); ++j) {
     if (design.declared[j]) continue;
-    // An added lag's own forms; over runs, a sensor's short lag in place
-    // of the other added terms.
-    std::vector<std::optional<Revision>> revisions;
-    if (design.terms[j].kind == EffectKind::kLag) {
-      revisions.push_back(Revise(design, j));
-    } else if (over_runs_) {
-      for (const std::string& source : StandIns(design, j))
-        revisions.push_back(ReviseSensor(design, j, source));
-    }
-    for (auto& revision : revisions) {
+    auto consider = [&](std::optional<Revision> revision) {
       if (revision && (!best || revision->gain.gain > best->gain.gain)) {
         best = std::move(revision);
         at = j;
       }
+    };
+    // An added lag's own forms; over runs, a sensor's short lag in place
+    // of the other added terms.
+    if (design.terms[j].kind == EffectKind::kLag) {
+      consider(Revise(design, j));
+    } else if (over_runs_) {
+      for (const std::string& source : StandIns(design, j))
+        consider(ReviseSensor(design, j, source));
     }
   }
   if (!best) return std::nullopt;
@@ -1277,7 +1281,7 @@ StatusOr<EffectSearchResult> Search::Run() {
       if (j < 0) continue;
       design = d_.Replaced(design, j, tuned);
       for (auto& e : r.effects) {
-        if (e.term.Name() == old_name) e.term = tuned;
+        if (e.term.Name() == old_name) Rename(r, e, tuned);
       }
     }
     design = d_.With(design, chosen->term);
@@ -1380,7 +1384,7 @@ StatusOr<EffectSearchResult> Search::Run() {
       earlier.runners_up.insert(
           earlier.runners_up.begin(),
           {earlier.term, alternatives[0].cv_rmse, earlier.p_adjusted, earlier.confidence});
-      earlier.term = alternatives[0].term;
+      Rename(r, earlier, alternatives[0].term);
       earlier.p_adjusted = alternatives[0].p_adjusted;
       earlier.revised = true;
       design = swapped;

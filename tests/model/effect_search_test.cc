@@ -356,6 +356,13 @@ bool ReplacementIsInTheModel(const EffectSearchResult& r, const std::string& dec
   return false;
 }
 
+void ExpectEveryReplacementInTheModel(const EffectSearchResult& r) {
+  for (const auto& [name, why] : r.superseded_reasons) {
+    EXPECT_TRUE(ReplacementIsInTheModel(r, name) || why.rfind("replaced by ", 0) != 0)
+        << name << ": " << why;
+  }
+}
+
 // Two days of the second family, the spindle signal acting through 24
 // min: the signal through 17.5 min replaced the declared Tgl, and once the
 // search settled the signal no longer earned its place over a model with
@@ -365,10 +372,7 @@ bool ReplacementIsInTheModel(const EffectSearchResult& r, const std::string& dec
 TEST(EffectSearchParsimony, AnEffectThatReplacedADeclaredTermIsSettledAgainstIt) {
   const Searched s = Study("spindle_signal", 5, 'B', 2);
   EXPECT_TRUE(ReplacementIsInTheModel(s.result, "Tgl")) << s.effects;
-  for (const auto& [name, why] : s.result.superseded_reasons) {
-    EXPECT_TRUE(ReplacementIsInTheModel(s.result, name) || why.rfind("replaced by ", 0) != 0)
-        << name << ": " << why;
-  }
+  ExpectEveryReplacementInTheModel(s.result);
   // The signal stays, re-tuned in the model without Tgl.
   EXPECT_TRUE(std::any_of(s.result.terms.begin(), s.result.terms.end(), [](const EffectTerm& t) {
     return t.source == "spindle_rpm";
@@ -386,10 +390,7 @@ TEST(EffectSearchParsimony, ARevisionThatNoLongerEarnsItsPlaceGivesItBack) {
   EXPECT_TRUE(std::any_of(s.result.terms.begin(), s.result.terms.end(), [](const EffectTerm& t) {
     return t.source == "Tsp";
   })) << s.effects;
-  for (const auto& [name, why] : s.result.superseded_reasons) {
-    EXPECT_TRUE(ReplacementIsInTheModel(s.result, name) || why.rfind("replaced by ", 0) != 0)
-        << name << ": " << why;
-  }
+  ExpectEveryReplacementInTheModel(s.result);
   EXPECT_LE(s.score.FloorRatio(), 3.5) << s.effects;
 }
 
