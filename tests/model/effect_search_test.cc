@@ -394,6 +394,18 @@ TEST(EffectSearchParsimony, ARevisionThatNoLongerEarnsItsPlaceGivesItBack) {
   EXPECT_LE(s.score.FloorRatio(), 3.5) << s.effects;
 }
 
+// Two days of the second family, the spindle sensor through a 12 and a
+// 220-min lag: the sensor's reading was added, its 7.4-min lag replaced
+// it, and settling re-tuned the lag to 10.5 min; the report still said
+// the reading was "replaced by lag(Tsp,7.4min)", a term the model did not
+// hold. Every place an effect changes its term now renames it in the
+// reasons too.
+TEST(EffectSearchReport, AReplacementReTunedLaterIsNamedAsTheModelHoldsIt) {
+  const Searched s = Study("two_lags", 9, 'B', 2);
+  ASSERT_TRUE(s.result.superseded_reasons.count("Tsp")) << s.effects;
+  ExpectEveryReplacementInTheModel(s.result);
+}
+
 // Two days of the second family, the spindle sensor acting through a
 // 3-min lag: the round took the spindle signal through 17.7 min (1.81 µm
 // cross-validated), the sensor's plain reading a runner-up (2.38 µm). A
