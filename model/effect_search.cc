@@ -106,6 +106,12 @@ class Search {
   bool Finding(const Design& base, const PairedGain& g, Pool pool = Pool::kSingles);
   // Whether `g` qualifies by that arm alone.
   bool ByChoice(const PairedGain& g) const;
+  // Whether a new sensor's form gaining `g` gains more than averaging
+  // noise worth `noise_sse` could, by the arm it is a finding by: by its
+  // t, the noise and 2 standard errors; by its sign, the share of the
+  // error left after the noise. (A single smoothing term keeps the first:
+  // the second let other sensors' lags in on two days of family B.)
+  bool AboveNoise(const PairedGain& g, double noise_sse) const;
   // Whether `t` is a term of a declared sensor (a revision of its response).
   bool Revises(const EffectTerm& t) const { return declared_sources_.count(t.source) > 0; }
   Status FilterDeclaredSensors(Design& design, LinearFit& fit, EffectSearchResult& r);
@@ -204,6 +210,13 @@ class Search {
   // `design`) by the arm of the choice: the second lag picked on the other
   // runs from `lag`'s own grid must hold on the run it did not see.
   bool SecondLagChosen(const Design& design, const EffectTerm& lag, const PairedGain& g);
+  // Whether a second time constant of `lag` gaining `g` over `design` is a
+  // finding against the lag's own second time constants only: by its t
+  // (the choice among them gaining something in total) or by that arm.
+  bool SecondLagFinding(const Design& design, const EffectTerm& lag, const PairedGain& g);
+  // The same for a heating and cooling form of `lag`'s sensor: the choice
+  // among that sensor's asymmetric lags beside `lag`.
+  bool AsymmetryChosen(const Design& design, const EffectTerm& lag, const PairedGain& g);
   // The best such revision of any added lag (over runs, of any other
   // added term too: a sensor's short lag in its place, ReviseSensor), as a
   // candidate of the round (*replaces names the term it replaces;
@@ -244,6 +257,17 @@ bool Search::ByChoice(const PairedGain& g) const {
   const int lost = g.Lost();
   return over_runs_ && g.blocks >= opt_.strong_min_blocks && g.relative >= opt_.run_chosen_gain &&
          lost <= opt_.run_chosen_lost_blocks && !Qualifies(g, opt_);
+}
+
+bool Search::AboveNoise(const PairedGain& g, double noise_sse) const {
+  const double noise = opt_.noise_margin * noise_sse;
+  if (g.gain > noise + 2 * g.se) return true;
+  // A gain found by its sign over few blocks, not by its t (2 standard
+  // errors are most of a gain at t 1.9): what is left of it after the
+  // noise must still be the share its arm asks for.
+  if (!(g.gain > 0) || g.t >= opt_.min_t) return false;
+  const double share = g.relative * (g.gain - noise) / g.gain;
+  return share >= (Qualifies(g, opt_) ? opt_.strong_gain : opt_.run_chosen_gain);
 }
 
 bool Search::Finding(const Design& base, const PairedGain& g, Pool pool) {
@@ -549,6 +573,25 @@ bool Search::SecondLagChosen(const Design& design, const EffectTerm& lag, const 
   return chosen.ok() && chosen->relative >= opt_.run_chosen_gain;
 }
 
+bool Search::SecondLagFinding(const Design& design, const EffectTerm& lag, const PairedGain& g) {
+  if (!Qualifies(g, opt_)) return SecondLagChosen(design, lag, g);
+  if (!over_runs_ || !opt_.run_t_checks_choice) return true;
+  auto chosen = d_.SelectionGain(design, d_.SecondLagGrid(lag), "second lag of " + lag.Name());
+  return chosen.ok() && chosen->relative > 0;
+}
+
+bool Search::AsymmetryChosen(const Design& design, const EffectTerm& lag, const PairedGain& g) {
+  const bool by_t = Qualifies(g, opt_);
+  if (!by_t && !ByChoice(g)) return false;
+  std::vector<EffectTerm> own;
+  for (const EffectTerm& t : with_asymmetric_) {
+    if (t.source == lag.source && t.kind == EffectKind::kAsymmetricLag) own.push_back(t);
+  }
+  auto chosen = d_.SelectionGain(design, own, "asymmetric lags of " + lag.source);
+  if (!chosen.ok()) return false;
+  return by_t ? chosen->relative > 0 : chosen->relative >= opt_.run_chosen_gain;
+}
+
 std::optional<Search::Revision> Search::Revise(const Design& design, size_t j) {
   const EffectTerm& lag = design.terms[j];
   std::optional<Revision> best;
@@ -690,14 +733,23 @@ std::optional<Search::Form> Search::NewForm(const Design& design, const LinearFi
       auto g = d_.Gain(design, with);
       // Lags average noise: a form must gain more than that could (as a
       // single lag must, Qualify).
-      if (!g.ok() || g->gain <= opt_.noise_margin * noise_sse + 2 * g->se) return;
+      if (!g.ok() || !AboveNoise(*g, noise_sse)) return;
       if (best && g->gain <= best->candidate.gain.gain) return;
       // A finding over the model, and over its own lag alone too: a second
       // time constant is a parameter more to fit noise with.
       const Pool pool = slow ? Pool::kPairs : Pool::kAsymmetric;
       if (!Finding(design, *g, pool)) return;
       auto over_lag = d_.Gain(one, with);
-      if (!over_lag.ok() || !Finding(one, *over_lag, pool)) return;
+      // Over its lag, a finding against the whole pool or against the
+      // lag's own second time constants or heating and cooling forms, as
+      // for a revision of an added lag (Revise). The form over the model
+      // was validated against the whole pool already; over the lag, that
+      // pool alone lost a 13 and 232-min pair on two days of family A that
+      // removed 96 % of the error, winning all 8 runs.
+      if (!over_lag.ok()) return;
+      if (!Finding(one, *over_lag, pool) && !(slow ? SecondLagFinding(one, lag->term, *over_lag)
+                                                   : AsymmetryChosen(one, lag->term, *over_lag)))
+        return;
       best = Form{ScoredCandidate{term, Remaining(base.Rmse(), g->relative), lag->p_adjusted, *g},
                   std::move(slow), with};
     };
