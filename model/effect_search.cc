@@ -218,8 +218,9 @@ class Search {
   // runs from `lag`'s own grid must hold on the run it did not see.
   bool SecondLagChosen(const Design& design, const EffectTerm& lag, const PairedGain& g);
   // Whether a second time constant of `lag` gaining `g` over `design` is a
-  // finding against the lag's own second time constants only: by its t
-  // (the choice among them gaining something in total) or by that arm.
+  // finding against the lag's own second time constants only: when it
+  // qualifies (its t, or the sign over runs at 60 %), the choice among
+  // them gaining something in total; else by that arm (SecondLagChosen).
   bool SecondLagFinding(const Design& design, const EffectTerm& lag, const PairedGain& g);
   // The same for a heating and cooling form of `lag`'s sensor: the choice
   // among that sensor's asymmetric lags beside `lag`.
