@@ -217,14 +217,23 @@ class Search {
   // `design`) by the arm of the choice: the second lag picked on the other
   // runs from `lag`'s own grid must hold on the run it did not see.
   bool SecondLagChosen(const Design& design, const EffectTerm& lag, const PairedGain& g);
-  // Whether a second time constant of `lag` gaining `g` over `design` is a
-  // finding against the lag's own second time constants only: when it
-  // qualifies (its t, or the sign over runs at 60 %), the choice among
-  // them gaining something in total; else by that arm (SecondLagChosen).
-  bool SecondLagFinding(const Design& design, const EffectTerm& lag, const PairedGain& g);
-  // The same for a heating and cooling form of `lag`'s sensor: the choice
-  // among that sensor's asymmetric lags beside `lag`.
-  bool AsymmetryChosen(const Design& design, const EffectTerm& lag, const PairedGain& g);
+  // Whether `g` over `design` is a finding with the choice validated among
+  // `pool` only, a form's own alternatives (a lag's second time constants,
+  // a sensor's heating and cooling forms), not the search's hundreds of
+  // terms: when it qualifies (its t, or the sign over runs at 60 %), the
+  // choice gains something in total; by the choice's arm, at least
+  // run_chosen_gain. The runs the choice loses are not counted again: the
+  // form's own re-tuned gain already lost at most one, while the choice
+  // reads the terms at their grid time constants (on five days of the
+  // second family an 18 and 121-min pair gained 61 % losing 1 of 13 runs,
+  // its choice 52 % losing 3).
+  bool FindingAmong(const Design& design, const PairedGain& g, const std::vector<EffectTerm>& pool,
+                    const std::string& pool_name);
+  // The asymmetric lags of `source` the choice over runs picks from.
+  std::vector<EffectTerm> AsymmetricLagsOf(const std::string& source) const;
+  // `design` without its term at `j`, refit into *fit; nullopt when the
+  // fit fails.
+  std::optional<Design> Without(const Design& design, size_t j, LinearFit* fit);
   // The best such revision of any added lag (of an added plain signal:
   // its lag, ReviseSignal; over runs, of any other added term too: a
   // sensor's short lag in its place, ReviseSensor), as a
@@ -569,48 +578,44 @@ double Search::NoiseSse(const Design& design, const LinearFit& fit) {
   });
 }
 
-bool Search::SecondLagChosen(const Design& design, const EffectTerm& lag, const PairedGain& g) {
-  if (!ByChoice(g)) return false;
-  // The pool is the few time constants of the lag's own sensor WithSecondLag
-  // picks from, not the search's hundreds of terms: the choice among them
-  // must remove run_chosen_gain of the error in total. The runs it loses
-  // are not counted again: the revision's own gain, re-tuned, already lost
-  // at most one, while the choice reads the first lag at its fixed time
-  // constant (on five days of the second family an 18 and 121-min pair
-  // gained 61 % losing 1 of 13 runs, its choice 52 % losing 3).
-  auto chosen = d_.SelectionGain(design, d_.SecondLagGrid(lag), "second lag of " + lag.Name());
-  return chosen.ok() && chosen->relative >= opt_.run_chosen_gain;
-}
-
-bool Search::SecondLagFinding(const Design& design, const EffectTerm& lag, const PairedGain& g) {
-  if (!Qualifies(g, opt_)) return SecondLagChosen(design, lag, g);
-  if (!over_runs_ || !opt_.run_t_checks_choice) return true;
-  auto chosen = d_.SelectionGain(design, d_.SecondLagGrid(lag), "second lag of " + lag.Name());
-  return chosen.ok() && chosen->relative > 0;
-}
-
-bool Search::AsymmetryChosen(const Design& design, const EffectTerm& lag, const PairedGain& g) {
+bool Search::FindingAmong(const Design& design, const PairedGain& g,
+                          const std::vector<EffectTerm>& pool, const std::string& pool_name) {
   const bool by_t = Qualifies(g, opt_);
   if (!by_t && !ByChoice(g)) return false;
-  std::vector<EffectTerm> own;
-  for (const EffectTerm& t : with_asymmetric_) {
-    if (t.source == lag.source && t.kind == EffectKind::kAsymmetricLag) own.push_back(t);
-  }
-  auto chosen = d_.SelectionGain(design, own, "asymmetric lags of " + lag.source);
+  if (by_t && (!over_runs_ || !opt_.run_t_checks_choice)) return true;
+  auto chosen = d_.SelectionGain(design, pool, pool_name);
   if (!chosen.ok()) return false;
   return by_t ? chosen->relative > 0 : chosen->relative >= opt_.run_chosen_gain;
+}
+
+bool Search::SecondLagChosen(const Design& design, const EffectTerm& lag, const PairedGain& g) {
+  return ByChoice(g) &&
+         FindingAmong(design, g, d_.SecondLagGrid(lag), "second lag of " + lag.Name());
+}
+
+std::vector<EffectTerm> Search::AsymmetricLagsOf(const std::string& source) const {
+  std::vector<EffectTerm> own;
+  for (const EffectTerm& t : with_asymmetric_) {
+    if (t.source == source && t.kind == EffectKind::kAsymmetricLag) own.push_back(t);
+  }
+  return own;
+}
+
+std::optional<Design> Search::Without(const Design& design, size_t j, LinearFit* fit) {
+  Design without = design;
+  without.Erase(j);
+  without = d_.Recomputed(without);
+  if (!d_.Refit(without, fit).ok()) return std::nullopt;
+  return without;
 }
 
 std::optional<Search::Revision> Search::Revise(const Design& design, size_t j) {
   const EffectTerm& lag = design.terms[j];
   std::optional<Revision> best;
-  Design without = design;
-  without.Erase(j);
-  without = d_.Recomputed(without);
   LinearFit fit;
-  if (d_.Refit(without, &fit).ok()) {
-    const EffectTerm asym = d_.RefineAsymmetric(without, fit, lag);
-    const Design with = d_.With(without, asym);
+  if (auto without = Without(design, j, &fit)) {
+    const EffectTerm asym = d_.RefineAsymmetric(*without, fit, lag);
+    const Design with = d_.With(*without, asym);
     auto g = d_.Gain(design, with);
     if (Asymmetry(asym) >= opt_.asymmetry_min_ratio && g.ok() && Qualifies(*g, opt_))
       best = Revision{asym, true, std::nullopt, with, *g};
@@ -650,11 +655,10 @@ std::vector<std::string> Search::StandIns(const Design& design, size_t j) const 
 
 std::optional<Search::Revision> Search::ReviseSensor(const Design& design, size_t j,
                                                      const std::string& source) {
-  Design without = design;
-  without.Erase(j);
-  without = d_.Recomputed(without);
   LinearFit fit;
-  if (!d_.Refit(without, &fit).ok()) return std::nullopt;
+  const std::optional<Design> rest = Without(design, j, &fit);
+  if (!rest) return std::nullopt;
+  const Design& without = *rest;
   // From the grid's shortest time constant, half to twice it.
   const double shortest = opt_.tau_grid_min.front();
   const EffectTerm lag = d_.RefineTau(without, fit, EffectTerm::Lag(source, shortest));
@@ -681,11 +685,10 @@ std::optional<Search::Revision> Search::ReviseSensor(const Design& design, size_
 
 std::optional<Search::Revision> Search::ReviseSignal(const Design& design, size_t j) {
   const std::string& source = design.terms[j].source;
-  Design without = design;
-  without.Erase(j);
-  without = d_.Recomputed(without);
   LinearFit fit;
-  if (!d_.Refit(without, &fit).ok()) return std::nullopt;
+  const std::optional<Design> rest = Without(design, j, &fit);
+  if (!rest) return std::nullopt;
+  const Design& without = *rest;
   // From the grid lag of the signal that best takes its place.
   std::optional<EffectTerm> start;
   double start_gain = 0;
@@ -784,8 +787,11 @@ std::optional<Search::Form> Search::NewForm(const Design& design, const LinearFi
       // pool alone lost a 13 and 232-min pair on two days of family A that
       // removed 96 % of the error, winning all 8 runs.
       if (!over_lag.ok()) return;
-      if (!Finding(one, *over_lag, pool) && !(slow ? SecondLagFinding(one, lag->term, *over_lag)
-                                                   : AsymmetryChosen(one, lag->term, *over_lag)))
+      if (!Finding(one, *over_lag, pool) &&
+          !(slow ? FindingAmong(one, *over_lag, d_.SecondLagGrid(lag->term),
+                                "second lag of " + lag->term.Name())
+                 : FindingAmong(one, *over_lag, AsymmetricLagsOf(lag->term.source),
+                                "asymmetric lags of " + lag->term.source)))
         return;
       best = Form{ScoredCandidate{term, Remaining(base.Rmse(), g->relative), lag->p_adjusted, *g},
                   std::move(slow), with};
