@@ -1,3 +1,7 @@
+// About 500 lines: one detector (hourly means, the regression on the other
+// sensors, the onset scans of each fault form, the step's raw check and
+// the attribution) whose parts all read one Design; the contract and the
+// method are in sensor_faults.h.
 #include "model/sensor_faults.h"
 
 #include <algorithm>
@@ -74,20 +78,20 @@ std::vector<double> HourlyLag(const std::vector<double>& x, double tau_h) {
 
 double Coverage(const std::vector<double>& x) {
   if (x.empty()) return 0.0;
-  return static_cast<double>(std::count_if(x.begin(), x.end(),
-                                           [](double v) { return !std::isnan(v); })) /
+  return static_cast<double>(
+             std::count_if(x.begin(), x.end(), [](double v) { return !std::isnan(v); })) /
          static_cast<double>(x.size());
 }
 
 // One sensor regressed on the others: the rows, the residual, the
 // orthonormal basis of the regressors, the residual's long-run variance.
 struct Design {
-  std::vector<int> bin;       // per row
-  Eigen::VectorXd day;        // per row, days since the window's start
-  Eigen::VectorXd contact;    // per row, air minus the sensor (0 without air)
+  std::vector<int> bin;     // per row
+  Eigen::VectorXd day;      // per row, days since the window's start
+  Eigen::VectorXd contact;  // per row, air minus the sensor (0 without air)
   Eigen::MatrixXd q;
   Eigen::VectorXd e;
-  double lrv = 0;             // per row
+  double lrv = 0;  // per row
 };
 
 // Variance of a row's share of a sum over many rows, from daily block
@@ -136,7 +140,8 @@ std::optional<Design> BuildDesign(const Hourly& h, int target, const std::vector
     d.day[i] = b / 24.0;
     x(i, 0) = 1.0;
     for (int c = 1; c < p; ++c) x(i, c) = columns[c - 1][b];
-    if (air >= 0 && air != target && !std::isnan(h.mean[air][b])) d.contact[i] = h.mean[air][b] - y[b];
+    if (air >= 0 && air != target && !std::isnan(h.mean[air][b]))
+      d.contact[i] = h.mean[air][b] - y[b];
   }
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(x);
   d.q = qr.householderQ() * Eigen::MatrixXd::Identity(n, qr.rank());
@@ -152,13 +157,16 @@ const char* KindName(Kind k) {
   return k == Kind::kStep ? "step" : k == Kind::kDrift ? "drift" : "lost_contact";
 }
 
-// The fault column at onset row k: a_i (day_i - day_k)^m from row k on,
-// a_i = 1 or the air contrast, m = 0 (step) or 1.
-Eigen::VectorXd FaultColumn(const Design& d, Kind kind, int k) {
+// The fault column at onset row k: a_i g(day_i - day_k) from row k on,
+// a_i = 1 or the air contrast; g = 1 (step), the days since the onset
+// (drift, and a lost contact with tau 0), or 1 - exp(-days / tau) (a lost
+// contact whose share of the air settles with tau).
+Eigen::VectorXd FaultColumn(const Design& d, Kind kind, int k, double tau = 0) {
   Eigen::VectorXd f = Eigen::VectorXd::Zero(d.e.size());
   for (int i = k; i < f.size(); ++i) {
     const double a = kind == Kind::kLostContact ? d.contact[i] : 1.0;
-    f[i] = kind == Kind::kStep ? a : a * (d.day[i] - d.day[k]);
+    const double days = d.day[i] - d.day[k];
+    f[i] = kind == Kind::kStep ? a : tau > 0 ? a * -std::expm1(-days / tau) : a * days;
   }
   return f;
 }
@@ -167,6 +175,21 @@ struct Onset {
   int row = -1;
   double t = 0;
 };
+
+bool Triable(const Design& d, int k, const SensorFaultOptions& o) {
+  const double t = d.day[k];
+  return t <= d.day[d.day.size() - 1] - o.min_days_after && t >= d.day[0] + o.min_days_before;
+}
+
+// The t of a fault column from its sums over the onset's suffix: f'e,
+// f'f and |Q'f|^2; a lost contact's only when positive (FitAt says why).
+void Consider(int k, double fe, double ff, double qf2, double lrv, bool contact, Onset* best) {
+  const double rr = ff - qf2;
+  if (!(rr > 1e-9 * ff) || rr <= 0) return;
+  const double tv = fe / std::sqrt(rr * lrv);
+  if (contact && tv <= 0) return;
+  if (std::fabs(tv) > std::fabs(best->t)) *best = {k, tv};
+}
 
 // The onset row with the largest |t| of the fault column, every row at
 // least min_days_before after the first and min_days_after before the
@@ -187,14 +210,36 @@ Onset ScanOnsets(const Design& d, Kind kind, const SensorFaultOptions& o) {
     f0 += a * a;
     f1 += a * a * t;
     f2 += a * a * t * t;
-    if (t > d.day[n - 1] - o.min_days_after || t < d.day[0] + o.min_days_before) continue;
-    const double fe = linear ? e1 - t * e0 : e0;
-    const double ff = linear ? f2 - 2 * t * f1 + t * t * f0 : f0;
-    const double qf2 = linear ? (s1 - t * s0).squaredNorm() : s0.squaredNorm();
-    const double rr = ff - qf2;
-    if (!(rr > 1e-9 * ff) || rr <= 0) continue;
-    const double tv = fe / std::sqrt(rr * d.lrv);
-    if (std::fabs(tv) > std::fabs(best.t)) best = {k, tv};
+    if (!Triable(d, k, o)) continue;
+    Consider(k, linear ? e1 - t * e0 : e0, linear ? f2 - 2 * t * f1 + t * t * f0 : f0,
+             linear ? (s1 - t * s0).squaredNorm() : s0.squaredNorm(), d.lrv,
+             kind == Kind::kLostContact, &best);
+  }
+  return best;
+}
+
+// The same for a lost contact settling with tau: with E_i = exp(-(day_i -
+// day_k) / tau) the column is a_i (1 - E_i), and the sums over E_i and
+// E_i^2 follow from the next row's by one factor each (no exp of a
+// growing day count, which would overflow over a year).
+Onset ScanSettlingContacts(const Design& d, double tau, const SensorFaultOptions& o) {
+  const int n = static_cast<int>(d.e.size());
+  const int p = static_cast<int>(d.q.cols());
+  Eigen::VectorXd sq = Eigen::VectorXd::Zero(p), sqe = Eigen::VectorXd::Zero(p);
+  double se = 0, see = 0, f0 = 0, fe1 = 0, fe2 = 0;
+  Onset best;
+  for (int k = n - 1; k >= 0; --k) {
+    const double a = d.contact[k];
+    const double r = k + 1 < n ? std::exp(-(d.day[k + 1] - d.day[k]) / tau) : 0.0;
+    sq += a * d.q.row(k).transpose();
+    sqe = a * d.q.row(k).transpose() + r * sqe;
+    se += a * d.e[k];
+    see = a * d.e[k] + r * see;
+    f0 += a * a;
+    fe1 = a * a + r * fe1;
+    fe2 = a * a + r * r * fe2;
+    if (!Triable(d, k, o)) continue;
+    Consider(k, se - see, f0 - 2 * fe1 + fe2, (sq - sqe).squaredNorm(), d.lrv, true, &best);
   }
   return best;
 }
@@ -210,9 +255,9 @@ struct Fit {
 // The joint fit at one onset: its t on the residual left with the fault
 // fitted, the size at the end, and whether every third after the onset
 // keeps persist_share of the fitted departure.
-Fit FitAt(const Design& d, Kind kind, int k, const SensorFaultOptions& o) {
+Fit FitAt(const Design& d, Kind kind, int k, const SensorFaultOptions& o, double tau = 0) {
   Fit fit{kind, k};
-  const Eigen::VectorXd f = FaultColumn(d, kind, k);
+  const Eigen::VectorXd f = FaultColumn(d, kind, k, tau);
   const Eigen::VectorXd r = f - d.q * (d.q.transpose() * f);
   const double rr = r.squaredNorm();
   if (!(rr > 0)) return fit;
@@ -222,6 +267,15 @@ Fit FitAt(const Design& d, Kind kind, int k, const SensorFaultOptions& o) {
   if (!(lrv > 0)) return fit;
   fit.t = gamma * std::sqrt(rr / lrv);
   const int n = static_cast<int>(f.size());
+  // A loose sensor reads T + w (A - T), a share w of the air between none
+  // and all of it; against the reading's own contrast A - y = (1 - w)(A -
+  // T) the fitted share is w / (1 - w), any positive number. A negative
+  // one is not a loose sensor: the residual's own wander, on both sides
+  // of the regression through y, pulls the fit that way.
+  if (kind == Kind::kLostContact) {
+    const double days = d.day[n - 1] - d.day[k];
+    if (!(gamma * (tau > 0 ? -std::expm1(-days / tau) : days) > 0)) fit.t = 0;
+  }
   const Eigen::VectorXd departure = rest + gamma * r;
   fit.persists = true;
   for (int part = 0; part < 3; ++part) {
@@ -304,8 +358,8 @@ int RowAtOrAfter(const Design& d, const Hourly& h, int64_t ts) {
   return static_cast<int>(std::lower_bound(d.bin.begin(), d.bin.end(), bin) - d.bin.begin());
 }
 
-std::optional<Finding> StepFinding(const TermInputs& in, const Hourly& h, const Design& d,
-                                   int s, int64_t to, const SensorFaultOptions& o) {
+std::optional<Finding> StepFinding(const TermInputs& in, const Hourly& h, const Design& d, int s,
+                                   int64_t to, const SensorFaultOptions& o) {
   const auto jump = LargestJump(in.sensor_raw[s], h.from_ms, to, o.step_window);
   if (!jump || std::fabs(jump->size_c) < o.step_min_c || jump->spreads < o.step_min_spreads) {
     return std::nullopt;
@@ -331,11 +385,18 @@ std::optional<Finding> SlowFinding(const Hourly& h, const Design& d, int s, bool
   if (drift_onset.row < 0) return std::nullopt;
   Fit fit = FitAt(d, Kind::kDrift, drift_onset.row, o);
   if (has_air) {
-    const Onset contact_onset = ScanOnsets(d, Kind::kLostContact, o);
-    if (contact_onset.row >= 0) {
-      const Fit contact = FitAt(d, Kind::kLostContact, contact_onset.row, o);
-      if (std::fabs(contact.t) >= std::fabs(fit.t) + o.contact_margin_t) fit = contact;
-    }
+    // The share of the air a loose sensor reads grows and settles; how
+    // fast is the mounting's: a ramp and settling times from hours to days
+    // are tried, the best fit taken.
+    Fit contact;
+    const auto consider = [&](const Onset& onset, double tau) {
+      if (onset.row < 0) return;
+      const Fit f = FitAt(d, Kind::kLostContact, onset.row, o, tau);
+      if (std::fabs(f.t) > std::fabs(contact.t)) contact = f;
+    };
+    consider(ScanOnsets(d, Kind::kLostContact, o), 0);
+    for (double tau : o.contact_settling_days) consider(ScanSettlingContacts(d, tau, o), tau);
+    if (std::fabs(contact.t) >= std::fabs(fit.t) + o.contact_margin_t) fit = contact;
   }
   *evidence = std::max(*evidence, std::fabs(fit.t) / o.min_t);
   if (std::fabs(fit.t) < o.min_t || !fit.persists) return std::nullopt;
@@ -370,7 +431,8 @@ std::string Reason(const TermInputs& in, const Finding& f, int air) {
              since + ", " + size + " by the end: check this sensor and its calibration.";
     case Kind::kLostContact:
       return name + "'s reading moves toward the air (" + in.sensors[air] + ") since " + since +
-             ", " + size + " by the end: the sensor may have lost contact with the structure; "
+             ", " + size +
+             " by the end: the sensor may have lost contact with the structure; "
              "check its mounting.";
   }
   return "";
@@ -404,9 +466,8 @@ Examination Examine(const TermInputs& in, const Hourly& h, const std::vector<boo
 // So the sensor whose leaving out leaves the fewest findings, then the
 // least evidence of one (two sensors that only predict each other both
 // clear, but the faulty one still departs from the rest).
-Finding Attribute(const TermInputs& in, const Hourly& h, const std::vector<bool>& left_out,
-                  int air, int64_t to, const std::vector<Finding>& found,
-                  const SensorFaultOptions& o) {
+Finding Attribute(const TermInputs& in, const Hourly& h, const std::vector<bool>& left_out, int air,
+                  int64_t to, const std::vector<Finding>& found, const SensorFaultOptions& o) {
   if (found.size() == 1) return found[0];
   Finding pick;
   std::pair<size_t, double> least{SIZE_MAX, 0.0};
@@ -426,9 +487,8 @@ Finding Attribute(const TermInputs& in, const Hourly& h, const std::vector<bool>
 }  // namespace
 
 std::vector<SensorFault> FindSensorFaults(const TermInputs& inputs,
-                                          const std::vector<std::string>& declared,
-                                          int64_t from_ms, int64_t to_ms,
-                                          const SensorFaultOptions& options) {
+                                          const std::vector<std::string>& declared, int64_t from_ms,
+                                          int64_t to_ms, const SensorFaultOptions& options) {
   std::vector<SensorFault> faults;
   if (to_ms <= from_ms) return faults;
   const Hourly hourly = Resample(inputs, from_ms, to_ms);

@@ -14,7 +14,8 @@
 //  - The sensor is regressed on the other sensors' hourly means and their
 //    lags (3 h, 12 h) over the whole window, together with one fault
 //    column: a step 1[t >= t0], a drift (t - t0)+ or a lost contact
-//    (t - t0)+ (A - T), A the air. With the thin QR of the regressors the
+//    g(t - t0) (A - T), A the air, its share g a ramp or settling
+//    (1 - exp(-(t - t0) / tau), tau from hours to days). With the thin QR of the regressors the
 //    gain of every onset t0 (each hour) comes from suffix sums, so all
 //    onsets cost O(rows x regressors).
 //  - The residual is not white: heat the other sensors do not see (a
@@ -57,13 +58,17 @@ struct SensorFaultOptions {
   double min_days_after = 1.0;
   // Drift and lost contact: t over the daily-block long-run spread.
   double min_t = 6.0;
+  // A lost contact's share of the air settles as 1 - exp(-days / tau):
+  // these tau (days) are tried besides a share growing without end
+  // (a ramp), the best fit taken.
+  std::vector<double> contact_settling_days = {0.1, 0.3, 1.0, 3.0};
   // Lost contact is preferred over drift when its t is larger by this.
   double contact_margin_t = 1.0;
   // Step: the raw jump, degC and in robust spreads of the sensor's jumps.
   double step_min_c = 0.12;
   double step_min_spreads = 10.0;
-  int step_window = 10;          // samples fitted on either side of a jump
-  double step_confirm_t = 2.0;   // hourly regression at the jump's onset
+  int step_window = 10;         // samples fitted on either side of a jump
+  double step_confirm_t = 2.0;  // hourly regression at the jump's onset
   // Every third of the time after the onset keeps this share of the
   // fitted departure.
   double persist_share = 0.5;
@@ -74,8 +79,7 @@ struct SensorFaultOptions {
 // effect_mm and points_left_out are the search's to fill. At most one
 // fault per sensor, strongest first.
 std::vector<SensorFault> FindSensorFaults(const TermInputs& inputs,
-                                          const std::vector<std::string>& declared,
-                                          int64_t from_ms, int64_t to_ms,
-                                          const SensorFaultOptions& options = {});
+                                          const std::vector<std::string>& declared, int64_t from_ms,
+                                          int64_t to_ms, const SensorFaultOptions& options = {});
 
 }  // namespace thermocomp

@@ -55,7 +55,8 @@ std::vector<SensorFault> Find(const TermInputs& in, int days) {
 
 TEST(SensorFaultHandBuilt, CleanSensorsHaveNoFault) {
   const auto none = [](int64_t, double) { return 0.0; };
-  for (uint64_t seed = 1; seed <= 3; ++seed) EXPECT_TRUE(Find(HandBuilt(30, seed, none), 30).empty());
+  for (uint64_t seed = 1; seed <= 3; ++seed)
+    EXPECT_TRUE(Find(HandBuilt(30, seed, none), 30).empty());
 }
 
 TEST(SensorFaultHandBuilt, StepIsNamedWithItsOnset) {
@@ -81,6 +82,30 @@ TEST(SensorFaultHandBuilt, DriftIsNamedWithItsOnset) {
   EXPECT_EQ(faults[0].kind, "drift");
   EXPECT_LE(std::llabs(faults[0].onset_ms - onset), kDayMs);
   EXPECT_NEAR(faults[0].size_c, 0.75, 0.15);
+}
+
+// A sensor come loose reads a share of the air that grows and settles,
+// here to half within about a day (the column machine's loose sensors of
+// bench/search_quality settle in 0.5 to 1.5 days). A share growing without
+// end (a ramp, the only form tried before) fits it too badly to reach the
+// bar: nothing was named.
+TEST(SensorFaultHandBuilt, LostContactThatSettlesIsNamedWithItsOnset) {
+  const int64_t onset = kStart + 17 * kDayMs + 5 * kHourMs;
+  const auto loose = [&](int64_t ts, double v) {
+    if (ts < onset) return 0.0;
+    const double days = static_cast<double>(ts - onset) / kDayMs;
+    const double air =
+        20 + 1.5 * std::sin(2 * kPi * static_cast<double>((ts - kStart) / kMinuteMs % 1440) / 1440);
+    return 0.5 * (1 - std::exp(-days / 0.7)) * (air - v);
+  };
+  const auto faults = Find(HandBuilt(30, 6, loose), 30);
+  ASSERT_EQ(faults.size(), 1u);
+  EXPECT_EQ(faults[0].sensor, "B");
+  EXPECT_EQ(faults[0].kind, "lost_contact");
+  EXPECT_LE(std::llabs(faults[0].onset_ms - onset), 6 * kHourMs);
+  EXPECT_NE(faults[0].reason.find("check its mounting"), std::string::npos);
+  std::printf("onset %+.1f h, %s\n", static_cast<double>(faults[0].onset_ms - onset) / kHourMs,
+              faults[0].reason.c_str());
 }
 
 // A year of 16 sensors at 60 s with nothing wrong: no fault. (Its time,
@@ -226,10 +251,11 @@ Rates Study(Family family, int seeds, std::optional<InjectedFaultKind> kind,
       std::printf("\n");
     }
   }
-  std::printf("%s, %s: %d machines, named %d, kind right %d, onset within a day %d, other alarms %d\n",
-              family == Family::kVirtual ? "VirtualMachine" : "ColumnMachine",
-              kind ? InjectedFaultKindName(*kind) : "clean", r.machines, r.named, r.kind_right,
-              r.onset_right, r.alarms);
+  std::printf(
+      "%s, %s: %d machines, named %d, kind right %d, onset within a day %d, other alarms %d\n",
+      family == Family::kVirtual ? "VirtualMachine" : "ColumnMachine",
+      kind ? InjectedFaultKindName(*kind) : "clean", r.machines, r.named, r.kind_right,
+      r.onset_right, r.alarms);
   return r;
 }
 
@@ -267,25 +293,27 @@ TEST(SensorFaultStudy, VirtualMachineSlowFaultsOfTheCoolantAreNamed) {
   }
 }
 
-// Measured: 34 of 40. In the shortest recordings (5 days after the onset)
-// a drift of Tbed1 is put on Tbed2, the one sensor that predicts it (3 of
-// 40), or not found (3).
+// Measured: 37 of 40, 1 other alarm. In the shortest recordings (5 days
+// after the onset) a drift of Tbed1 is put on Tbed2, the one sensor that
+// predicts it, or not found.
 TEST(SensorFaultStudy, ColumnMachineDriftsAreNamed) {
   const Rates r =
       Study(Family::kColumn, 40, InjectedFaultKind::kDrift, {"Tcol_top", "Tbed1", "Tgl"});
-  EXPECT_GE(r.onset_right, 33);
-  EXPECT_LE(r.alarms, 4);
+  EXPECT_GE(r.onset_right, 35);
+  EXPECT_LE(r.alarms, 3);
 }
 
-// Measured: named 37 of 40, as a lost contact 33, onset within a day 27
-// (the fitted onset of a slow approach comes up to two days late).
+// Measured: named 39 of 40, as a lost contact 34, onset within a day 28,
+// no other alarm (with a ramp as the only contact form: 37, 33, 27 and 3
+// other alarms). The fitted onset of a slow approach comes up to two days
+// late.
 TEST(SensorFaultStudy, ColumnMachineLostContactsAreNamed) {
-  const Rates r = Study(Family::kColumn, 40, InjectedFaultKind::kLostContact,
-                        {"Tcol_top", "Tbed1", "Tgl"});
-  EXPECT_GE(r.named, 36);
-  EXPECT_GE(r.kind_right, 32);
-  EXPECT_GE(r.onset_right, 26);
-  EXPECT_LE(r.alarms, 4);
+  const Rates r =
+      Study(Family::kColumn, 40, InjectedFaultKind::kLostContact, {"Tcol_top", "Tbed1", "Tgl"});
+  EXPECT_GE(r.named, 38);
+  EXPECT_GE(r.kind_right, 33);
+  EXPECT_GE(r.onset_right, 27);
+  EXPECT_LE(r.alarms, 2);
 }
 
 // VirtualMachine's column base and bed are warmed by the Y and X drives,
