@@ -553,6 +553,12 @@ void DesignContext::Describe(const Design& final_design, EffectSearchResult& r) 
     const double rb = in_.drift_mm[i] - r.before.Predict(xb, declared_names);
     const double ra = in_.drift_mm[i] - r.after.Predict(xa, final_names);
     for (HeldOutError* e : {&per_run[in_.run[i]], &r.holdout_total}) {
+      for (const SensorFault& f : r.sensor_faults) {
+        std::vector<std::string>& read = e->faulty_sensors;
+        if (in_.points[i].ts_ms >= f.onset_ms &&
+            std::find(read.begin(), read.end(), f.sensor) == read.end())
+          read.push_back(f.sensor);
+      }
       e->n += 1;
       e->mae_before_mm += std::fabs(rb);
       e->mae_after_mm += std::fabs(ra);

@@ -182,6 +182,9 @@ struct HeldOutError {
   int n = 0;
   double mae_before_mm = 0, rmse_before_mm = 0, max_before_mm = 0;
   double mae_after_mm = 0, rmse_after_mm = 0, max_after_mm = 0;
+  // Sensors of reported faults (sensor_faults) this run reads past their
+  // onset: its error is then partly the fault's, not the model's.
+  std::vector<std::string> faulty_sensors;
 };
 
 // A declared sensor whose reading departs from what its neighbours say

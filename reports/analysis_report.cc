@@ -72,7 +72,10 @@ std::string BlockLabel(const std::string& label, const std::vector<std::string>&
 
 // Errors of no point are not errors of anything: NaN, as everywhere here.
 HeldOutRunError NamedError(const HeldOutError& e, std::string run) {
-  HeldOutRunError out{std::move(run), e.n};
+  HeldOutRunError out;
+  out.run = std::move(run);
+  out.n = e.n;
+  out.faulty_sensors = e.faulty_sensors;
   if (e.n <= 0) return out;
   out.mae_before_mm = e.mae_before_mm;
   out.rmse_before_mm = e.rmse_before_mm;

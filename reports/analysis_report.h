@@ -73,6 +73,7 @@ struct HeldOutRunError {
   int n = 0;
   double mae_before_mm = kNotComputed, rmse_before_mm = kNotComputed, max_before_mm = kNotComputed;
   double mae_after_mm = kNotComputed, rmse_after_mm = kNotComputed, max_after_mm = kNotComputed;
+  std::vector<std::string> faulty_sensors;  // read past a reported fault's onset
 };
 
 // Per held-out run in time order, and over all held-out points.

@@ -188,16 +188,18 @@ json HeldOutToJson(const HeldOutRunError& e) {
             {"max_before_mm", FiniteOrNull(e.max_before_mm)},
             {"mae_after_mm", FiniteOrNull(e.mae_after_mm)},
             {"rmse_after_mm", FiniteOrNull(e.rmse_after_mm)},
-            {"max_after_mm", FiniteOrNull(e.max_after_mm)}};
+            {"max_after_mm", FiniteOrNull(e.max_after_mm)},
+            {"faulty_sensors", e.faulty_sensors}};
   if (!e.run.empty()) j["run"] = e.run;
   return j;
 }
 
 HeldOutRunError HeldOutFromJson(const json& j) {
-  return {ValueOr<std::string>(j, "run", ""), ValueOr<int>(j, "n", 0),
-          NumberOr(j, "mae_before_mm"),       NumberOr(j, "rmse_before_mm"),
-          NumberOr(j, "max_before_mm"),       NumberOr(j, "mae_after_mm"),
-          NumberOr(j, "rmse_after_mm"),       NumberOr(j, "max_after_mm")};
+  return {ValueOr<std::string>(j, "run", ""),   ValueOr<int>(j, "n", 0),
+          NumberOr(j, "mae_before_mm"),         NumberOr(j, "rmse_before_mm"),
+          NumberOr(j, "max_before_mm"),         NumberOr(j, "mae_after_mm"),
+          NumberOr(j, "rmse_after_mm"),         NumberOr(j, "max_after_mm"),
+          Strings(ArrayAt(j, "faulty_sensors"))};
 }
 
 json SensorFaultToJson(const SensorFault& f) {

@@ -165,7 +165,11 @@ std::string FindingsMarkdown(const AnalysisReport& r) {
   return md;
 }
 
-std::string HeldOutRow(const std::string& run, const HeldOutRunError& e) {
+// A run that reads a faulty sensor past its onset says so: its error is
+// partly the fault's.
+std::string HeldOutRow(std::string run, const HeldOutRunError& e) {
+  if (!e.faulty_sensors.empty())
+    run += " (reads " + Text(Join(e.faulty_sensors)) + " past its fault's onset)";
   return "| " + run + " | " + std::to_string(e.n) + " | " + Um(e.mae_before_mm) + " | " +
          Um(e.mae_after_mm) + " | " + Um(e.rmse_before_mm) + " | " + Um(e.rmse_after_mm) + " | " +
          Um(e.max_before_mm) + " | " + Um(e.max_after_mm) + " |\n";
@@ -190,7 +194,9 @@ std::string SensorsMarkdown(const AnalysisReport& r, const PlantTime& time) {
   std::string md =
       "## Sensors to check\n\nThese declared sensors read differently from their neighbours "
       "from the onset on: a sensor to check, not a thermal effect. Their readings from the "
-      "onset on were left out of the search.\n\n"
+      "onset on were left out of the search (unless that would have taken too large a share "
+      "of the training points: points left out 0); a held-out run that reads them past the "
+      "onset is marked.\n\n"
       "| sensor | kind | since | departure °C | drift it caused µm | points left out | why |\n"
       "|---|---|---|---|---|---|---|\n";
   for (const auto& f : r.sensor_faults) {

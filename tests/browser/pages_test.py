@@ -503,13 +503,17 @@ def analysis_details(d, report, name):
         check(bool(table), "the analysis page shows the held-out errors table")
         rows = d.find_elements(By.CSS_SELECTOR, "#holdout-errors tbody tr")
         check(len(rows) == len(held["runs"]) + 1, "one row per held-out run and one for all of them")
+        def named(run, e):  # a run read past a sensor fault's onset says so
+            faulty = e.get("faulty_sensors") or []
+            return run + (f" (reads {', '.join(faulty)} past its fault's onset)" if faulty else "")
         for row, run in zip(rows, held["runs"]):
             cells = [c.text for c in row.find_elements(By.TAG_NAME, "td")]
-            check(cells[:2] == [run["run"], str(run["n"])] and cells[5] == um(run["rmse_after_mm"]),
+            check(cells[:2] == [named(run["run"], run), str(run["n"])] and cells[5] == um(run["rmse_after_mm"]),
                   f"held-out run {run['run']}: name, points and RMSE after in µm")
         if rows:
             total = [c.text for c in rows[-1].find_elements(By.TAG_NAME, "td")]
-            check(total[0] == "all held-out runs" and total[7] == um(held["total"]["max_after_mm"]),
+            check(total[0] == named("all held-out runs", held["total"])
+                  and total[7] == um(held["total"]["max_after_mm"]),
                   "the total row shows max |error| after in µm")
         if table:
             d.execute_script("arguments[0].scrollIntoView()", table[0])

@@ -110,9 +110,9 @@ AnalysisReport FullReport() {
   ev.rmse_after_mm = 0.0012;
   r.event_comparisons = {ev};
   HeldOutRunErrors held;
-  held.runs = {{"run-30", 20, 0.0021, 0.0025, 0.0049, 0.0008, 0.001, 0.0021},
-               {"run-31", 20, 0.0028, 0.0034, 0.0061, 0.0010, 0.0012, 0.0024}};
-  held.total = {"", 40, 0.00245, 0.003, 0.0061, 0.0009, 0.0011, 0.0024};
+  held.runs = {{"run-30", 20, 0.0021, 0.0025, 0.0049, 0.0008, 0.001, 0.0021, {}},
+               {"run-31", 20, 0.0028, 0.0034, 0.0061, 0.0010, 0.0012, 0.0024, {"Tbed"}}};
+  held.total = {"", 40, 0.00245, 0.003, 0.0061, 0.0009, 0.0011, 0.0024, {"Tbed"}};
   r.holdout_errors = held;
   r.sensor_faults = {{"Tbed", "lost_contact", *ParseRfc3339("2026-03-08T09:30:00.000Z"), -1.8,
                       0.0126, 57, "Tbed reads 1.8 degC below Tco and Tcb since 2026-03-08"}};
@@ -149,6 +149,9 @@ TEST(AnalysisReportCodec, EverySectionSurvivesJsonBothWays) {
   EXPECT_DOUBLE_EQ(held["runs"][1]["max_before_mm"].get<double>(), 0.0061);
   EXPECT_FALSE(held["total"].contains("run"));
   EXPECT_EQ(held["total"]["n"], 40);
+  // A run read past a fault's onset names the faulty sensor; others an empty list.
+  EXPECT_EQ(held["runs"][0]["faulty_sensors"], json::array());
+  EXPECT_EQ(held["runs"][1]["faulty_sensors"], json({"Tbed"}));
   const json& fault = encoded["sensor_faults"][0];
   EXPECT_EQ(fault["kind"], "lost_contact");
   EXPECT_EQ(fault["onset"], "2026-03-08T09:30:00.000Z");
@@ -158,6 +161,7 @@ TEST(AnalysisReportCodec, EverySectionSurvivesJsonBothWays) {
   EXPECT_EQ(decoded->effects[0].confidence.won, (std::vector<int>{0, 1, 2}));
   ASSERT_TRUE(decoded->holdout_errors);
   EXPECT_EQ(decoded->holdout_errors->runs[0].run, "run-30");
+  EXPECT_EQ(decoded->holdout_errors->runs[1].faulty_sensors, std::vector<std::string>{"Tbed"});
   EXPECT_TRUE(decoded->holdout_errors->total.run.empty());
   EXPECT_EQ(decoded->sensor_faults[0].onset_ms, FullReport().sensor_faults[0].onset_ms);
   EXPECT_EQ(decoded->validation->block_labels, FullReport().validation->block_labels);
@@ -176,8 +180,11 @@ TEST(AnalysisReportCodec, TheRenderingsShowEverySectionInMicrometres) {
         "| `Tco` | -5.10 | -2.00 |", "## Filters", ", applied", "## Ambiguous", "## Set aside",
         "## Events", "| held-out RMSE | 3.00 | 1.10 |", "Version 3: candidate",
         // Blocks won, by label; held-out errors per run and in total; faults.
-        "## Held-out runs (µm)", "| run\\-31 | 20 | 2.80 | 1.00 | 3.40 | 1.20 | 6.10 | 2.40 |",
-        "| all held-out runs | 40 | 2.45 | 0.90 | 3.00 | 1.10 | 6.10 | 2.40 |",
+        "## Held-out runs (µm)", "| run\\-30 | 20 | 2.10 |",
+        "| run\\-31 (reads Tbed past its fault's onset) | 20 | 2.80 | 1.00 | 3.40 | 1.20 | 6.10 | "
+        "2.40 |",
+        "| all held-out runs (reads Tbed past its fault's onset) | 40 | 2.45 | 0.90 | 3.00 | 1.10 "
+        "| 6.10 | 2.40 |",
         "| held-out MAE | 2.45 | 0.90 |", "max \\|error\\| | 6.10 | 2.40 |", "## Sensors to check",
         "| `Tbed` | lost contact | 2026-03-08 09:30:00 UTC | -1.80 | 12.60 | 57 |",
         "readings from the onset on were left out"}) {
@@ -250,9 +257,9 @@ TEST(AnalysisReportBuild, NamesHeldOutRunsAndRunBlocksAsTheArchiveDoes) {
   r.blocks = 3;
   r.block_labels = {"run 0", "run 2", "run 9"};  // 9: no such run, kept as it is
   r.holdout_n = 30;
-  r.holdout_runs = {{3, 10, 0.001, 0.002, 0.004, 0.0005, 0.0007, 0.001},
-                    {4, 20, 0.002, 0.003, 0.005, 0.0006, 0.0008, 0.002}};
-  r.holdout_total = {-1, 30, 0.00167, 0.00271, 0.005, 0.00057, 0.00077, 0.002};
+  r.holdout_runs = {{3, 10, 0.001, 0.002, 0.004, 0.0005, 0.0007, 0.001, {}},
+                    {4, 20, 0.002, 0.003, 0.005, 0.0006, 0.0008, 0.002, {"Tco"}}};
+  r.holdout_total = {-1, 30, 0.00167, 0.00271, 0.005, 0.00057, 0.00077, 0.002, {"Tco"}};
   r.sensor_faults = {{"Tco", "drift", 1000, 0.9, -0.0045, 12, "Tco drifts from Tcb"}};
   const std::vector<std::string> names = {"r-a", "r-b", "r-c", "r-d", "r-e"};
   const AnalysisReport report = BuildAnalysisReport(r, {"m1", "Y", "manual", 0, {}, {}}, names);
@@ -262,6 +269,7 @@ TEST(AnalysisReportBuild, NamesHeldOutRunsAndRunBlocksAsTheArchiveDoes) {
   ASSERT_EQ(report.holdout_errors->runs.size(), 2u);
   EXPECT_EQ(report.holdout_errors->runs[0].run, "r-d");
   EXPECT_EQ(report.holdout_errors->runs[1].run, "r-e");
+  EXPECT_EQ(report.holdout_errors->runs[1].faulty_sensors, std::vector<std::string>{"Tco"});
   EXPECT_EQ(report.holdout_errors->total.n, 30);
   EXPECT_DOUBLE_EQ(report.holdout_errors->total.max_before_mm, 0.005);
   EXPECT_EQ(report.sensor_faults.size(), 1u);
@@ -270,7 +278,7 @@ TEST(AnalysisReportBuild, NamesHeldOutRunsAndRunBlocksAsTheArchiveDoes) {
   EffectSearchResult none;
   EXPECT_FALSE(BuildAnalysisReport(none, {}, names).holdout_errors);
   // A run without points has errors of nothing: not computed, not zero.
-  none.holdout_runs = {{1, 0, 0, 0, 0, 0, 0, 0}};
+  none.holdout_runs = {{1, 0, 0, 0, 0, 0, 0, 0, {}}};
   const AnalysisReport empty_run = BuildAnalysisReport(none, {}, names);
   ASSERT_TRUE(empty_run.holdout_errors);
   EXPECT_TRUE(std::isnan(empty_run.holdout_errors->runs[0].rmse_after_mm));

@@ -45,7 +45,9 @@
 
   // Per held-out run, then all of them: one run the model fails on is not averaged away.
   function heldOutTable(h) {
-    const row = (run, e) => [run, String(e.n), um(e.mae_before_mm), um(e.mae_after_mm), um(e.rmse_before_mm),
+    // A run that reads a faulty sensor past its onset says so: its error is partly the fault's.
+    const faulty = (e) => (e.faulty_sensors && e.faulty_sensors.length ? " (reads " + e.faulty_sensors.join(", ") + " past its fault's onset)" : "");
+    const row = (run, e) => [faulty(e) ? el("span", {}, run, faulty(e)) : run, String(e.n), um(e.mae_before_mm), um(e.mae_after_mm), um(e.rmse_before_mm),
       um(e.rmse_after_mm), um(e.max_before_mm), um(e.max_after_mm)];
     const columns = [{ label: "run" }, { label: "points", num: true }];
     for (const m of ["MAE", "RMSE", "max |error|"]) {
@@ -57,7 +59,8 @@
   function sensorFaults(list) {
     return [el("h2", {}, "Sensors to check"),
       el("p", {}, "These declared sensors read differently from their neighbours from the onset on: a sensor to check, not a thermal effect. " +
-        "Their readings from the onset on were left out of the search."),
+        "Their readings from the onset on were left out of the search (unless that would have taken too large a share of the training points: points left out 0); " +
+        "a held-out run that reads them past the onset is marked."),
       TC.table([{ label: "sensor" }, { label: "kind" }, { label: "since" }, { label: "departure °C", num: true },
         { label: "drift it caused µm", num: true }, { label: "points left out", num: true }, { label: "why" }],
       list.map((f) => [el("code", {}, f.sensor), f.kind.replaceAll("_", " "), time(f.onset),
