@@ -474,28 +474,6 @@ TEST(EffectSearchForms, AnAddedSignalsLagReplacesIt) {
   EXPECT_LE(s.score.FloorRatio(), 1.3) << s.effects;
 }
 
-// The column machine's Tcol_top comes loose on day 14 of 24 and reads
-// half the air within about a day. The fault was named 19-31 h early or as
-// a drift, its readings stayed in the fit, and the column base's terms
-// learned it as false thermal effects (a ramp was the only contact form;
-// docs/model.md §9). Now: named with its onset, its readings from the
-// onset left out, nothing added, and the held-out runs, which read the
-// loose sensor, say so.
-TEST(EffectSearchFaults, ALooseSensorIsNamedAndNothingLearnsIt) {
-  const Searched s = Study("fault_lost_contact", 1, 'B');
-  EXPECT_TRUE(s.score.AllNamed()) << s.effects;
-  EXPECT_TRUE(s.result.effects.empty()) << s.effects;
-  ASSERT_EQ(s.result.sensor_faults.size(), 1u);
-  EXPECT_EQ(s.result.sensor_faults[0].sensor, "Tcol_top");
-  EXPECT_EQ(s.result.sensor_faults[0].kind, "lost_contact");
-  EXPECT_GT(s.result.sensor_faults[0].points_left_out, 0);
-  ASSERT_FALSE(s.result.holdout_runs.empty());
-  for (const auto& run : s.result.holdout_runs) {
-    EXPECT_EQ(run.faulty_sensors, std::vector<std::string>{"Tcol_top"});
-  }
-  EXPECT_EQ(s.result.holdout_total.faulty_sensors, std::vector<std::string>{"Tcol_top"});
-}
-
 // Five days of the first family, Tco acting through a 150-min lag:
 // a lag of the undeclared Tcu, read as Tcu itself because the plain
 // reading explains as much, met Tcu shortlisted in its own right, and the
