@@ -262,20 +262,18 @@ Fit FitAt(const Design& d, Kind kind, int k, const SensorFaultOptions& o, double
   const double rr = r.squaredNorm();
   if (!(rr > 0)) return fit;
   const double gamma = r.dot(d.e) / rr;
+  // A loose sensor reads T + w (A - T), a share w of the air between none
+  // and all of it; against the reading's own contrast A - y = (1 - w)(A -
+  // T) the fitted share is w / (1 - w), any positive number, and as the
+  // column's share of the air is positive, so is gamma. A negative one is
+  // not a loose sensor: the residual's own wander, on both sides of the
+  // regression through y, pulls the fit that way.
+  if (kind == Kind::kLostContact && !(gamma > 0)) return fit;
   const Eigen::VectorXd rest = d.e - gamma * r;
   const double lrv = LongRunVariance(rest, d.bin);
   if (!(lrv > 0)) return fit;
   fit.t = gamma * std::sqrt(rr / lrv);
   const int n = static_cast<int>(f.size());
-  // A loose sensor reads T + w (A - T), a share w of the air between none
-  // and all of it; against the reading's own contrast A - y = (1 - w)(A -
-  // T) the fitted share is w / (1 - w), any positive number. A negative
-  // one is not a loose sensor: the residual's own wander, on both sides
-  // of the regression through y, pulls the fit that way.
-  if (kind == Kind::kLostContact) {
-    const double days = d.day[n - 1] - d.day[k];
-    if (!(gamma * (tau > 0 ? -std::expm1(-days / tau) : days) > 0)) fit.t = 0;
-  }
   const Eigen::VectorXd departure = rest + gamma * r;
   fit.persists = true;
   for (int part = 0; part < 3; ++part) {
