@@ -94,13 +94,23 @@ StatusOr<std::pair<int, int>> ImportStudy(App& app, const std::string& machine,
 // --machines a,b (default sim-1,sim-2).
 std::vector<std::string> MachineNames(const Args& a);
 // --hidden: undeclared effects on the Y axis of simulated machines:
-// "lag,signal" for every machine, "lag@sim-2" for one.
+// "lag,signal" for every machine, "lag@sim-2" for one. --fault (added by
+// ParseSensorFaults): sensors whose readings fail.
 struct HiddenPlan {
   std::set<HiddenEffect> every_machine;
   std::map<std::string, std::set<HiddenEffect>> by_machine;
+  // (machine, fault), machine "" for every one; onset_ms counted from the
+  // history's start.
+  std::vector<std::pair<std::string, InjectedFault>> faults;
   std::set<HiddenEffect> For(const std::string& machine) const;
+  std::vector<InjectedFault> FaultsFor(const std::string& machine, int64_t start_ms) const;
 };
 StatusOr<HiddenPlan> ParseHiddenPlan(const std::string& text);
+// --fault KIND:SENSOR[@MACHINE],...: from two thirds of `days` into the
+// history on, the sensor's readings drift +0.1 degC a day (drift), stand
+// +1 degC off (step) or come loose, reading half the shop air's
+// difference within a day or two (lost_contact). The machine is unchanged.
+Status ParseSensorFaults(const std::string& text, int days, HiddenPlan* plan);
 // Where `days` of simulated history ending at end_ms start: midnight UTC
 // `days` days before end_ms's day.
 int64_t HistoryStartMs(int64_t end_ms, int days);

@@ -261,6 +261,9 @@ int Demo(const Args& a) {
   if (!hidden.ok()) return Fail(hidden.status().message());
   const auto names = MachineNames(a);
   const int days = std::stoi(a.Get("days", "14"));
+  if (Status s = cli::ParseSensorFaults(a.Get("fault"), days, &*hidden); !s.ok()) {
+    return Fail(s.message());
+  }
   const uint64_t seed = std::stoull(a.Get("seed", "1"));
   auto config = LoadWithOverrides(a);
   if (!config.ok()) return Fail(config.status().message());
@@ -402,6 +405,8 @@ const std::vector<CommandSpec>& Commands() {
       {"simulate",
        "  simulate  [--machines a,b] [--days 14] [--seed 1]\n"
        "            [--hidden EFFECT[@MACHINE],...]  (sensor, lag, position, trend, step, signal)\n"
+       "            [--fault KIND:SENSOR[@MACHINE],...]  (drift, step, lost_contact; from 2/3 "
+       "in)\n"
        "            (--out DIR | --db PATH [--create] | --live [--post URL | --dds [--dds-domain "
        "N]]\n"
        "                                        [--speed X] [--minutes N])\n",
@@ -412,6 +417,7 @@ const std::vector<CommandSpec>& Commands() {
         {"days", true},
         {"seed", true},
         {"hidden", true},
+        {"fault", true},
         {"out", true},
         {"live", false},
         {"post", true},
@@ -421,7 +427,8 @@ const std::vector<CommandSpec>& Commands() {
         {"minutes", true}}},
       {"demo",
        "  demo      --db PATH [--create] [--days 14] [--seed 1] [--study CSV]\n"
-       "            [--machines a,b] [--hidden EFFECT[@MACHINE],...]\n"
+       "            [--machines a,b] [--hidden EFFECT[@MACHINE],...] [--fault "
+       "KIND:SENSOR[@MACHINE],...]\n"
        "            simulated line + measured study data, fitted and analysed\n",
        {{"config", true},
         {"db", true},
@@ -430,6 +437,7 @@ const std::vector<CommandSpec>& Commands() {
         {"seed", true},
         {"machines", true},
         {"hidden", true},
+        {"fault", true},
         {"study", true}}},
       {"backup",
        "  backup    FILE [--force] [--config FILE] [--db PATH]\n"

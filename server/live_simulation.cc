@@ -127,6 +127,7 @@ int RunLiveSimulation(const LiveOptions& o, MachineLink& link, const std::atomic
     so.seed = o.seed + i;
     so.start_ms = start;
     if (auto it = o.hidden.find(so.machine); it != o.hidden.end()) so.hidden = it->second;
+    if (auto it = o.faults.find(so.machine); it != o.faults.end()) so.faults = it->second;
     vms.emplace_back(so);
     std::vector<TemperatureInput> s;
     std::vector<ProbePointInput> p;

@@ -45,6 +45,8 @@ struct LiveOptions {
   double speed = 1.0;
   // Undeclared effects per machine, as in the history `demo` made.
   std::map<std::string, std::set<HiddenEffect>> hidden;
+  // Sensor faults per machine, their onsets in Unix ms.
+  std::map<std::string, std::vector<InjectedFault>> faults;
 };
 
 // Runs in real time until `stop` is set or max_minutes passed.

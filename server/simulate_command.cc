@@ -1,5 +1,6 @@
 // `thermocomp simulate`: the virtual machine's data into a database, into
 // files, or live to a running server.
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -68,6 +69,68 @@ StatusOr<HiddenPlan> ParseHiddenPlan(const std::string& text) {
   return plan;
 }
 
+std::vector<InjectedFault> HiddenPlan::FaultsFor(const std::string& machine,
+                                                 int64_t start_ms) const {
+  std::vector<InjectedFault> out;
+  for (const auto& [name, fault] : faults) {
+    if (!name.empty() && name != machine) continue;
+    out.push_back(fault);
+    out.back().onset_ms += start_ms;
+  }
+  return out;
+}
+
+Status ParseSensorFaults(const std::string& text, int days, HiddenPlan* plan) {
+  const MachineRecord machine = VirtualMachine::Definition("sim");
+  std::stringstream ss(text);
+  for (std::string item; std::getline(ss, item, ',');) {
+    const size_t colon = item.find(':');
+    const size_t at = item.find('@');
+    if (colon == std::string::npos || (at != std::string::npos && at < colon)) {
+      return Status::InvalidArgument("--fault: '" + item +
+                                     "' is not KIND:SENSOR[@MACHINE] (drift, step, lost_contact)");
+    }
+    const std::string kind = item.substr(0, colon);
+    const std::string sensor =
+        item.substr(colon + 1, at == std::string::npos ? at : at - colon - 1);
+    InjectedFault f;
+    f.sensor = sensor;
+    if (kind == "drift") {
+      f.kind = InjectedFaultKind::kDrift;
+      f.drift_c_per_day = 0.1;
+    } else if (kind == "step") {
+      f.kind = InjectedFaultKind::kStep;
+      f.step_c = 1.0;
+    } else if (kind == "lost_contact") {
+      f.kind = InjectedFaultKind::kLostContact;
+      f.toward_sensor = "Tenv";
+      f.share = 0.5;
+      f.tau_days = 1.0;
+    } else {
+      return Status::InvalidArgument("--fault: unknown kind '" + kind +
+                                     "' (drift, step, lost_contact)");
+    }
+    const bool known = std::any_of(machine.sensors.begin(), machine.sensors.end(),
+                                   [&](const auto& s) { return s.name == sensor; });
+    if (!known) return Status::InvalidArgument("--fault: unknown sensor '" + sensor + "'");
+    if (f.kind == InjectedFaultKind::kLostContact && sensor == f.toward_sensor) {
+      return Status::InvalidArgument("--fault: " + sensor +
+                                     " is the shop air a loose sensor reads");
+    }
+    // Two thirds in: the fault has days to show before the newest runs.
+    f.onset_ms = static_cast<int64_t>(days) * kDayMs * 2 / 3;
+    std::string name;
+    if (at != std::string::npos) {
+      name = item.substr(at + 1);
+      if (name.empty()) {
+        return Status::InvalidArgument("--fault: '" + item + "' names no machine after '@'");
+      }
+    }
+    plan->faults.emplace_back(name, std::move(f));
+  }
+  return Status::Ok();
+}
+
 std::vector<std::string> MachineNames(const Args& a) {
   std::vector<std::string> names;
   std::stringstream ss(a.Get("machines", "sim-1,sim-2"));
@@ -99,6 +162,7 @@ class SimulatedLine {
       o.seed = seed + i;
       o.start_ms = start_ms;
       o.hidden = hidden.For(names_[i]);
+      o.faults = hidden.FaultsFor(names_[i], start_ms);
       vms_.emplace_back(o);
     }
     return Status::Ok();
@@ -260,7 +324,11 @@ int SimulateLive(const Args& a, const std::vector<std::string>& names, uint64_t 
   o.max_minutes = std::stoll(a.Get("minutes", "0"));
   o.speed = std::stod(a.Get("speed", "1"));
   if (!(o.speed >= 1.0 && o.speed <= 1440.0)) return Fail("--speed must be from 1 to 1440");
-  for (const auto& name : names) o.hidden[name] = hidden.For(name);
+  const int64_t start = HistoryStartMs(NowUnixMs(), days);
+  for (const auto& name : names) {
+    o.hidden[name] = hidden.For(name);
+    o.faults[name] = hidden.FaultsFor(name, start);
+  }
   return RunLiveSimulation(o, *link, g_stop);
 }
 
@@ -272,6 +340,9 @@ int Simulate(const Args& a) {
   if (!hidden.ok()) return Fail(hidden.status().message());
   const uint64_t seed = std::stoull(a.Get("seed", "1"));
   const int days = std::stoi(a.Get("days", "14"));
+  if (Status s = ParseSensorFaults(a.Get("fault"), days, &*hidden); !s.ok()) {
+    return Fail(s.message());
+  }
   if (a.Has("live")) return SimulateLive(a, names, seed, days, *hidden);
   if (a.Has("out")) {
     const std::string dir = a.Get("out");
@@ -281,8 +352,9 @@ int Simulate(const Args& a) {
       SimOptions o;
       o.machine = names[i];
       o.seed = seed + i;
-      o.start_ms = (end / kDayMs - days) * kDayMs;
+      o.start_ms = HistoryStartMs(end, days);
       o.hidden = hidden->For(names[i]);
+      o.faults = hidden->FaultsFor(names[i], o.start_ms);
       VirtualMachine vm(o);
       std::ofstream temps(dir + "/" + names[i] + "_temperatures.csv");
       std::ofstream signals(dir + "/" + names[i] + "_signals.csv");

@@ -20,7 +20,8 @@ TimeSeries LooseReading(const SimRecording& rec, const std::string& sensor) {
   return LagSeries(raw, kLooseSensorTauMin);
 }
 
-double Offset(const InjectedFault& f, int64_t ts, double value, const TimeSeries& air) {
+// `toward`: the air a loose sensor reads at ts (NaN: not known, no offset).
+double Offset(const InjectedFault& f, int64_t ts, double value, double toward) {
   const double days = static_cast<double>(ts - f.onset_ms) / kDayMs;
   switch (f.kind) {
     case InjectedFaultKind::kDrift:
@@ -28,16 +29,16 @@ double Offset(const InjectedFault& f, int64_t ts, double value, const TimeSeries
     case InjectedFaultKind::kStep:
       return f.step_c;
     case InjectedFaultKind::kLostContact: {
-      double toward = f.toward_c;
-      if (!f.toward_sensor.empty()) {
-        toward = ValueAt(air, ts, 24 * kHourMs);
-        if (std::isnan(toward)) return 0.0;
-      }
+      if (std::isnan(toward)) return 0.0;
       const double w = f.share * (1.0 - std::exp(-days / f.tau_days));
       return w * (toward - value);
     }
   }
   return 0.0;
+}
+
+double Corrupted(const InjectedFault& f, int64_t ts, double value, double toward) {
+  return std::round((value + Offset(f, ts, value, toward)) * 100) / 100;
 }
 
 }  // namespace
@@ -61,7 +62,31 @@ void InjectSensorFault(SimRecording* rec, const InjectedFault& fault) {
   }
   for (auto& s : rec->samples) {
     if (s.sensor != fault.sensor || s.ts_ms < fault.onset_ms) continue;
-    s.value = std::round((s.value + Offset(fault, s.ts_ms, s.value, air)) * 100) / 100;
+    const double toward =
+        fault.toward_sensor.empty() ? fault.toward_c : ValueAt(air, s.ts_ms, 24 * kHourMs);
+    s.value = Corrupted(fault, s.ts_ms, s.value, toward);
+  }
+}
+
+void StreamedSensorFault::Apply(std::span<TemperatureInput> samples) {
+  const InjectedFault& f = fault_;
+  if (f.kind == InjectedFaultKind::kLostContact && !f.toward_sensor.empty()) {
+    for (const auto& s : samples) {
+      if (s.sensor != f.toward_sensor) continue;
+      if (has_air_) {
+        const double dt_min = static_cast<double>(s.ts_ms - air_ts_ms_) / kMinuteMs;
+        air_ += -std::expm1(-dt_min / kLooseSensorTauMin) * (s.value - air_);
+      } else {
+        air_ = s.value;
+        has_air_ = true;
+      }
+      air_ts_ms_ = s.ts_ms;
+    }
+  }
+  for (auto& s : samples) {
+    if (s.sensor != f.sensor || s.ts_ms < f.onset_ms) continue;
+    const double toward = f.toward_sensor.empty() ? f.toward_c : has_air_ ? air_ : std::nan("");
+    s.value = Corrupted(f, s.ts_ms, s.value, toward);
   }
 }
 

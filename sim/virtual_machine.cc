@@ -59,6 +59,7 @@ std::optional<HiddenEffect> ParseHiddenEffect(const std::string& name) {
 VirtualMachine::VirtualMachine(const SimOptions& o)
     : opt_(o), rng_(o.seed), now_ms_(o.start_ms - o.start_ms % kMinute), start_ms_(now_ms_) {
   air_offset_ = 0.5 * unit_(rng_);
+  for (const auto& f : o.faults) faults_.emplace_back(f);
   const double air = AirTemperature();
   n_ = {air, air, air, air, air, air, air, air, air, air, 0.0, air, air, air};
   // Hidden-effect parameters come from their own stream, drawn whether or
@@ -204,6 +205,7 @@ void VirtualMachine::Step(std::vector<TemperatureInput>& samples,
   n_.spindle_asymmetric =
       AsymmetricLag(n_.spindle_asymmetric, n_.spindle, truth_.heat_tau_min, truth_.cool_tau_min);
 
+  const size_t first = samples.size();
   auto sense = [&](const char* sensor, double t) {
     samples.push_back(
         {sensor, now_ms_, std::round((t + opt_.sensor_noise_c * unit_(rng_)) * 100) / 100});
@@ -215,6 +217,7 @@ void VirtualMachine::Step(std::vector<TemperatureInput>& samples,
   sense("Tbed", n_.bed);
   sense("Tenv", n_.air + 0.1 * unit_(rng_));
   sense("Tbase", n_.base);
+  for (auto& f : faults_) f.Apply(std::span(samples).subspan(first));
   if (extras) {
     extras->signals.push_back({"spindle_rpm", now_ms_, rpm});
     if (!step_logged_ && now_ms_ >= truth_.step_ts_ms) {

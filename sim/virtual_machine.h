@@ -31,6 +31,7 @@
 
 #include "core/ingest_inputs.h"
 #include "core/records.h"
+#include "sim/injected_fault.h"
 
 namespace thermocomp {
 
@@ -80,6 +81,8 @@ struct SimOptions {
   double sensor_noise_c = 0.02;        // PT100 class A after conversion
   double probe_noise_mm = 0.0008;      // single-point repeatability of the probe
   std::set<HiddenEffect> hidden = {};  // undeclared effects on the Y axis
+  // Declared sensors' faults: what the sensors record, not the machine.
+  std::vector<InjectedFault> faults = {};
 };
 
 // What a minute produced besides temperatures and probe points.
@@ -134,6 +137,7 @@ class VirtualMachine {
   int64_t start_ms_;
   Nodes n_{};
   HiddenTruth truth_;
+  std::vector<StreamedSensorFault> faults_;
   double spindle_load_ = 0.5, x_load_ = 0.5, y_load_ = 0.5, spindle_rpm_ = 6000;
   int run_counter_ = 0;
   int run_k_ = -1;

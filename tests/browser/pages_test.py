@@ -475,12 +475,15 @@ def with_tokens(d, s):
 
 def make_hidden_lag(dir):
     """A machine whose drift has an effect its declared model lacks, analysed
-    with policy propose: an analysis with an effect and a candidate version."""
+    with policy propose: an analysis with an effect and a candidate version.
+    Beside it f1, whose declared coolant sensor steps +1 degC two thirds in."""
     db = os.path.join(dir, "hidden.db")
-    subprocess.run([BIN, "simulate", "--db", db, "--create", "--machines", "h1", "--days", "20",
-                    "--hidden", "lag"], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    subprocess.run([BIN, "analyze", "--db", db, "--machine", "h1", "--axis", "Y", "--policy", "propose",
-                    "--format", "json"], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    subprocess.run([BIN, "simulate", "--db", db, "--create", "--machines", "h1,f1", "--days", "20",
+                    "--hidden", "lag@h1", "--fault", "step:Tco@f1"], check=True,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    for machine, policy in (("h1", "propose"), ("f1", "off")):
+        subprocess.run([BIN, "analyze", "--db", db, "--machine", machine, "--axis", "Y", "--policy", policy,
+                        "--format", "json"], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     return db
 
 
@@ -581,6 +584,26 @@ def analysis_with_effect(d, s):
     outcome_pages.since_applied(d, after, check)
     d.execute_script("document.getElementById('since-applied').scrollIntoView({block: 'center'})")
     shot(d, "analysis-since-applied")
+
+
+def analysis_with_fault(d, s):
+    """A sensor fault on the analysis page: the sensor to check, and the
+    held-out runs that read it past its onset marked as such."""
+    analyses = s.api("/machines/f1/axes/Y/analysis")["analyses"]
+    check(len(analyses) >= 1, f"the faulty machine was analysed ({len(analyses)})")
+    report = s.api(f"/machines/f1/axes/Y/analysis/{analyses[0]['id']}")
+    faults = report.get("sensor_faults") or []
+    check([(f["sensor"], f["kind"]) for f in faults] == [("Tco", "step")], f"the step of Tco is named ({faults})")
+    open_page(d, s, f"/ui/machines/f1/axes/Y/analysis/{analyses[0]['id']}", "analysis-fault")
+    rows = [r.text for r in d.find_elements(By.CSS_SELECTOR, "#sensor-faults tbody tr")]
+    check(len(rows) == 1 and rows[0].startswith("Tco") and "step" in rows[0], f"Tco's step is listed to check ({rows})")
+    marked = [r.text for r in d.find_elements(By.CSS_SELECTOR, "#holdout-errors tbody tr")
+              if "(reads Tco past its fault's onset)" in r.text]
+    check(len(marked) == len(report["holdout_errors"]["runs"]) + 1,
+          f"every held-out run and the total read Tco past its onset ({len(marked)} marked)")
+    analysis_details(d, report, "analysis-fault-holdout")
+    d.execute_script("document.getElementById('sensor-faults').scrollIntoView()")
+    shot(d, "analysis-sensor-fault")
 
 
 def forms(d, s, work):
@@ -703,6 +726,7 @@ def main():
         with_tokens(d, servers[1])
         empty_states(d, servers[2])
         analysis_with_effect(d, servers[3])
+        analysis_with_fault(d, servers[3])
     finally:
         d.quit()
         headless_chromium.stop()

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <random>
 
 #include "core/time_units.h"
@@ -259,6 +260,44 @@ Rates Study(Family family, int seeds, std::optional<InjectedFaultKind> kind,
       kind ? InjectedFaultKindName(*kind) : "clean", r.machines, r.named, r.kind_right,
       r.onset_right, r.alarms);
   return r;
+}
+
+// `thermocomp simulate --fault` corrupts the readings as the virtual
+// machine streams them; the studies corrupt a whole recording. Both must
+// give the machine the same fault: every reading the same to the 0.01 degC
+// logged, and the machine itself (probe points) untouched.
+TEST(SimulatedSensorFault, StreamedAsTheMachineRunsIsTheRecordingsOwn) {
+  SimOptions o;
+  o.seed = 3;
+  o.start_ms = kStart;
+  const std::vector<InjectedFault> faults = {
+      {"Tco", InjectedFaultKind::kLostContact, kStart + 3 * kDayMs + 7 * kHourMs, 0, 0, "Tenv", 20,
+       0.5, 1.0},
+      {"Tbed", InjectedFaultKind::kDrift, kStart + 2 * kDayMs, 0.1, 0, "", 20, 0.5, 7.0},
+      {"Tcb", InjectedFaultKind::kStep, kStart + 4 * kDayMs, 0, -1.0, "", 20, 0.5, 7.0}};
+  SimRecording batch = Record(o, 6);
+  const SimRecording clean = batch;
+  for (const auto& f : faults) InjectSensorFault(&batch, f);
+  o.faults = faults;
+  const SimRecording streamed = Record(o, 6);
+  ASSERT_EQ(streamed.samples.size(), batch.samples.size());
+  std::map<std::string, double> largest;  // each sensor's largest change by its fault
+  for (size_t i = 0; i < batch.samples.size(); ++i) {
+    const auto& s = streamed.samples[i];
+    ASSERT_EQ(s.sensor, batch.samples[i].sensor);
+    EXPECT_NEAR(s.value, batch.samples[i].value, 0.0101) << s.sensor << " at " << s.ts_ms;
+    double& l = largest[s.sensor];
+    l = std::max(l, std::fabs(s.value - clean.samples[i].value));
+  }
+  EXPECT_GT(largest["Tco"], 0.5);  // half the air's difference within a day or two
+  EXPECT_NEAR(largest["Tbed"], 0.4, 0.03);
+  EXPECT_NEAR(largest["Tcb"], 1.0, 0.011);
+  EXPECT_EQ(largest["Tsp"], 0.0);
+  ASSERT_EQ(streamed.points.size(), clean.points.size());
+  for (size_t i = 0; i < clean.points.size(); ++i) {
+    EXPECT_EQ(streamed.points[i].axes.at("Y").deviation_mm,
+              clean.points[i].axes.at("Y").deviation_mm);
+  }
 }
 
 TEST(SensorFaultStudy, VirtualMachineCleanHasNoFault) {

@@ -10,6 +10,10 @@
 #include <tuple>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/time_format.h"
+#include "core/time_units.h"
 
 namespace thermocomp {
 namespace {
@@ -26,6 +30,13 @@ std::pair<int, std::string> RunThermocomp(const std::string& args) {
   while (p && fgets(buf, sizeof buf, p)) out += buf;
   const int status = p ? pclose(p) : -1;
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+// The JSON document among a command's output and its log lines.
+nlohmann::json JsonIn(const std::string& out) {
+  const size_t first = out.find('{'), last = out.rfind('}');
+  if (first == std::string::npos || last == std::string::npos) return nullptr;
+  return nlohmann::json::parse(out.substr(first, last - first + 1), nullptr, false);
 }
 
 TEST(CliTest, NonNumericOptionIsAClearError) {
@@ -48,6 +59,51 @@ TEST(CliTest, AHiddenEffectNamesAKnownEffectAndAMachine) {
   EXPECT_EQ(code, 1);
   EXPECT_NE(out.find("--hidden: unknown effect 'leg'"), std::string::npos) << out;
   EXPECT_FALSE(std::filesystem::exists("/tmp/thermocomp-cli-never.db"));
+}
+
+TEST(CliTest, ASensorFaultNamesAKindAKnownSensorAndAMachine) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"Tco", "is not KIND:SENSOR[@MACHINE]"},
+      {"leak:Tco", "unknown kind 'leak'"},
+      {"drift:Tfoo", "unknown sensor 'Tfoo'"},
+      {"lost_contact:Tenv", "Tenv is the shop air a loose sensor reads"},
+      {"step:Tco@", "names no machine after '@'"},
+      {"drift@m1:Tco", "is not KIND:SENSOR[@MACHINE]"}};
+  for (const auto& [fault, said] : cases) {
+    auto [code, out] =
+        RunThermocomp(std::string("simulate --db /tmp/thermocomp-cli-never.db --fault ") + fault);
+    EXPECT_EQ(code, 1) << fault;
+    EXPECT_NE(out.find(said), std::string::npos) << out;
+  }
+  EXPECT_FALSE(std::filesystem::exists("/tmp/thermocomp-cli-never.db"));
+}
+
+// A fault given to `simulate` is in the readings the database keeps: the
+// analysis names the sensor, its kind and its onset, two thirds in.
+TEST(CliTest, ASimulatedSensorFaultIsNamedByTheAnalysis) {
+  const std::string dir = "/tmp/thermocomp-cli-fault-" + std::to_string(getpid());
+  const std::string db = dir + "/t.db";
+  // Midnight UTC 12 days before today (read on both sides of the command,
+  // which may straddle a midnight), then 8 days in.
+  const auto onset = [] { return FormatRfc3339((NowUnixMs() / kDayMs - 12 + 8) * kDayMs); };
+  const std::string onset_before = onset();
+  ASSERT_EQ(RunThermocomp("simulate --db " + db +
+                          " --create --machines m1,m2 --days 12 --fault step:Tco@m2")
+                .first,
+            0);
+  auto [code, out] = RunThermocomp("analyze --db " + db + " --machine m2 --axis Y --format json");
+  ASSERT_EQ(code, 0) << out;
+  const auto report = JsonIn(out);
+  ASSERT_EQ(report["sensor_faults"].size(), 1u) << out;
+  EXPECT_EQ(report["sensor_faults"][0]["sensor"], "Tco");
+  EXPECT_EQ(report["sensor_faults"][0]["kind"], "step");
+  const std::string found = report["sensor_faults"][0]["onset"];
+  EXPECT_TRUE(found == onset_before || found == onset()) << found;
+  std::tie(code, out) =
+      RunThermocomp("analyze --db " + db + " --machine m1 --axis Y --format json");
+  ASSERT_EQ(code, 0) << out;
+  EXPECT_TRUE(JsonIn(out)["sensor_faults"].empty()) << out;
+  std::filesystem::remove_all(dir);
 }
 
 TEST(CliTest, UnknownCommandIsAUsageError) {
