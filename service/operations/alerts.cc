@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "core/time_format.h"
+#include "reports/analysis_report_codec.h"
 
 namespace thermocomp {
 namespace {
@@ -49,6 +50,54 @@ FirstSeen& Ledger() {
   return ledger;
 }
 
+// The sensor faults an analysis names, read from its report once per
+// archive and analysis: a report is tens of kB, and the alerts are
+// evaluated every 30 s. Kept for the newest analyses only.
+class FaultsOfAnalyses {
+ public:
+  std::vector<SensorFault> Get(const std::string& archive, Session& session, int64_t axis_id,
+                               int64_t analysis_id) {
+    const auto key = std::make_pair(archive, analysis_id);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (auto it = faults_.find(key); it != faults_.end()) return it->second;
+    }
+    std::vector<SensorFault> faults;
+    if (auto record = session.analyses().Get(axis_id, analysis_id)) {
+      const auto j = nlohmann::json::parse(record->report_json, nullptr, false);
+      if (j.is_object()) {
+        if (auto report = AnalysisReportFromJson(j); report.ok()) faults = report->sensor_faults;
+      }
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (faults_.size() >= kKept) faults_.clear();
+    faults_[key] = faults;
+    return faults;
+  }
+
+ private:
+  static constexpr size_t kKept = 4096;  // axes' newest analyses, over all archives
+  std::mutex mutex_;
+  std::map<std::pair<std::string, int64_t>, std::vector<SensorFault>> faults_;
+};
+
+FaultsOfAnalyses& AnalysisFaults() {
+  static FaultsOfAnalyses faults;
+  return faults;
+}
+
+std::string SensorsToCheckDetail(const MachineWatch::SensorsToCheck& s) {
+  std::string out;
+  for (const SensorFault& f : s.faults) {
+    char size[32];
+    std::snprintf(size, sizeof size, "%+.2f °C", f.size_c);
+    out += (out.empty() ? "" : "; ") + f.sensor + ": " + f.kind + " since " +
+           FormatRfc3339(f.onset_ms) + " (" + size + ")";
+  }
+  return out + ", named by effect analysis #" + std::to_string(s.analysis_id) +
+         ": check the sensor";
+}
+
 }  // namespace
 
 std::string ImplausibleInput(const std::string& reason) {
@@ -78,6 +127,13 @@ std::vector<MachineWatch> ReadWatch(App& app) {
         w.sensors.emplace_back(s.name, last);
       }
       if (auto datum = session->probes().LatestDatum(m.id)) w.last_datum_ms = datum->ts_ms;
+      for (const AxisRecord& axis : m.axes) {
+        const auto newest = session->analyses().List(axis.id, 1);
+        if (newest.empty()) continue;
+        auto faults =
+            AnalysisFaults().Get(app.storage().location(), *session, axis.id, newest.front().id);
+        if (!faults.empty()) w.sensors_to_check.push_back({axis.name, newest.front().id, faults});
+      }
       for (const CheckRequestRecord& r : session->checks().Requests(m.id)) {
         if (r.done_ms || now <= r.due_ms) continue;
         ++w.checks_overdue;
@@ -116,6 +172,11 @@ std::vector<Alert> EvaluateAlerts(App& app, const std::vector<MachineWatch>& wat
                      std::to_string(w.checks_overdue) +
                          " column-check request(s) past their due time, the oldest due " +
                          FormatRfc3339(w.oldest_overdue_due_ms.value_or(now))});
+    }
+    for (const auto& s : w.sensors_to_check) {
+      int64_t since = s.faults.front().onset_ms;
+      for (const SensorFault& f : s.faults) since = std::min(since, f.onset_ms);
+      out.push_back({kAlertSensorToCheck, w.name, s.axis, since, SensorsToCheckDetail(s)});
     }
     for (const AxisOutcomeSummary& o : w.outcome) {
       const ModelHealth& h = o.health.judged;

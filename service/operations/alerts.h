@@ -1,9 +1,10 @@
 // Alerts: the conditions an operator is told about (docs/operations.md,
 // Alerts), evaluated now from what the services already hold: the
 // compensation served, the overview's model health (recent against
-// validated error), the newest sample and datum per machine and the open
-// column-check requests. Bounded work per machine and axis: no raw
-// samples are scanned. ReadWatch gathers the state once; both the alerts
+// validated error), the newest sample and datum per machine, the open
+// column-check requests and the sensor faults each axis' newest effect
+// analysis names. Bounded work per machine and axis: no raw samples are
+// scanned, and an analysis' report is read once. ReadWatch gathers the state once; both the alerts
 // and the /metrics gauges (operator_gauges.h) are derived from it.
 #pragma once
 
@@ -13,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "model/sensor_faults.h"
 #include "reports/outcome_report.h"
 #include "service/app.h"
 
@@ -25,6 +27,7 @@ inline constexpr const char* kAlertCheckOverdue = "column_check_overdue";
 inline constexpr const char* kAlertSensorFailed = "sensor_failed";
 inline constexpr const char* kAlertCompensationStale = "compensation_stale";
 inline constexpr const char* kAlertCompensationInvalid = "compensation_invalid";
+inline constexpr const char* kAlertSensorToCheck = "sensor_to_check";
 
 struct Alert {
   std::string kind;
@@ -49,6 +52,14 @@ struct MachineWatch {
   std::vector<std::pair<std::string, std::optional<int64_t>>> sensors;
   std::shared_ptr<const MachineCompensation> compensation;  // null when unavailable
   std::vector<AxisOutcomeSummary> outcome;  // per axis health; may be empty (out of time)
+  // Per axis whose newest effect analysis names declared sensors' faults:
+  // that analysis and the faults (a sensor to check, not a thermal effect).
+  struct SensorsToCheck {
+    std::string axis;
+    int64_t analysis_id = 0;
+    std::vector<SensorFault> faults;
+  };
+  std::vector<SensorsToCheck> sensors_to_check;
 };
 
 // How long one evaluation may spend computing model health (it reads the

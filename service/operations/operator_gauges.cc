@@ -175,8 +175,9 @@ std::string OperatorGauges(App& app) {
   Family active("thermocomp_alerts_active",
                 "Conditions active now per kind (GET /api/v1/alerts lists them).");
   std::map<std::string, int> by_kind;
-  for (const char* k : {kAlertModelGoneBad, kAlertDataStopped, kAlertCheckOverdue,
-                        kAlertSensorFailed, kAlertCompensationStale, kAlertCompensationInvalid}) {
+  for (const char* k :
+       {kAlertModelGoneBad, kAlertDataStopped, kAlertCheckOverdue, kAlertSensorFailed,
+        kAlertCompensationStale, kAlertCompensationInvalid, kAlertSensorToCheck}) {
     by_kind[k] = 0;
   }
   for (const Alert& a : EvaluateAlerts(app, watch)) ++by_kind[a.kind];

@@ -604,6 +604,11 @@ def analysis_with_fault(d, s):
     analysis_details(d, report, "analysis-fault-holdout")
     d.execute_script("document.getElementById('sensor-faults').scrollIntoView()")
     shot(d, "analysis-sensor-fault")
+    # The operator hears of it on the overview: the alert names the sensor.
+    open_page(d, s, "/", "overview-sensor-to-check")
+    alerts = [a.text for a in d.find_elements(By.CSS_SELECTOR, "#alerts li[data-kind=sensor_to_check]")]
+    check(any(a.startswith("sensor to check · f1 axis Y") and "Tco: step since" in a for a in alerts),
+          f"the overview's banner names f1's sensor to check ({alerts})")
 
 
 def forms(d, s, work):

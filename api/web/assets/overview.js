@@ -20,6 +20,7 @@
     model_gone_bad: "model gone bad", data_stopped: "data stopped",
     column_check_overdue: "column check overdue", sensor_failed: "sensor failed",
     compensation_stale: "compensation stale", compensation_invalid: "compensation not valid",
+    sensor_to_check: "sensor to check",
   };
   function renderAlerts(data) {
     const alerts = data.alerts || [];

@@ -4,6 +4,8 @@
 #include "tests/operations/alerts/alerts_fixture.h"  // first: Eigen before httplib.h
 
 #include "core/time_format.h"
+#include "reports/analysis_report_codec.h"
+#include "storage/analysis_store.h"
 
 namespace thermocomp {
 namespace {
@@ -105,6 +107,47 @@ TEST_F(AlertsTest, ColumnCheckOverduePastItsDueTime) {
   ASSERT_EQ(overdue.size(), 1u);
   EXPECT_EQ(overdue[0]["since"], FormatRfc3339(due));
   EXPECT_TRUE(overdue[0]["axis"].is_null());
+}
+
+// A stored effect analysis of m1/Y naming `faults`; returns its id.
+int64_t StoreAnalysis(App& app, int64_t created_ms, const std::vector<SensorFault>& faults) {
+  AnalysisReport report;
+  report.sensor_faults = faults;
+  const std::unique_ptr<Session> session = app.storage().Open();
+  const auto machine = session->machines().Find("m1");
+  const AxisRecord* axis = machine ? machine->FindAxis("Y") : nullptr;
+  if (!axis) return 0;
+  AnalysisRecord record;
+  record.created_ms = created_ms;
+  record.trigger = "manual";
+  record.report_json = AnalysisReportToJson(report).dump();
+  auto id = session->analyses().Insert(axis->id, record);
+  return id.ok() ? *id : 0;
+}
+
+TEST_F(AlertsTest, SensorToCheckWhileTheNewestAnalysisNamesAFault) {
+  Serving();
+  const int64_t onset = clock_.NowMs() - 3 * kDay;
+  const SensorFault step{"T1", "step", onset, 0.97, -0.0097, 40, "T1's reading stepped"};
+  ASSERT_GT(StoreAnalysis(*app_, clock_.NowMs() - 2 * kH, {}), 0);
+  EXPECT_TRUE(AlertsOf("sensor_to_check").empty());
+  const int64_t id = StoreAnalysis(*app_, clock_.NowMs() - kH, {step});
+  ASSERT_GT(id, 0);
+  auto check = AlertsOf("sensor_to_check");
+  ASSERT_EQ(check.size(), 1u) << Get("/api/v1/alerts").dump();
+  EXPECT_EQ(check[0]["machine"], "m1");
+  EXPECT_EQ(check[0]["axis"], "Y");
+  EXPECT_EQ(check[0]["since"], FormatRfc3339(onset));
+  EXPECT_EQ(check[0]["detail"], "T1: step since " + FormatRfc3339(onset) +
+                                    " (+0.97 °C), named by effect analysis #" + std::to_string(id) +
+                                    ": check the sensor");
+  // Served values are not what this is about: the compensation stays valid.
+  EXPECT_TRUE(AlertsOf("sensor_failed").empty());
+  EXPECT_EQ(
+      testing::ParseScrape(Metrics()).at("thermocomp_alerts_active{kind=\"sensor_to_check\"}"), 1);
+  // The sensor mended, the next analysis names nothing: cleared.
+  ASSERT_GT(StoreAnalysis(*app_, clock_.NowMs(), {}), 0);
+  EXPECT_TRUE(AlertsOf("sensor_to_check").empty()) << Get("/api/v1/alerts").dump();
 }
 
 const std::string kReader = "reader-token-0123456789abcdef0123";
