@@ -222,14 +222,16 @@ Onset ScanOnsets(const Design& d, Kind kind, const SensorFaultOptions& o) {
 // day_k) / tau) the column is a_i (1 - E_i), and the sums over E_i and
 // E_i^2 follow from the next row's by one factor each (no exp of a
 // growing day count, which would overflow over a year).
-Onset ScanSettlingContacts(const Design& d, double tau, const SensorFaultOptions& o) {
+// Without `contrast` (a_i = 1): an offset that settles with tau.
+Onset ScanSettlingContacts(const Design& d, double tau, const SensorFaultOptions& o,
+                           bool contrast = true) {
   const int n = static_cast<int>(d.e.size());
   const int p = static_cast<int>(d.q.cols());
   Eigen::VectorXd sq = Eigen::VectorXd::Zero(p), sqe = Eigen::VectorXd::Zero(p);
   double se = 0, see = 0, f0 = 0, fe1 = 0, fe2 = 0;
   Onset best;
   for (int k = n - 1; k >= 0; --k) {
-    const double a = d.contact[k];
+    const double a = contrast ? d.contact[k] : 1.0;
     const double r = k + 1 < n ? std::exp(-(d.day[k + 1] - d.day[k]) / tau) : 0.0;
     sq += a * d.q.row(k).transpose();
     sqe = a * d.q.row(k).transpose() + r * sqe;
@@ -239,7 +241,7 @@ Onset ScanSettlingContacts(const Design& d, double tau, const SensorFaultOptions
     fe1 = a * a + r * fe1;
     fe2 = a * a + r * r * fe2;
     if (!Triable(d, k, o)) continue;
-    Consider(k, se - see, f0 - 2 * fe1 + fe2, (sq - sqe).squaredNorm(), d.lrv, true, &best);
+    Consider(k, se - see, f0 - 2 * fe1 + fe2, (sq - sqe).squaredNorm(), d.lrv, contrast, &best);
   }
   return best;
 }
@@ -394,6 +396,24 @@ std::optional<Finding> SlowFinding(const Hourly& h, const Design& d, int s, bool
     };
     consider(ScanOnsets(d, Kind::kLostContact, o), 0);
     for (double tau : o.contact_settling_days) consider(ScanSettlingContacts(d, tau, o), tau);
+    // A loose sensor whose contrast to the air hardly changes (a part the
+    // air barely reaches, warmed by a drive no other sensor sees) moves by
+    // an offset toward the air that settles: the contrast column then
+    // carries the drive's swings, which the reading no longer shows, and
+    // fits worse than the plain settling offset (family A's column base:
+    // drifts begun 3-5 days early had won). Only fast settling: a slow
+    // one borrows an earlier onset, and the ramp covers slow approaches.
+    for (double tau : o.contact_settling_days) {
+      if (tau > o.offset_settling_max_days) continue;
+      const Onset onset = ScanSettlingContacts(d, tau, o, false);
+      if (onset.row < 0) continue;
+      Fit f = FitAt(d, Kind::kDrift, onset.row, o, tau);
+      double toward = 0;
+      for (int i = onset.row; i < d.contact.size(); ++i) toward += d.contact[i];
+      if (!(f.size_c * toward > 0)) continue;  // away from the air: no loose sensor
+      f.kind = Kind::kLostContact;
+      if (std::fabs(f.t) > std::fabs(contact.t)) contact = f;
+    }
     if (std::fabs(contact.t) >= std::fabs(fit.t) + o.contact_margin_t) fit = contact;
   }
   *evidence = std::max(*evidence, std::fabs(fit.t) / o.min_t);

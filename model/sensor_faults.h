@@ -15,7 +15,9 @@
 //    lags (3 h, 12 h) over the whole window, together with one fault
 //    column: a step 1[t >= t0], a drift (t - t0)+ or a lost contact
 //    g(t - t0) (A - T), A the air, its share g a ramp or settling
-//    (1 - exp(-(t - t0) / tau), tau from hours to days). With the thin QR of the regressors the
+//    (1 - exp(-(t - t0) / tau), tau from hours to days), or an offset
+//    toward the air settling so (a loose sensor whose contrast to the air
+//    hardly changes). With the thin QR of the regressors the
 //    gain of every onset t0 (each hour) comes from suffix sums, so all
 //    onsets cost O(rows x regressors).
 //  - The residual is not white: heat the other sensors do not see (a
@@ -62,8 +64,11 @@ struct SensorFaultOptions {
   // these tau (days) are tried besides a share growing without end
   // (a ramp), the best fit taken.
   std::vector<double> contact_settling_days = {0.1, 0.3, 1.0, 3.0};
+  // So is an offset toward the air settling with those up to this many
+  // days: a loose sensor whose contrast to the air hardly changes.
+  double offset_settling_max_days = 1.0;
   // Lost contact is preferred over drift when its t is larger by this.
-  double contact_margin_t = 1.0;
+  double contact_margin_t = 0.5;
   // Step: the raw jump, degC and in robust spreads of the sensor's jumps.
   double step_min_c = 0.12;
   double step_min_spreads = 10.0;
