@@ -41,7 +41,7 @@ std::vector<EffectTerm> GenerateCandidates(const EffectSearchInput& in,
       // A lag shorter than twice the logging interval cannot be told from the reading.
       const double shortest = 2.0 * SampleIntervalMin(in.inputs.sensor_raw[s]);
       for (double tau : opt.tau_grid_min) {
-        if (tau >= shortest) add(EffectTerm::Lag(name, tau));
+        if (tau >= shortest && tau <= opt.max_tau_min) add(EffectTerm::Lag(name, tau));
       }
       EffectTerm rate = EffectTerm::Sensor(name);
       rate.kind = EffectKind::kRate;
@@ -104,11 +104,12 @@ std::vector<EffectTerm> GenerateCandidates(const EffectSearchInput& in,
     sig.kind = EffectKind::kSignal;
     sig.source = in.inputs.signals[s];
     add(sig);
-    const double shortest = s < in.inputs.signal_raw.size() && in.inputs.signal_raw[s].ts_ms.size() > 2
-                                ? 2.0 * SampleIntervalMin(in.inputs.signal_raw[s])
-                                : 0.0;
+    const double shortest =
+        s < in.inputs.signal_raw.size() && in.inputs.signal_raw[s].ts_ms.size() > 2
+            ? 2.0 * SampleIntervalMin(in.inputs.signal_raw[s])
+            : 0.0;
     for (double tau : opt.tau_grid_min) {
-      if (tau < shortest) continue;
+      if (tau < shortest || tau > opt.max_tau_min) continue;
       sig.tau_min = tau;
       add(sig);
     }

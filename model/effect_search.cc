@@ -1261,6 +1261,11 @@ StatusOr<EffectSearchResult> Search::Run() {
   if (Status s = FilterDeclaredSensors(design, fit, r); !s.ok()) return s;
   for (const EffectTerm& t : design.terms) declared_names_.insert(t.Name());
 
+  if (from_ms < to_ms) {
+    opt_.max_tau_min =
+        std::min(opt_.max_tau_min, opt_.max_tau_span_share * static_cast<double>(to_ms - from_ms) /
+                                       static_cast<double>(kMinuteMs));
+  }
   candidates_ = GenerateCandidates(in_, opt_);
   const std::vector<EffectTerm>& candidates = candidates_;
   r.candidates = static_cast<int>(candidates.size());

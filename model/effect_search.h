@@ -70,6 +70,12 @@ struct EffectSearchOptions {
   // interval to max_tau_min.
   std::vector<double> tau_grid_min = {3.75, 7.5, 15, 30, 60, 120, 240, 480, 960, 1920};
   double max_tau_min = 2880;
+  // And at most this share of the training points' span: a lag settles in
+  // about 3 tau, and over a span shorter than that it shows no more than
+  // the sensor and a slow trend do (on two days, 16- and 32-hour lags of
+  // a sensor sharing a heat source were picked on two runs and did not
+  // hold on the third).
+  double max_tau_span_share = 1.0 / 3;
   double alpha = 0.01;    // screening: partial F-test, Bonferroni per round
   double vif_max = 10.0;  // collinearity limit of a new term, as the selection's
   // Over runs (fewer than min_blocks days) the limit is this instead: on
