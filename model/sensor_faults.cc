@@ -396,20 +396,19 @@ std::optional<Finding> SlowFinding(const Hourly& h, const Design& d, int s, bool
     };
     consider(ScanOnsets(d, Kind::kLostContact, o), 0);
     for (double tau : o.contact_settling_days) consider(ScanSettlingContacts(d, tau, o), tau);
-    // A loose sensor whose contrast to the air hardly changes (a part the
-    // air barely reaches, warmed by a drive no other sensor sees) moves by
-    // an offset toward the air that settles: the contrast column then
-    // carries the drive's swings, which the reading no longer shows, and
-    // fits worse than the plain settling offset (family A's column base:
-    // drifts begun 3-5 days early had won). Only fast settling: a slow
-    // one borrows an earlier onset, and the ramp covers slow approaches.
+    // A loose sensor warmed by a heat no other sensor sees (family A's
+    // column base over its Y drive) moves by an offset toward the air that
+    // settles: its contrast to the air carries that heat's swings, which
+    // the residual holds too, so the contrast forms fit worse than a drift
+    // begun days early, and the plain settling offset does not. Only fast
+    // settling: a slow one borrows an earlier onset, and the ramp covers
+    // slow approaches.
     for (double tau : o.contact_settling_days) {
       if (tau > o.offset_settling_max_days) continue;
       const Onset onset = ScanSettlingContacts(d, tau, o, false);
       if (onset.row < 0) continue;
       Fit f = FitAt(d, Kind::kDrift, onset.row, o, tau);
-      double toward = 0;
-      for (int i = onset.row; i < d.contact.size(); ++i) toward += d.contact[i];
+      const double toward = d.contact.tail(d.contact.size() - onset.row).sum();
       if (!(f.size_c * toward > 0)) continue;  // away from the air: no loose sensor
       f.kind = Kind::kLostContact;
       if (std::fabs(f.t) > std::fabs(contact.t)) contact = f;

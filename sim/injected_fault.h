@@ -41,9 +41,9 @@ class StreamedSensorFault {
  public:
   explicit StreamedSensorFault(InjectedFault fault) : fault_(std::move(fault)) {}
 
-  // Corrupts the fault's sensor among one minute's samples, in place.
+  // Corrupts the fault's sensor among one timestamp's samples, in place;
+  // called with the samples in time order.
   void Apply(std::span<TemperatureInput> samples);
-  const InjectedFault& fault() const { return fault_; }
 
  private:
   InjectedFault fault_;

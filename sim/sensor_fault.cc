@@ -3,22 +3,13 @@
 #include <cmath>
 
 #include "core/time_units.h"
-#include "model/term_features.h"
 
 namespace thermocomp {
 namespace {
 
+// A loose sensor sees the air through a first-order lag, which also
+// removes the air sensor's noise.
 constexpr double kLooseSensorTauMin = 30.0;
-
-// The air as a sensor hanging loose in it reads it: the toward-sensor's
-// samples through a first-order lag, which also removes their noise.
-TimeSeries LooseReading(const SimRecording& rec, const std::string& sensor) {
-  TimeSeries raw;
-  for (const auto& s : rec.samples) {
-    if (s.sensor == sensor) raw.Append(s.ts_ms, s.value);
-  }
-  return LagSeries(raw, kLooseSensorTauMin);
-}
 
 // `toward`: the air a loose sensor reads at ts (NaN: not known, no offset).
 double Offset(const InjectedFault& f, int64_t ts, double value, double toward) {
@@ -56,15 +47,14 @@ const char* InjectedFaultKindName(InjectedFaultKind kind) {
 }
 
 void InjectSensorFault(SimRecording* rec, const InjectedFault& fault) {
-  TimeSeries air;
-  if (fault.kind == InjectedFaultKind::kLostContact && !fault.toward_sensor.empty()) {
-    air = LooseReading(*rec, fault.toward_sensor);
-  }
-  for (auto& s : rec->samples) {
-    if (s.sensor != fault.sensor || s.ts_ms < fault.onset_ms) continue;
-    const double toward =
-        fault.toward_sensor.empty() ? fault.toward_c : ValueAt(air, s.ts_ms, 24 * kHourMs);
-    s.value = Corrupted(fault, s.ts_ms, s.value, toward);
+  // As the machine would have streamed it: a timestamp's samples at a time.
+  StreamedSensorFault stream(fault);
+  const std::span<TemperatureInput> all(rec->samples);
+  for (size_t i = 0; i < all.size();) {
+    size_t j = i + 1;
+    while (j < all.size() && all[j].ts_ms == all[i].ts_ms) ++j;
+    stream.Apply(all.subspan(i, j - i));
+    i = j;
   }
 }
 

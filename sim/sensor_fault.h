@@ -12,8 +12,9 @@
 namespace thermocomp {
 
 // Applies the fault to every sample of `fault.sensor` at or after the
-// onset, rounding to the 0.01 degC both simulators log with. No-op for an
-// unknown sensor.
+// onset, rounding to the 0.01 degC both simulators log with, as
+// StreamedSensorFault does while a machine runs (the samples in time
+// order). No-op for an unknown sensor.
 void InjectSensorFault(SimRecording* rec, const InjectedFault& fault);
 
 }  // namespace thermocomp

@@ -4,8 +4,9 @@
 // validated error), the newest sample and datum per machine, the open
 // column-check requests and the sensor faults each axis' newest effect
 // analysis names. Bounded work per machine and axis: no raw samples are
-// scanned, and an analysis' report is read once. ReadWatch gathers the state once; both the alerts
-// and the /metrics gauges (operator_gauges.h) are derived from it.
+// scanned, and an analysis' report is read once. ReadWatch gathers the
+// state once; both the alerts and the /metrics gauges (operator_gauges.h)
+// are derived from it.
 #pragma once
 
 #include <cstdint>
