@@ -126,6 +126,13 @@ Status ParseSensorFaults(const std::string& text, int days, HiddenPlan* plan) {
         return Status::InvalidArgument("--fault: '" + item + "' names no machine after '@'");
       }
     }
+    // One fault per sensor and machine: two would corrupt one reading twice.
+    for (const auto& [other, g] : plan->faults) {
+      if (g.sensor == sensor && (other.empty() || name.empty() || other == name)) {
+        return Status::InvalidArgument("--fault: " + sensor + " fails twice on " +
+                                       (name.empty() ? "every machine" : name));
+      }
+    }
     plan->faults.emplace_back(name, std::move(f));
   }
   return Status::Ok();

@@ -68,7 +68,8 @@ TEST(CliTest, ASensorFaultNamesAKindAKnownSensorAndAMachine) {
       {"drift:Tfoo", "unknown sensor 'Tfoo'"},
       {"lost_contact:Tenv", "Tenv is the shop air a loose sensor reads"},
       {"step:Tco@", "names no machine after '@'"},
-      {"drift@m1:Tco", "is not KIND:SENSOR[@MACHINE]"}};
+      {"drift@m1:Tco", "is not KIND:SENSOR[@MACHINE]"},
+      {"step:Tco,drift:Tco@m1", "Tco fails twice on m1"}};
   for (const auto& [fault, said] : cases) {
     auto [code, out] =
         RunThermocomp(std::string("simulate --db /tmp/thermocomp-cli-never.db --fault ") + fault);
