@@ -109,16 +109,29 @@ Status DesignContext::Prepare(const std::vector<SensorFault>& faults) {
   // max_fault_share of the training points (an early onset is as likely
   // a detector's error as a fault, and would leave too little to learn
   // from; the fault is still reported).
+  // A lost contact that has settled reads a fixed share of the air: from
+  // then on the reading is linear in the structure's temperature and the
+  // air's, which the fault's terms (FaultTerms) read, so runs whose datum
+  // follows its settling are kept when there are enough of them.
   left_out_.assign(faults.size(), 0);
+  accommodated_.assign(faults.size(), false);
   std::vector<bool> applies(faults.size(), false);
+  auto settled = [&](size_t f, int i) {
+    return accommodated_[f] && in_.points[i].datum_ts_ms >= faults[f].settled_ms;
+  };
   for (size_t f = 0; f < faults.size(); ++f) {
     int after = 0, training = 0;
+    std::set<int> settled_runs;
     for (int i = 0; i < total; ++i) {
       if (!usable[i] || in_.holdout[i]) continue;
       ++training;
       after += in_.points[i].ts_ms >= faults[f].onset_ms;
+      if (faults[f].settled_ms > 0 && in_.points[i].datum_ts_ms >= faults[f].settled_ms)
+        settled_runs.insert(in_.run[i]);
     }
     applies[f] = after <= opt_.max_fault_share * training;
+    accommodated_[f] =
+        applies[f] && static_cast<int>(settled_runs.size()) >= opt_.min_runs_per_side;
   }
   for (int i = 0; i < total; ++i) {
     if (!usable[i]) continue;
@@ -126,7 +139,7 @@ Status DesignContext::Prepare(const std::vector<SensorFault>& faults) {
     if (in_.holdout[i]) continue;
     bool faulty = false;
     for (size_t f = 0; f < faults.size(); ++f) {
-      if (applies[f] && in_.points[i].ts_ms >= faults[f].onset_ms) {
+      if (applies[f] && in_.points[i].ts_ms >= faults[f].onset_ms && !settled(f, i)) {
         ++left_out_[f];
         faulty = true;
       }

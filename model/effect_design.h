@@ -92,6 +92,10 @@ class DesignContext {
   const std::vector<std::string>& block_labels() const { return block_labels_; }
   // Training points left out for a sensor fault (Prepare's `faults`), per fault.
   const std::vector<int>& left_out() const { return left_out_; }
+  // Per fault: whether its settled part is kept and read through the
+  // fault's own terms (a settled lost contact with enough training runs
+  // after it; see FaultTerms), instead of left out.
+  const std::vector<bool>& accommodated() const { return accommodated_; }
   // The shortest time constant worth refining a term of `source` to: twice
   // its logging interval (a lag shorter than that cannot be told from it).
   double MinTau(const EffectTerm& t) const;
@@ -208,6 +212,7 @@ class DesignContext {
   std::string block_kind_;
   std::vector<std::string> block_labels_;
   std::vector<int> left_out_;
+  std::vector<bool> accommodated_;
   std::map<std::string, double> interval_min_;  // "t:"/"s:" + sensor/signal: logging interval
   int not_evaluable_ = -1;
 };

@@ -1219,6 +1219,7 @@ StatusOr<EffectSearchResult> Search::Run() {
   if (Status s = d_.Prepare(r.sensor_faults); !s.ok()) return s;
   for (size_t f = 0; f < r.sensor_faults.size(); ++f) {
     r.sensor_faults[f].points_left_out = d_.left_out()[f];
+    r.sensor_faults[f].accommodated = d_.accommodated()[f];
   }
   r.block_kind = d_.block_kind();
   r.block_labels = d_.block_labels();
@@ -1245,6 +1246,12 @@ StatusOr<EffectSearchResult> Search::Run() {
 
   Design design = d_.Empty();
   for (const auto& t : in_.declared) design = d_.With(design, t, true);
+  for (const SensorFault& f : r.sensor_faults) {
+    if (!f.accommodated) continue;
+    for (const EffectTerm& t : FaultTerms(f)) {
+      if (!design.Has(t)) design = d_.With(design, t, true);
+    }
+  }
   LinearFit fit;
   if (Status s = d_.Refit(design, &fit); !s.ok()) return s;
   r.before = fit;

@@ -204,6 +204,14 @@ struct SensorFault {
   double effect_mm = 0;     // what that departure does through the sensor's coefficient
   int points_left_out = 0;  // training points from the onset on
   std::string reason;       // one sentence, for the report
+  // A lost contact whose share of the air settles: when it has settled (0:
+  // it does not, or another kind) and the air it reads a share of (empty:
+  // an offset toward the air, which a datum-relative reading cancels).
+  int64_t settled_ms = 0;
+  std::string air;
+  // Its settled part kept in training and read through its FaultTerms
+  // (model/sensor_faults.h) in the declared model and the extended one.
+  bool accommodated = false;
 };
 
 // A candidate not added, and why.

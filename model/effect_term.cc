@@ -1,7 +1,7 @@
 #include "model/effect_term.h"
 
-#include <chrono>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -217,6 +217,14 @@ std::string EffectTerm::Interpretation(double c, const TermContext& context) con
              ": heat or load the temperature sensors do not see.";
     case EffectKind::kEventSensor: {
       const double base = context.base_coefficient_mm * 1000.0;
+      // A settled lost contact (model/sensor_faults.h, FaultTerms): the
+      // loose reading and the air it partly reads, each weighted anew.
+      if (event_kind == "sensor_fault") {
+        return "Since a sensor's lost contact settled on " + FormatUtcMinute(ref_ms) +
+               ", the model reads " + source + " with " + Signed(base + um) +
+               " um/degC instead of " + Signed(base) +
+               ": the loose sensor reads part of the air; check its mounting.";
+      }
       return "Since the " + event_kind + " on " + FormatUtcMinute(ref_ms) + ", " + source +
              "'s sensitivity is " + Signed(base + um) + " um/degC instead of " + Signed(base) +
              ": the event changed how the machine responds to it.";

@@ -252,6 +252,8 @@ struct Fit {
   double t = 0;       // on the residual with the fault fitted
   double size_c = 0;  // the departure over the newest day
   bool persists = false;
+  double tau_days = 0;   // a settling lost contact's; 0: a ramp (or no contact)
+  bool contrast = true;  // a share of the air's contrast; false: an offset toward it
 };
 
 // The joint fit at one onset: its t on the residual left with the fault
@@ -259,6 +261,7 @@ struct Fit {
 // keeps persist_share of the fitted departure.
 Fit FitAt(const Design& d, Kind kind, int k, const SensorFaultOptions& o, double tau = 0) {
   Fit fit{kind, k};
+  fit.tau_days = tau;
   const Eigen::VectorXd f = FaultColumn(d, kind, k, tau);
   const Eigen::VectorXd r = f - d.q * (d.q.transpose() * f);
   const double rr = r.squaredNorm();
@@ -351,6 +354,8 @@ struct Finding {
   int64_t onset_ms = 0;
   double size_c = 0;
   double score = 0;  // how far past its bar, to take the strongest first
+  double tau_days = 0;
+  bool contrast = true;
 };
 
 int RowAtOrAfter(const Design& d, const Hourly& h, int64_t ts) {
@@ -411,14 +416,20 @@ std::optional<Finding> SlowFinding(const Hourly& h, const Design& d, int s, bool
       const double toward = d.contact.tail(d.contact.size() - onset.row).sum();
       if (!(f.size_c * toward > 0)) continue;  // away from the air: no loose sensor
       f.kind = Kind::kLostContact;
+      f.contrast = false;
       if (std::fabs(f.t) > std::fabs(contact.t)) contact = f;
     }
     if (std::fabs(contact.t) >= std::fabs(fit.t) + o.contact_margin_t) fit = contact;
   }
   *evidence = std::max(*evidence, std::fabs(fit.t) / o.min_t);
   if (std::fabs(fit.t) < o.min_t || !fit.persists) return std::nullopt;
-  return Finding{s, fit.kind, h.from_ms + d.bin[fit.row] * kHourMs, fit.size_c,
-                 std::fabs(fit.t) / o.min_t};
+  return Finding{s,
+                 fit.kind,
+                 h.from_ms + d.bin[fit.row] * kHourMs,
+                 fit.size_c,
+                 std::fabs(fit.t) / o.min_t,
+                 fit.kind == Kind::kLostContact ? fit.tau_days : 0.0,
+                 fit.contrast};
 }
 
 int AirSensor(const TermInputs& in, const SensorFaultOptions& o) {
@@ -503,6 +514,12 @@ Finding Attribute(const TermInputs& in, const Hourly& h, const std::vector<bool>
 
 }  // namespace
 
+std::vector<EffectTerm> FaultTerms(const SensorFault& fault) {
+  if (fault.kind != "lost_contact" || fault.settled_ms <= 0 || fault.air.empty()) return {};
+  return {EffectTerm::SensitivityChange(fault.sensor, fault.settled_ms, "sensor_fault"),
+          EffectTerm::SensitivityChange(fault.air, fault.settled_ms, "sensor_fault")};
+}
+
 std::vector<SensorFault> FindSensorFaults(const TermInputs& inputs,
                                           const std::vector<std::string>& declared, int64_t from_ms,
                                           int64_t to_ms, const SensorFaultOptions& options) {
@@ -524,6 +541,11 @@ std::vector<SensorFault> FindSensorFaults(const TermInputs& inputs,
     f.onset_ms = best.onset_ms;
     f.size_c = best.size_c;
     f.reason = Reason(inputs, best, air);
+    if (best.kind == Kind::kLostContact && best.tau_days > 0) {
+      f.settled_ms =
+          best.onset_ms + static_cast<int64_t>(options.settled_taus * best.tau_days * 24 * kHourMs);
+      f.air = inputs.sensors[air];
+    }
     faults.push_back(std::move(f));
   }
   return faults;

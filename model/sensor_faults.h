@@ -77,12 +77,24 @@ struct SensorFaultOptions {
   // Every third of the time after the onset keeps this share of the
   // fitted departure.
   double persist_share = 0.5;
+  // A settling lost contact has settled this many of its time constants
+  // after its onset (e^-3: 5 % of its share still to come).
+  double settled_taus = 3.0;
 };
 
 // The faults of the `declared` sensors in `inputs` (their raw series) over
 // [from_ms, to_ms]: sensor, kind, onset, size and reason filled in;
 // effect_mm and points_left_out are the search's to fill. At most one
 // fault per sensor, strongest first.
+// What a model reads a settled lost contact through from its settling on
+// (fault.settled_ms): the loose reading R = T + w (A - T) with w fixed is
+// (1 - w) T + w A, so a model of T reads R and A each with a coefficient of
+// its own from then on: the sensor's and the air's changed sensitivities
+// (EffectKind::kEventSensor, event kind "sensor_fault"). None for an
+// offset toward the air (a datum-relative reading cancels it) or a fault
+// that does not settle.
+std::vector<EffectTerm> FaultTerms(const SensorFault& fault);
+
 std::vector<SensorFault> FindSensorFaults(const TermInputs& inputs,
                                           const std::vector<std::string>& declared, int64_t from_ms,
                                           int64_t to_ms, const SensorFaultOptions& options = {});

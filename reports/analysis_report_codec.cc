@@ -209,7 +209,12 @@ json SensorFaultToJson(const SensorFault& f) {
           {"size_c", FiniteOrNull(f.size_c)},
           {"effect_mm", FiniteOrNull(f.effect_mm)},
           {"points_left_out", f.points_left_out},
-          {"reason", f.reason}};
+          {"reason", f.reason},
+          // A settled lost contact: when it settled, the air it reads a
+          // share of, and whether the models read it through its terms.
+          {"settled", f.settled_ms > 0 ? json(FormatRfc3339(f.settled_ms)) : json(nullptr)},
+          {"air", f.air.empty() ? json(nullptr) : json(f.air)},
+          {"accommodated", f.accommodated}};
 }
 
 SensorFault SensorFaultFromJson(const json& j) {
@@ -221,6 +226,11 @@ SensorFault SensorFaultFromJson(const json& j) {
   f.effect_mm = NumberOr(j, "effect_mm");
   f.points_left_out = ValueOr<int>(j, "points_left_out", 0);
   f.reason = ValueOr<std::string>(j, "reason", "");
+  if (const auto settled = j.find("settled"); settled != j.end() && settled->is_string())
+    f.settled_ms = ParseRfc3339(settled->get<std::string>()).value_or(0);
+  if (const auto air = j.find("air"); air != j.end() && air->is_string())
+    f.air = air->get<std::string>();
+  f.accommodated = ValueOr<bool>(j, "accommodated", false);
   return f;
 }
 

@@ -195,8 +195,8 @@ std::string SensorsMarkdown(const AnalysisReport& r, const PlantTime& time) {
       "## Sensors to check\n\nThese declared sensors read differently from their neighbours "
       "from the onset on: a sensor to check, not a thermal effect. Their readings from the "
       "onset on were left out of the search (unless that would have taken too large a share "
-      "of the training points: points left out 0); a held-out run that reads them past the "
-      "onset is marked.\n\n"
+      "of the training points: points left out 0; or, for a lost contact, once it has "
+      "settled: below); a held-out run that reads them past the onset is marked.\n\n"
       "| sensor | kind | since | departure °C | drift it caused µm | points left out | why |\n"
       "|---|---|---|---|---|---|---|\n";
   for (const auto& f : r.sensor_faults) {
@@ -206,7 +206,23 @@ std::string SensorsMarkdown(const AnalysisReport& r, const PlantTime& time) {
           Fixed(f.size_c, "%+.2f") + " | " + Um(f.effect_mm) + " | " +
           std::to_string(f.points_left_out) + " | " + Text(Readable(f.reason)) + " |\n";
   }
-  return md + "\n";
+  md += "\n";
+  for (const auto& f : r.sensor_faults) {
+    if (!f.accommodated) continue;
+    md += "Its contact lost, " + Code(f.sensor) + " reads a fixed share of the air (" +
+          Code(f.air) + ") once the loss has settled (" + time.Format(f.settled_ms) +
+          "): the runs from then on are kept, fitted with " + Code(f.sensor) + " and " +
+          Code(f.air) + " each read with a coefficient of its own (the terms " +
+          Code("change(" + f.sensor + ",sensor_fault …)") + " and " +
+          Code("change(" + f.air + ",sensor_fault …)") +
+          "), and the extended model serves them so; on the held-out runs the declared model "
+          "reads " +
+          Code(f.sensor) +
+          " as if it were sound. Once the sensor is mounted again, "
+          "serve the model version from before the fault (activate it) until an analysis of "
+          "the days since is done.\n\n";
+  }
+  return md;
 }
 
 std::string ErrorsMarkdown(const AnalysisReport& r) {

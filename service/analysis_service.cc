@@ -123,10 +123,16 @@ StatusOr<AnalysisReport> AnalysisService::Analyze(const std::string& machine_nam
   AnalysisContext context{machine_name, axis_name, req.trigger, clock_.NowMs(), inputs, *holdout};
   AnalysisReport report = BuildAnalysisReport(*result, context, data.runs);
 
-  // The extended model, when there is one and the policy wants it stored.
+  // The extended model, when there is one and the policy wants it stored:
+  // effects added, or a loose sensor read through terms of its own (the
+  // declared model reads it as if it were sound).
   std::optional<ModelRecord> model_record;
   nlohmann::json model_report;
-  if (!result->effects.empty() && policy != "off") {
+  std::string accommodated;
+  for (const auto& f : result->sensor_faults) {
+    if (f.accommodated) accommodated += (accommodated.empty() ? "" : ", ") + f.sensor;
+  }
+  if ((!result->effects.empty() || !accommodated.empty()) && policy != "off") {
     std::vector<std::string> names;
     for (const auto& t : result->terms) names.push_back(t.Name());
     DriftModel model = DriftModel::FromFit(result->after, result->after_x, names, clamp_mm);
@@ -168,6 +174,9 @@ StatusOr<AnalysisReport> AnalysisService::Analyze(const std::string& machine_nam
           buf, sizeof buf, "effect analysis added %zu effect(s); held-out RMSE %.4f -> %.4f mm",
           result->effects.size(), result->holdout_rmse_before_mm, result->holdout_rmse_after_mm);
       reason = buf;
+      if (!accommodated.empty())
+        reason +=
+            "; reads the settled lost contact of " + accommodated + " through terms of its own";
     }
     model_record =
         ModelRecord{0, status, reason, context.created_ms, JsonText(DriftModelToJson(model)), ""};

@@ -476,12 +476,13 @@ def with_tokens(d, s):
 def make_hidden_lag(dir):
     """A machine whose drift has an effect its declared model lacks, analysed
     with policy propose: an analysis with an effect and a candidate version.
-    Beside it f1, whose declared coolant sensor steps +1 degC two thirds in."""
+    Beside it f1, whose declared coolant sensor steps +1 degC two thirds in,
+    and l1, whose coolant sensor comes loose then (half the air within a day)."""
     db = os.path.join(dir, "hidden.db")
-    subprocess.run([BIN, "simulate", "--db", db, "--create", "--machines", "h1,f1", "--days", "20",
-                    "--hidden", "lag@h1", "--fault", "step:Tco@f1"], check=True,
+    subprocess.run([BIN, "simulate", "--db", db, "--create", "--machines", "h1,f1,l1", "--days", "20",
+                    "--hidden", "lag@h1", "--fault", "step:Tco@f1,lost_contact:Tco@l1"], check=True,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    for machine, policy in (("h1", "propose"), ("f1", "off")):
+    for machine, policy in (("h1", "propose"), ("f1", "off"), ("l1", "propose")):
         subprocess.run([BIN, "analyze", "--db", db, "--machine", machine, "--axis", "Y", "--policy", policy,
                         "--format", "json"], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     return db
@@ -716,6 +717,30 @@ def empty_states(d, s):
     check(bool(d.find_elements(By.ID, "empty")), "the comparison of an empty line says there is nothing to compare")
 
 
+def analysis_with_loose_sensor(d, s):
+    """A loose sensor read through terms of its own once settled: listed to
+    check, the page says from when and through what, and the extended model
+    was stored for it though no effect was added."""
+    analyses = s.api("/machines/l1/axes/Y/analysis")["analyses"]
+    check(len(analyses) >= 1, f"the machine with a loose sensor was analysed ({len(analyses)})")
+    report = s.api(f"/machines/l1/axes/Y/analysis/{analyses[0]['id']}")
+    faults = report.get("sensor_faults") or []
+    check([(f["sensor"], f["kind"], f.get("accommodated"), f.get("air")) for f in faults] ==
+          [("Tco", "lost_contact", True, "Tenv")], f"Tco's lost contact is read through its terms ({faults})")
+    check(report.get("model") is not None and "through terms of its own" in report["model"]["reason"],
+          f"a model version was stored for it ({report.get('model')})")
+    check(report["rmse_after_mm"] < report["rmse_before_mm"],
+          f"held out better than the declared model reading Tco as sound ({report['rmse_before_mm']} -> {report['rmse_after_mm']})")
+    open_page(d, s, f"/ui/machines/l1/axes/Y/analysis/{analyses[0]['id']}", "analysis-loose-sensor")
+    rows = [r.text for r in d.find_elements(By.CSS_SELECTOR, "#sensor-faults tbody tr")]
+    check(len(rows) == 1 and rows[0].startswith("Tco") and "lost contact" in rows[0], f"Tco is listed to check ({rows})")
+    said = [p.text for p in d.find_elements(By.CSS_SELECTOR, "p.accommodated")]
+    check(len(said) == 1 and said[0].startswith("Its contact lost, Tco reads a fixed share of the air (Tenv)")
+          and "activate it" in said[0], f"the page says how the loose sensor is read ({said})")
+    d.execute_script("document.getElementById('sensor-faults').scrollIntoView()")
+    shot(d, "analysis-loose-sensor")
+
+
 def main():
     work = tempfile.mkdtemp(prefix="tc-pages-")
     db = make_demo(work)
@@ -732,6 +757,7 @@ def main():
         empty_states(d, servers[2])
         analysis_with_effect(d, servers[3])
         analysis_with_fault(d, servers[3])
+        analysis_with_loose_sensor(d, servers[3])
     finally:
         d.quit()
         headless_chromium.stop()

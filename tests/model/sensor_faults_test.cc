@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -13,6 +14,7 @@
 #include <random>
 
 #include "core/time_units.h"
+#include "model/block_validation.h"
 #include "sim/column_machine.h"
 #include "sim/search_scoring.h"
 #include "sim/sensor_fault.h"
@@ -413,39 +415,153 @@ TEST(SensorFaultStudy, VirtualMachineSlowFaultsOfDriveWarmedSensorsNameNothingEl
 
 // A loose `sensor` in a study machine of `family` (bench/search_quality's
 // fault_lost_contact): named as a lost contact at its onset (the score's
-// AllNamed), its readings from the onset left out of the fit, nothing
-// added, and every held-out run, which reads it, saying so.
-void ExpectLooseSensorNamedAndNotLearnt(char family, uint64_t seed, const std::string& sensor) {
+// AllNamed), its readings left out of the fit while the loss settles,
+// nothing added as a thermal effect, and every held-out run, which reads
+// it, saying so. Once settled, the sensor reads a fixed share of the air:
+// both it and the air are read with coefficients of their own from then
+// on (FaultTerms), and the held-out error falls below `max_floor_ratio`
+// of the noise floor (it was 3.3 and 9.8 times the floor while every
+// reading from the onset on was left out and the models read the loose
+// sensor as if it were sound).
+void ExpectLooseSensorNamedAndNotLearnt(char family, uint64_t seed, const std::string& sensor,
+                                        const std::string& air, double max_floor_ratio) {
   auto s = SearchStudyMachine(family, "fault_lost_contact", seed);
   ASSERT_TRUE(s.ok()) << s.status().message();
   EXPECT_TRUE(s->score.AllNamed());
   for (const auto& e : s->result.effects) ADD_FAILURE() << "added " << e.term.Name();
   ASSERT_EQ(s->result.sensor_faults.size(), 1u);
-  EXPECT_EQ(s->result.sensor_faults[0].sensor, sensor);
-  EXPECT_EQ(s->result.sensor_faults[0].kind, "lost_contact");
-  EXPECT_GT(s->result.sensor_faults[0].points_left_out, 0);
+  const SensorFault& f = s->result.sensor_faults[0];
+  EXPECT_EQ(f.sensor, sensor);
+  EXPECT_EQ(f.kind, "lost_contact");
+  EXPECT_GT(f.points_left_out, 0);
   ASSERT_FALSE(s->result.holdout_runs.empty());
   for (const auto& run : s->result.holdout_runs) {
     EXPECT_EQ(run.faulty_sensors, std::vector<std::string>{sensor});
   }
   EXPECT_EQ(s->result.holdout_total.faulty_sensors, std::vector<std::string>{sensor});
+  EXPECT_TRUE(f.accommodated);
+  EXPECT_EQ(f.air, air);
+  EXPECT_GT(f.settled_ms, f.onset_ms);
+  for (const EffectTerm& t : FaultTerms(f)) {
+    EXPECT_NE(std::find(s->result.terms.begin(), s->result.terms.end(), t), s->result.terms.end())
+        << t.Name();
+  }
+  EXPECT_EQ(FaultTerms(f).size(), 2u);
+  EXPECT_LT(s->score.FloorRatio(), max_floor_ratio);
 }
 
 // The column machine's Tcol_top comes loose on day 14 of 24 and reads
 // half the air within about a day. The fault was named 19-31 h early or as
 // a drift, its readings stayed in the fit, and the column base's terms
 // learned it as false thermal effects (a ramp was the only contact form;
-// docs/model.md §9).
+// docs/model.md §9). Held out: 8.72 um, now 1.93 (floor 0.89).
 TEST(EffectSearchFaults, ALooseSensorIsNamedAndNothingLearnsIt) {
-  ExpectLooseSensorNamedAndNotLearnt('B', 1, "Tcol_top");
+  ExpectLooseSensorNamedAndNotLearnt('B', 1, "Tcol_top", "Tair", 2.5);
 }
 
 // Family A's column base, warmed by a Y drive no other sensor sees, comes
 // loose on day 18 of 30. It was called a drift begun 3-5 days early, its
 // readings left in the fit (a drift that early would have taken too many
-// training points).
+// training points). Held out: 3.94 um, now 1.47 (floor 1.21).
 TEST(EffectSearchFaults, ALooseSensorWithAHeatOfItsOwnIsNamedAtItsOnset) {
-  ExpectLooseSensorNamedAndNotLearnt('A', 5, "Tcb");
+  ExpectLooseSensorNamedAndNotLearnt('A', 5, "Tcb", "Tenv", 1.3);
+}
+
+// Hand-built: HandBuilt's B, the declared sensor (8 um/degC), comes loose
+// on day 18 and settles to half the air within about a day (Loose). Runs
+// of 3 h every 4 h, a probe point every 10 min with 0.3 um of noise. The
+// held-out day reads the loose B: the declared model reading it as if it
+// were sound misses by several um; the search reads the settled B and the
+// air with coefficients of their own and predicts the day to within the
+// probe's noise and the loose reading's.
+TEST(EffectSearchFaults, ASettledLostContactIsReadThroughTermsOfItsOwn) {
+  const int64_t onset = kStart + 18 * kDayMs + 5 * kHourMs;
+  const auto none = [](int64_t, double) { return 0.0; };
+  const TermInputs sound = HandBuilt(30, 6, none);
+  EffectSearchInput in;
+  in.axis = "Y";
+  in.inputs = HandBuilt(30, 6, Loose(onset, 0.7));  // the same noise, B loose
+  in.inputs.sensor_alpha = {1.0, 1.0, 1.0, 1.0};
+  in.declared = {EffectTerm::Sensor("B")};
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> probe(0.0, 0.0003);
+  std::vector<int64_t> ts;
+  std::vector<double> loose_sq;  // the declared model reading the loose B, per point
+  for (int run = 0; run < 30 * 6; ++run) {
+    const size_t datum = static_cast<size_t>(run) * 240;
+    for (size_t m = datum + 10; m <= datum + 180; m += 10) {
+      TermPoint p;
+      p.ts_ms = in.inputs.sensor_raw[0].ts_ms[m];
+      p.datum_ts_ms = in.inputs.sensor_raw[0].ts_ms[datum];
+      for (int k = 0; k < 4; ++k) {
+        p.temperature.push_back(in.inputs.sensor_raw[k].value[m]);
+        p.datum_temperature.push_back(in.inputs.sensor_raw[k].value[datum]);
+      }
+      const double truth =
+          0.008 * (sound.sensor_raw[2].value[m] - sound.sensor_raw[2].value[datum]);
+      in.drift_mm.push_back(truth + probe(rng));
+      const double read = 0.008 * (p.temperature[2] - p.datum_temperature[2]);
+      loose_sq.push_back((read - truth) * (read - truth));
+      in.points.push_back(std::move(p));
+      in.run.push_back(run);
+      ts.push_back(in.points.back().ts_ms);
+    }
+  }
+  in.holdout = NewestRunsHeldOut(in.run, ts, 40, 1.0);
+  double loose_sse = 0;
+  int held_out = 0;
+  for (size_t i = 0; i < in.holdout.size(); ++i) {
+    if (!in.holdout[i]) continue;
+    loose_sse += loose_sq[i];
+    ++held_out;
+  }
+  ASSERT_GT(held_out, 0);
+  const double loose_rmse_um = 1e3 * std::sqrt(loose_sse / held_out);
+  auto r = SearchEffects(in, EffectSearchOptions{});
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  ASSERT_EQ(r->sensor_faults.size(), 1u);
+  const SensorFault& f = r->sensor_faults[0];
+  EXPECT_EQ(f.sensor, "B");
+  EXPECT_EQ(f.kind, "lost_contact");
+  EXPECT_TRUE(f.accommodated);
+  EXPECT_EQ(f.air, "Tair");
+  EXPECT_GT(f.settled_ms, onset);
+  EXPECT_LT(f.settled_ms, onset + 4 * kDayMs);
+  for (const auto& e : r->effects) ADD_FAILURE() << "added " << e.term.Name();
+  const double after_um = 1e3 * r->holdout_total.rmse_after_mm;
+  std::printf("held out: loose B read as sound %.2f um, through its terms %.2f um\n", loose_rmse_um,
+              after_um);
+  EXPECT_GT(loose_rmse_um, 2.0);
+  EXPECT_LT(after_um, 0.6);
+}
+
+// A fault that is no settled lost contact is read through no terms: a
+// drift, a step, a lost contact still growing (a ramp), or one without an
+// air sensor.
+TEST(EffectSearchFaults, OnlyASettledLostContactHasTermsOfItsOwn) {
+  SensorFault f;
+  f.sensor = "Tco";
+  f.kind = "lost_contact";
+  f.onset_ms = 1000;
+  f.settled_ms = 2000;
+  f.air = "Tenv";
+  const auto terms = FaultTerms(f);
+  ASSERT_EQ(terms.size(), 2u);
+  EXPECT_EQ(terms[0].Name(), "change(Tco,sensor_fault 1970-01-01T00:00Z)");
+  EXPECT_EQ(terms[1].Name(), "change(Tenv,sensor_fault 1970-01-01T00:00Z)");
+  EXPECT_EQ(terms[0].kind, EffectKind::kEventSensor);
+  EXPECT_EQ(terms[0].ref_ms, 2000);
+  for (const char* kind : {"drift", "step"}) {
+    SensorFault other = f;
+    other.kind = kind;
+    EXPECT_TRUE(FaultTerms(other).empty()) << kind;
+  }
+  SensorFault ramp = f;
+  ramp.settled_ms = 0;
+  EXPECT_TRUE(FaultTerms(ramp).empty());
+  SensorFault no_air = f;
+  no_air.air.clear();
+  EXPECT_TRUE(FaultTerms(no_air).empty());
 }
 
 }  // namespace

@@ -115,7 +115,8 @@ AnalysisReport FullReport() {
   held.total = {"", 40, 0.00245, 0.003, 0.0061, 0.0009, 0.0011, 0.0024, {"Tbed"}};
   r.holdout_errors = held;
   r.sensor_faults = {{"Tbed", "lost_contact", *ParseRfc3339("2026-03-08T09:30:00.000Z"), -1.8,
-                      0.0126, 57, "Tbed reads 1.8 degC below Tco and Tcb since 2026-03-08"}};
+                      0.0126, 57, "Tbed reads 1.8 degC below Tco and Tcb since 2026-03-08",
+                      *ParseRfc3339("2026-03-10T09:30:00.000Z"), "Tair", true}};
   r.model = AnalysisModelOutcome{3, "candidate", "effect analysis added 1 effect(s)"};
   return r;
 }
@@ -158,12 +159,19 @@ TEST(AnalysisReportCodec, EverySectionSurvivesJsonBothWays) {
   EXPECT_DOUBLE_EQ(fault["size_c"].get<double>(), -1.8);
   EXPECT_DOUBLE_EQ(fault["effect_mm"].get<double>(), 0.0126);
   EXPECT_EQ(fault["points_left_out"], 57);
+  // A settled lost contact read through terms of its own.
+  EXPECT_EQ(fault["settled"], "2026-03-10T09:30:00.000Z");
+  EXPECT_EQ(fault["air"], "Tair");
+  EXPECT_EQ(fault["accommodated"], true);
   EXPECT_EQ(decoded->effects[0].confidence.won, (std::vector<int>{0, 1, 2}));
   ASSERT_TRUE(decoded->holdout_errors);
   EXPECT_EQ(decoded->holdout_errors->runs[0].run, "run-30");
   EXPECT_EQ(decoded->holdout_errors->runs[1].faulty_sensors, std::vector<std::string>{"Tbed"});
   EXPECT_TRUE(decoded->holdout_errors->total.run.empty());
   EXPECT_EQ(decoded->sensor_faults[0].onset_ms, FullReport().sensor_faults[0].onset_ms);
+  EXPECT_EQ(decoded->sensor_faults[0].settled_ms, FullReport().sensor_faults[0].settled_ms);
+  EXPECT_EQ(decoded->sensor_faults[0].air, "Tair");
+  EXPECT_TRUE(decoded->sensor_faults[0].accommodated);
   EXPECT_EQ(decoded->validation->block_labels, FullReport().validation->block_labels);
   // Why a term left the model, by its name.
   EXPECT_EQ(encoded["superseded_reasons"]["Tbed"],
@@ -186,7 +194,9 @@ TEST(AnalysisReportCodec, TheRenderingsShowEverySectionInMicrometres) {
         "| 1.20 | 6.10 | 2.40 |\n| all held-out runs", "| 1.10 | 6.10 | 2.40 |\n\n",
         "| held-out MAE | 2.45 | 0.90 |", "max \\|error\\| | 6.10 | 2.40 |", "## Sensors to check",
         "| `Tbed` | lost contact | 2026-03-08 09:30:00 UTC | -1.80 | 12.60 | 57 |",
-        "readings from the onset on were left out"}) {
+        "readings from the onset on were left out",
+        "Its contact lost, `Tbed` reads a fixed share of the air (`Tair`) once the loss has "
+        "settled (2026-03-10 09:30:00 UTC)"}) {
     EXPECT_NE(md.find(part), std::string::npos) << part << "\n" << md;
   }
   EXPECT_NE(
@@ -259,7 +269,7 @@ TEST(AnalysisReportBuild, NamesHeldOutRunsAndRunBlocksAsTheArchiveDoes) {
   r.holdout_runs = {{3, 10, 0.001, 0.002, 0.004, 0.0005, 0.0007, 0.001, {}},
                     {4, 20, 0.002, 0.003, 0.005, 0.0006, 0.0008, 0.002, {"Tco"}}};
   r.holdout_total = {-1, 30, 0.00167, 0.00271, 0.005, 0.00057, 0.00077, 0.002, {"Tco"}};
-  r.sensor_faults = {{"Tco", "drift", 1000, 0.9, -0.0045, 12, "Tco drifts from Tcb"}};
+  r.sensor_faults = {{"Tco", "drift", 1000, 0.9, -0.0045, 12, "Tco drifts from Tcb", 0, "", false}};
   const std::vector<std::string> names = {"r-a", "r-b", "r-c", "r-d", "r-e"};
   const AnalysisReport report = BuildAnalysisReport(r, {"m1", "Y", "manual", 0, {}, {}}, names);
   ASSERT_TRUE(report.validation);

@@ -59,13 +59,18 @@
   function sensorFaults(list) {
     return [el("h2", {}, "Sensors to check"),
       el("p", {}, "These declared sensors read differently from their neighbours from the onset on: a sensor to check, not a thermal effect. " +
-        "Their readings from the onset on were left out of the search (unless that would have taken too large a share of the training points: points left out 0); " +
+        "Their readings from the onset on were left out of the search (unless that would have taken too large a share of the training points: points left out 0; or, for a lost contact, once it has settled: below); " +
         "a held-out run that reads them past the onset is marked."),
       TC.table([{ label: "sensor" }, { label: "kind" }, { label: "since" }, { label: "departure °C", num: true },
         { label: "drift it caused µm", num: true }, { label: "points left out", num: true }, { label: "why" }],
       list.map((f) => [el("code", {}, f.sensor), f.kind.replaceAll("_", " "), time(f.onset),
         f.size_c === null ? "–" : (f.size_c > 0 ? "+" : "") + Number(f.size_c).toFixed(2), um(f.effect_mm), String(f.points_left_out), readable(f.reason)]),
-      { id: "sensor-faults" })];
+      { id: "sensor-faults" }),
+      ...list.filter((f) => f.accommodated).map((f) => el("p", { class: "accommodated" }, "Its contact lost, ", el("code", {}, f.sensor),
+        " reads a fixed share of the air (", el("code", {}, f.air), ") once the loss has settled (", time(f.settled),
+        "): the runs from then on are kept, fitted with ", el("code", {}, f.sensor), " and ", el("code", {}, f.air),
+        " each read with a coefficient of its own, and the extended model serves them so; on the held-out runs the declared model reads ",
+        el("code", {}, f.sensor), " as if it were sound. Once the sensor is mounted again, serve the model version from before the fault (activate it) until an analysis of the days since is done."))];
   }
 
   // Horizontal bars: each error measure before (grey) and after (blue), µm.

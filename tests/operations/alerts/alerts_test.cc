@@ -128,7 +128,8 @@ int64_t StoreAnalysis(App& app, int64_t created_ms, const std::vector<SensorFaul
 TEST_F(AlertsTest, SensorToCheckWhileTheNewestAnalysisNamesAFault) {
   Serving();
   const int64_t onset = clock_.NowMs() - 3 * kDay;
-  const SensorFault step{"T1", "step", onset, 0.97, -0.0097, 40, "T1's reading stepped"};
+  const SensorFault step{"T1", "step", onset, 0.97, -0.0097, 40, "T1's reading stepped",
+                         0,    "",     false};
   ASSERT_GT(StoreAnalysis(*app_, clock_.NowMs() - 2 * kH, {}), 0);
   EXPECT_TRUE(AlertsOf("sensor_to_check").empty());
   const int64_t id = StoreAnalysis(*app_, clock_.NowMs() - kH, {step});
