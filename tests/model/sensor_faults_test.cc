@@ -535,6 +535,41 @@ TEST(EffectSearchFaults, ASettledLostContactIsReadThroughTermsOfItsOwn) {
   EXPECT_LT(after_um, 0.6);
 }
 
+// The loose sensor of every family (bench/search_quality's
+// fault_lost_contact, seeds 1-6 of A, B and C). Measured 2026-11-29: read
+// through its terms in 16 of 18, its held-out error 3.95-8.31 um (the
+// declared terms reading the loose sensor) -> 0.97-2.63 um, within 1.3x
+// the floor in 8 of 18 (0 while every reading from the onset on was left
+// out); of the other 2, one is not named and one is named a drift. With
+// settling times of 0.1, 0.3, 1 and 3 days only, three fitted 3 days and
+// settled too late for 3 training runs (13 read, 6 within).
+TEST(EffectSearchFaults, LooseSensorsOfEveryFamilyAreReadThroughTheirTermsOnceSettled) {
+  int read = 0, within = 0, better = 0;
+  std::string report;
+  for (char family : {'A', 'B', 'C'}) {
+    for (uint64_t seed = 1; seed <= 6; ++seed) {
+      auto s = SearchStudyMachine(family, "fault_lost_contact", seed);
+      ASSERT_TRUE(s.ok()) << s.status().message();
+      const auto& faults = s->result.sensor_faults;
+      const bool accommodated = faults.size() == 1 && faults[0].accommodated;
+      read += accommodated;
+      within += s->score.FloorRatio() <= 1.3;
+      better +=
+          accommodated && s->result.holdout_rmse_after_mm < 0.6 * s->result.holdout_rmse_before_mm;
+      char line[160];
+      std::snprintf(line, sizeof line, "%c seed %d: %s, held out %.2f -> %.2f um, floor %.2f\n",
+                    family, static_cast<int>(seed), accommodated ? "read" : "not read",
+                    1e3 * s->result.holdout_rmse_before_mm, 1e3 * s->result.holdout_rmse_after_mm,
+                    1e3 * s->score.noise_floor_mm);
+      report += line;
+    }
+  }
+  std::printf("%s", report.c_str());
+  EXPECT_GE(read, 16) << report;
+  EXPECT_EQ(better, read) << report;
+  EXPECT_GE(within, 8) << report;
+}
+
 // A fault that is no settled lost contact is read through no terms: a
 // drift, a step, a lost contact still growing (a ramp), or one without an
 // air sensor.
