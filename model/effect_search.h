@@ -204,9 +204,8 @@ struct SensorFault {
   double effect_mm = 0;     // what that departure does through the sensor's coefficient
   int points_left_out = 0;  // training points from the onset on
   std::string reason;       // one sentence, for the report
-  // A lost contact whose share of the air settles: when it has settled (0:
-  // it does not, or another kind) and the air it reads a share of (empty:
-  // an offset toward the air, which a datum-relative reading cancels).
+  // A lost contact that settles: when it has settled (0: it does not, or
+  // another kind) and the air sensor it reads a share of (empty: none).
   int64_t settled_ms = 0;
   std::string air;
   // Its settled part kept in training and read through its FaultTerms

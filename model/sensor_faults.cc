@@ -252,8 +252,7 @@ struct Fit {
   double t = 0;       // on the residual with the fault fitted
   double size_c = 0;  // the departure over the newest day
   bool persists = false;
-  double tau_days = 0;   // a settling lost contact's; 0: a ramp (or no contact)
-  bool contrast = true;  // a share of the air's contrast; false: an offset toward it
+  double tau_days = 0;  // a settling lost contact's; 0: a ramp (or no contact)
 };
 
 // The joint fit at one onset: its t on the residual left with the fault
@@ -353,9 +352,8 @@ struct Finding {
   Kind kind = Kind::kDrift;
   int64_t onset_ms = 0;
   double size_c = 0;
-  double score = 0;  // how far past its bar, to take the strongest first
-  double tau_days = 0;
-  bool contrast = true;
+  double score = 0;     // how far past its bar, to take the strongest first
+  double tau_days = 0;  // a lost contact's settling; 0: a ramp, or another kind
 };
 
 int RowAtOrAfter(const Design& d, const Hourly& h, int64_t ts) {
@@ -416,7 +414,6 @@ std::optional<Finding> SlowFinding(const Hourly& h, const Design& d, int s, bool
       const double toward = d.contact.tail(d.contact.size() - onset.row).sum();
       if (!(f.size_c * toward > 0)) continue;  // away from the air: no loose sensor
       f.kind = Kind::kLostContact;
-      f.contrast = false;
       if (std::fabs(f.t) > std::fabs(contact.t)) contact = f;
     }
     if (std::fabs(contact.t) >= std::fabs(fit.t) + o.contact_margin_t) fit = contact;
@@ -428,8 +425,7 @@ std::optional<Finding> SlowFinding(const Hourly& h, const Design& d, int s, bool
                  h.from_ms + d.bin[fit.row] * kHourMs,
                  fit.size_c,
                  std::fabs(fit.t) / o.min_t,
-                 fit.kind == Kind::kLostContact ? fit.tau_days : 0.0,
-                 fit.contrast};
+                 fit.kind == Kind::kLostContact ? fit.tau_days : 0.0};
 }
 
 int AirSensor(const TermInputs& in, const SensorFaultOptions& o) {

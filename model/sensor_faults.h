@@ -86,20 +86,21 @@ struct SensorFaultOptions {
 };
 
 // The faults of the `declared` sensors in `inputs` (their raw series) over
-// [from_ms, to_ms]: sensor, kind, onset, size and reason filled in;
-// effect_mm and points_left_out are the search's to fill. At most one
+// [from_ms, to_ms]: sensor, kind, onset, size, reason and, for a lost
+// contact that settles, settled_ms and air filled in; effect_mm,
+// points_left_out and accommodated are the search's to fill. At most one
 // fault per sensor, strongest first.
+std::vector<SensorFault> FindSensorFaults(const TermInputs& inputs,
+                                          const std::vector<std::string>& declared, int64_t from_ms,
+                                          int64_t to_ms, const SensorFaultOptions& options = {});
+
 // What a model reads a settled lost contact through from its settling on
 // (fault.settled_ms): the loose reading R = T + w (A - T) with w fixed is
 // (1 - w) T + w A, so a model of T reads R and A each with a coefficient of
 // its own from then on: the sensor's and the air's changed sensitivities
-// (EffectKind::kEventSensor, event kind "sensor_fault"). None for an
-// offset toward the air (a datum-relative reading cancels it) or a fault
-// that does not settle.
+// (EffectKind::kEventSensor, event kind "sensor_fault"). None for a fault
+// that does not settle (a step, a drift, a contact fitted as a ramp) or
+// without an air sensor.
 std::vector<EffectTerm> FaultTerms(const SensorFault& fault);
-
-std::vector<SensorFault> FindSensorFaults(const TermInputs& inputs,
-                                          const std::vector<std::string>& declared, int64_t from_ms,
-                                          int64_t to_ms, const SensorFaultOptions& options = {});
 
 }  // namespace thermocomp
