@@ -195,7 +195,9 @@ struct HeldOutError {
 
 // A declared sensor whose reading departs from what its neighbours say
 // from some time on: a fault to check, not a thermal effect. Training
-// points from the onset on are left out of the search.
+// points from the onset on are left out of the search; a lost contact's
+// only until it has settled, when it is read through its own terms
+// (accommodated).
 struct SensorFault {
   std::string sensor;
   std::string kind;  // drift | step | lost_contact

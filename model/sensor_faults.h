@@ -4,7 +4,9 @@
 // between the structure and the air). A model fitted through such a
 // reading learns the fault as if it were the machine; the search reports
 // it as "check this sensor" with its onset, and leaves the readings from
-// the onset on out, instead of inventing a thermal effect for it.
+// the onset on out, instead of inventing a thermal effect for it; once a
+// lost contact has settled, the models read it through terms of its own
+// (FaultTerms).
 //
 // Method, and why. Heat reaches every sensor from a few shared sources
 // (spindle, drives, coolant, air), so a sensor's reading is largely what
