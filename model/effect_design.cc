@@ -618,7 +618,8 @@ void DesignContext::Describe(const Design& final_design, EffectSearchResult& r) 
     if (const TermStats* s = r.before.Find(t.Name())) c.before_mm = s->estimate;
     for (size_t j = 0; j < final_design.terms.size(); ++j) {
       const EffectTerm& u = final_design.terms[j];
-      if (final_design.declared[j] && u.source == t.source) {
+      // A fault's terms read the sensor too, beside it (FaultTerms).
+      if (final_design.declared[j] && u.source == t.source && u.kind != EffectKind::kEventSensor) {
         if (const TermStats* s = r.after.Find(u.Name())) c.after_mm = s->estimate;
       }
     }

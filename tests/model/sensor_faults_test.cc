@@ -543,6 +543,12 @@ TEST(EffectSearchFaults, ASettledLostContactIsReadThroughTermsOfItsOwn) {
   const double after_um = 1e3 * r->holdout_total.rmse_after_mm;
   std::printf("held out: loose B read as sound %.2f um, through its terms %.2f um\n", loose_rmse_um,
               after_um);
+  // Nothing added: B's coefficient is the same in both models (not the
+  // coefficient of its fault's term, which reads B too).
+  ASSERT_EQ(r->coefficient_changes.size(), 1u);
+  EXPECT_EQ(r->coefficient_changes[0].term, "B");
+  EXPECT_DOUBLE_EQ(r->coefficient_changes[0].after_mm, r->coefficient_changes[0].before_mm);
+  EXPECT_NEAR(r->coefficient_changes[0].before_mm, 0.008, 0.0008);
   EXPECT_GT(loose_rmse_um, 2.0);
   EXPECT_LT(after_um, 0.6);
 }
