@@ -14,7 +14,10 @@
 // Besides the search's result, each case's truth is judged as the search's
 // validation would judge it (sim/search_scoring.h, TrueEffectGain): whether
 // adding the true terms passes the bar at all, and whether it passes the
-// strong rule (>= 30 % of the blocked error, all blocks but one won).
+// strong rule (>= 30 % of the blocked error, all blocks but one won);
+// of the strong truths missed, in how many a single candidate of another
+// kind or source gains as much (BestRivalGain): a proxy the data cannot
+// tell from the truth.
 //
 // THERMOCOMP_RUN_STRONG_GAIN and THERMOCOMP_RUN_STRONG_LOST set the
 // search's rule over runs (EffectSearchOptions::run_strong_gain and
@@ -25,7 +28,9 @@
 // over runs (run_t_checks_choice), THERMOCOMP_VIF_MAX and
 // THERMOCOMP_RUN_VIF_MAX the collinearity limit of a new term (vif_max,
 // and run_vif_max over runs), THERMOCOMP_RUN_BUFFER the neighbours left
-// out beside a run (run_buffer), for a comparison in the same build; the
+// out beside a run (run_buffer), THERMOCOMP_RUN_ORDER_BY_FIT=0 the order
+// of qualified candidates over runs by their blocked error
+// (run_order_by_fit), for a comparison in the same build; the
 // truth is judged by the defaults either way.
 #include <chrono>
 #include <cstdio>
@@ -45,7 +50,7 @@ bool verbose = false;
 
 struct Tally {
   int cases = 0, named = 0, within = 0, extras = 0, machines_with_extras = 0, companions = 0;
-  int detectable = 0, strong = 0, strong_named = 0;
+  int detectable = 0, strong = 0, strong_named = 0, strong_missed_rival = 0;
   void Add(const Tally& t) {
     cases += t.cases;
     named += t.named;
@@ -56,6 +61,7 @@ struct Tally {
     detectable += t.detectable;
     strong += t.strong;
     strong_named += t.strong_named;
+    strong_missed_rival += t.strong_missed_rival;
   }
 };
 
@@ -76,6 +82,8 @@ EffectSearchOptions SearchOptions() {
   if (const char* b = std::getenv("THERMOCOMP_RUN_BUFFER")) o.run_buffer = std::atoi(b);
   if (const char* check = std::getenv("THERMOCOMP_RUN_T_CHECKS_CHOICE"))
     o.run_t_checks_choice = std::atoi(check) != 0;
+  if (const char* order = std::getenv("THERMOCOMP_RUN_ORDER_BY_FIT"))
+    o.run_order_by_fit = std::atoi(order) != 0;
   return o;
 }
 
@@ -98,6 +106,7 @@ Tally Run(char family, int days, const std::string& scenario, uint64_t first, in
     t.machines_with_extras += !s.extras.empty();
     t.companions += static_cast<int>(s.companions.size());
     bool strong = false;
+    std::string rival_note;
     if (!study->recording.hidden.empty()) {
       auto g = TrueEffectGain(study->recording, study->input, options);
       if (g.ok()) {
@@ -106,6 +115,15 @@ Tally Run(char family, int days, const std::string& scenario, uint64_t first, in
         t.strong += strong;
         t.strong_named += strong && s.AllNamed();
       }
+      if (strong && !s.AllNamed()) {
+        if (auto r = BestRivalGain(study->recording, study->input, options); r.ok()) {
+          t.strong_missed_rival += r->gain.relative >= g->relative;
+          char buf[160];
+          std::snprintf(buf, sizeof buf, " best rival %s gains %.0f %% (the truth %.0f %%);",
+                        r->term.Name().c_str(), 100 * r->gain.relative, 100 * g->relative);
+          rival_note = buf;
+        }
+      }
     }
     if (verbose && (!s.AllNamed() || !s.extras.empty() || s.FloorRatio() > 1.3)) {
       std::string line = std::string(1, family) + std::to_string(days) + " " +
@@ -113,6 +131,7 @@ Tally Run(char family, int days, const std::string& scenario, uint64_t first, in
                          std::to_string(seed) + (strong ? " (strong)" : "") + ":";
       for (const auto& m : s.missed) line += " missed " + m + ";";
       for (const auto& e : s.extras) line += " extra " + e + ";";
+      line += rival_note;
       for (const auto& e : study->result.effects) line += " [" + e.term.Name() + "]";
       std::fprintf(stderr, "%s held-out %.2f um, floor %.2f um\n", line.c_str(),
                    s.holdout_rmse_mm * 1e3, s.noise_floor_mm * 1e3);
@@ -123,9 +142,9 @@ Tally Run(char family, int days, const std::string& scenario, uint64_t first, in
 
 void Row(const std::string& config, const std::string& scenario, const Tally& t) {
   const double n = t.cases > 0 ? t.cases : 1;
-  std::printf("| %s | %s | %d | %d | %d | %.2f | %d | %.2f | %d | %d | %d |\n", config.c_str(),
+  std::printf("| %s | %s | %d | %d | %d | %.2f | %d | %.2f | %d | %d | %d | %d |\n", config.c_str(),
               scenario.c_str(), t.cases, t.named, t.within, t.extras / n, t.machines_with_extras,
-              t.companions / n, t.detectable, t.strong, t.strong_named);
+              t.companions / n, t.detectable, t.strong, t.strong_named, t.strong_missed_rival);
 }
 
 struct Config {
@@ -188,8 +207,9 @@ int main(int argc, char** argv) {
   std::printf(
       "| config | hidden | machines | all named | held-out <= 1.3x floor | false effects per "
       "machine | machines with a false effect | companions per machine | truth passes the bar | "
-      "truth passes the strong rule | of those, all named |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "truth passes the strong rule | of those, all named | of the others, a rival gains as "
+      "much |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Config& c : configs) {
     const auto t0 = std::chrono::steady_clock::now();
     Tally all;

@@ -126,6 +126,9 @@ struct EffectSearchOptions {
   // Over runs, a gain that reaches the t of min_t also needs the choice,
   // validated as a choice, to gain something in total.
   bool run_t_checks_choice = true;
+  // Over runs, the candidates that qualify are ordered by the fall of the
+  // training error, not by their blocked error (docs/model.md §9).
+  bool run_order_by_fit = true;
   int forward_blocks = 3;     // newest training blocks predicted from the past only
   double equivalent_t = 1.0;  // two explanations closer than this are equivalent
   // A declared sensor's fault leaves the training points from its onset

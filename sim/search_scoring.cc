@@ -1,7 +1,9 @@
 #include "sim/search_scoring.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <random>
 #include <set>
 
@@ -132,47 +134,120 @@ SearchScore ScoreSearch(const SimRecording& rec, const EffectSearchInput& in,
   return s;
 }
 
+namespace {
+
+// The training rows every term of `terms` is known on, blocked as the
+// search blocks them (days, or runs when too few days), with the design
+// of `base` and what one more set of terms gains over it.
+class TruthValidation {
+ public:
+  TruthValidation(const EffectSearchInput& in, const std::vector<EffectTerm>& base,
+                  const std::vector<EffectTerm>& known_for, const EffectSearchOptions& opt)
+      : in_(in), features_(in.inputs, in.points), base_(base) {
+    std::vector<Eigen::VectorXd> columns;
+    for (const auto& t : known_for) columns.push_back(features_.Column(t));
+    for (size_t i = 0; i < in.points.size(); ++i) {
+      if (in.holdout[i]) continue;
+      bool known = true;
+      for (const auto& c : columns) known = known && std::isfinite(c(static_cast<int>(i)));
+      if (known) rows_.push_back(static_cast<int>(i));
+    }
+    std::vector<int64_t> datum_ts, runs;
+    for (int row : rows_) {
+      datum_ts.push_back(in.points[row].datum_ts_ms);
+      runs.push_back(in.run[row]);
+    }
+    block_ = TimeBlocks(datum_ts, kDayMs, &blocks_);
+    if (blocks_ < opt.min_blocks) block_ = TimeBlocks(runs, 1, &blocks_);
+  }
+
+  // What `base` with `more` gains over `base` alone; fails when a term is
+  // unknown on a row or the rows cannot be fitted.
+  StatusOr<PairedGain> Gain(const std::vector<EffectTerm>& more) {
+    const int n = static_cast<int>(rows_.size());
+    if (n < 10) return Status::Unprocessable("too few training rows");
+    if (!before_) {
+      auto x = Matrix(base_);
+      if (!x.ok()) return x.status();
+      auto b = BlockCrossValidate(*x, Y(), block_, blocks_);
+      if (!b.ok()) return b.status();
+      before_ = *b;
+    }
+    std::vector<EffectTerm> with = base_;
+    with.insert(with.end(), more.begin(), more.end());
+    auto x = Matrix(with);
+    if (!x.ok()) return x.status();
+    auto after = BlockCrossValidate(*x, Y(), block_, blocks_);
+    if (!after.ok()) return after.status();
+    return CompareBlocks(*before_, *after);
+  }
+
+ private:
+  Eigen::VectorXd Y() const {
+    Eigen::VectorXd y(static_cast<int>(rows_.size()));
+    for (size_t r = 0; r < rows_.size(); ++r) y(static_cast<int>(r)) = in_.drift_mm[rows_[r]];
+    return y;
+  }
+  StatusOr<Eigen::MatrixXd> Matrix(const std::vector<EffectTerm>& terms) {
+    Eigen::MatrixXd x(static_cast<int>(rows_.size()), static_cast<int>(terms.size()));
+    for (size_t c = 0; c < terms.size(); ++c) {
+      const Eigen::VectorXd column = features_.Column(terms[c]);
+      for (size_t r = 0; r < rows_.size(); ++r) {
+        const double v = column(rows_[r]);
+        if (!std::isfinite(v)) return Status::Unprocessable(terms[c].Name() + " unknown");
+        x(static_cast<int>(r), static_cast<int>(c)) = v;
+      }
+    }
+    return x;
+  }
+
+  const EffectSearchInput& in_;
+  FeatureBuilder features_;
+  std::vector<EffectTerm> base_;
+  std::vector<int> rows_;
+  std::vector<int> block_;
+  int blocks_ = 0;
+  std::optional<BlockErrors> before_;
+};
+
+std::vector<EffectTerm> TrueTerms(const SimRecording& rec) {
+  std::vector<EffectTerm> out;
+  for (const auto& h : rec.hidden) {
+    if (h.fault.empty()) out.push_back(TrueTerm(h));
+  }
+  return out;
+}
+
+}  // namespace
+
 StatusOr<PairedGain> TrueEffectGain(const SimRecording& rec, const EffectSearchInput& in,
                                     const EffectSearchOptions& opt) {
-  std::vector<EffectTerm> base = in.declared;
-  std::vector<EffectTerm> with = base;
-  for (const auto& h : rec.hidden) {
-    if (h.fault.empty()) with.push_back(TrueTerm(h));
+  const std::vector<EffectTerm> truth = TrueTerms(rec);
+  std::vector<EffectTerm> all = in.declared;
+  all.insert(all.end(), truth.begin(), truth.end());
+  TruthValidation v(in, in.declared, all, opt);
+  return v.Gain(truth);
+}
+
+StatusOr<RivalGain> BestRivalGain(const SimRecording& rec, const EffectSearchInput& in,
+                                  const EffectSearchOptions& opt) {
+  const std::vector<EffectTerm> truth = TrueTerms(rec);
+  if (truth.empty()) return Status::Unprocessable("nothing hidden");
+  std::vector<EffectTerm> all = in.declared;
+  all.insert(all.end(), truth.begin(), truth.end());
+  TruthValidation v(in, in.declared, all, opt);
+  std::optional<RivalGain> best;
+  for (const EffectTerm& c : GenerateCandidates(in, opt)) {
+    const bool of_truth = std::any_of(truth.begin(), truth.end(), [&](const EffectTerm& t) {
+      return c.kind == t.kind && c.source == t.source;
+    });
+    if (of_truth) continue;
+    auto g = v.Gain({c});
+    if (!g.ok()) continue;
+    if (!best || g->relative > best->gain.relative) best = RivalGain{c, *g};
   }
-  FeatureBuilder features(in.inputs, in.points);
-  std::vector<Eigen::VectorXd> columns;
-  columns.reserve(with.size());
-  for (const auto& t : with) columns.push_back(features.Column(t));
-  // Training rows every column is known on.
-  std::vector<int> rows;
-  for (size_t i = 0; i < in.points.size(); ++i) {
-    if (in.holdout[i]) continue;
-    bool known = true;
-    for (const auto& c : columns) known = known && std::isfinite(c(static_cast<int>(i)));
-    if (known) rows.push_back(static_cast<int>(i));
-  }
-  const int n = static_cast<int>(rows.size());
-  if (n < 10) return Status::Unprocessable("too few training rows");
-  Eigen::VectorXd y(n);
-  Eigen::MatrixXd x_with(n, static_cast<int>(with.size()));
-  std::vector<int64_t> datum_ts;
-  std::vector<int64_t> runs;
-  for (int r = 0; r < n; ++r) {
-    y(r) = in.drift_mm[rows[r]];
-    for (size_t c = 0; c < with.size(); ++c) x_with(r, static_cast<int>(c)) = columns[c](rows[r]);
-    datum_ts.push_back(in.points[rows[r]].datum_ts_ms);
-    runs.push_back(in.run[rows[r]]);
-  }
-  // Blocks as the search makes them: days, or runs when too few days.
-  int blocks = 0;
-  std::vector<int> block = TimeBlocks(datum_ts, kDayMs, &blocks);
-  if (blocks < opt.min_blocks) block = TimeBlocks(runs, 1, &blocks);
-  const Eigen::MatrixXd x_base = x_with.leftCols(static_cast<int>(base.size()));
-  auto before = BlockCrossValidate(x_base, y, block, blocks);
-  if (!before.ok()) return before.status();
-  auto after = BlockCrossValidate(x_with, y, block, blocks);
-  if (!after.ok()) return after.status();
-  return CompareBlocks(*before, *after);
+  if (!best) return Status::Unprocessable("no rival is known on the truth's rows");
+  return *best;
 }
 
 bool PassesStrongRule(const PairedGain& g, const EffectSearchOptions& opt) {

@@ -60,6 +60,18 @@ SearchScore ScoreSearch(const SimRecording& rec, const EffectSearchInput& input,
 StatusOr<PairedGain> TrueEffectGain(const SimRecording& rec, const EffectSearchInput& input,
                                     const EffectSearchOptions& options);
 
+// The strongest single candidate (GenerateCandidates, on the grid) that
+// is not of a true effect's kind and source, validated as TrueEffectGain
+// validates the truth, on the rows the true terms are known on: when it
+// gains as much as the truth, the data cannot tell the truth from it (a
+// proxy sharing its heat source). Fails when nothing is hidden.
+struct RivalGain {
+  EffectTerm term;
+  PairedGain gain;
+};
+StatusOr<RivalGain> BestRivalGain(const SimRecording& rec, const EffectSearchInput& input,
+                                  const EffectSearchOptions& options);
+
 // Whether a gain passes the search's bar: at least min_gain and t >= min_t,
 // or the strong rule (>= strong_gain, all blocks but strong_lost_blocks won,
 // at least strong_min_blocks blocks).
