@@ -145,6 +145,7 @@ class TruthValidation {
                   const std::vector<EffectTerm>& known_for, const EffectSearchOptions& opt)
       : in_(in), features_(in.inputs, in.points), base_(base) {
     std::vector<Eigen::VectorXd> columns;
+    columns.reserve(known_for.size());
     for (const auto& t : known_for) columns.push_back(features_.Column(t));
     for (size_t i = 0; i < in.points.size(); ++i) {
       if (in.holdout[i]) continue;
