@@ -52,6 +52,10 @@ std::string ShippingBoard::Render() const {
        std::to_string(rows_total.load()));
   Line(out, "thermocomp_shipping_batches_total", "counter", "Batches applied at the centre.",
        std::to_string(batches_total.load()));
+  Line(out, "thermocomp_shipping_passes_total", "counter",
+       "Passes of the shipper over the outbox, counted when done (retries waiting out a pause"
+       " are not passes).",
+       std::to_string(passes_total.load()));
   Line(out, "thermocomp_shipping_failures_total", "counter",
        "Passes that failed (centre unreachable, a batch refused).",
        std::to_string(failures_total.load()));
@@ -152,7 +156,12 @@ Status Shipper::ShipBatch(int64_t* shipped) {
 void Shipper::Pass() {
   const auto now = std::chrono::steady_clock::now();
   if (now < retry_at_) return;
-  const auto until = now + options_.max_pass;
+  ShipWhileFull(now + options_.max_pass);
+  // Counted once done: a pass counted after a row was stored has seen it.
+  board_.passes_total += 1;
+}
+
+void Shipper::ShipWhileFull(std::chrono::steady_clock::time_point until) {
   while (std::chrono::steady_clock::now() < until) {
     int64_t shipped = 0;
     Status s = ShipBatch(&shipped);

@@ -45,6 +45,7 @@ class Shipper {
 
  private:
   void Pass();
+  void ShipWhileFull(std::chrono::steady_clock::time_point until);
 
   Outbox& outbox_;
   Connect connect_;

@@ -19,6 +19,7 @@ struct ShippingBoard {
   std::atomic<uint64_t> rows_total{0};
   std::atomic<uint64_t> batches_total{0};
   std::atomic<uint64_t> failures_total{0};
+  std::atomic<uint64_t> passes_total{0};
 
   void SetError(std::string e) {
     const std::lock_guard<std::mutex> lock(mutex);
