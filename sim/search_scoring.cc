@@ -136,60 +136,53 @@ SearchScore ScoreSearch(const SimRecording& rec, const EffectSearchInput& in,
 
 namespace {
 
-// The training rows every term of `terms` is known on, blocked as the
-// search blocks them (days, or runs when too few days), with the design
-// of `base` and what one more set of terms gains over it.
+// The declared model and the true terms on the training rows they are all
+// known on, blocked as the search blocks them (days, or runs when too few
+// days): what one more set of terms gains over the declared model there.
 class TruthValidation {
  public:
-  TruthValidation(const EffectSearchInput& in, const std::vector<EffectTerm>& base,
-                  const std::vector<EffectTerm>& known_for, const EffectSearchOptions& opt)
-      : in_(in), features_(in.inputs, in.points), base_(base) {
+  TruthValidation(const EffectSearchInput& in, const std::vector<EffectTerm>& truth,
+                  const EffectSearchOptions& opt)
+      : features_(in.inputs, in.points), declared_(in.declared) {
     std::vector<Eigen::VectorXd> columns;
-    columns.reserve(known_for.size());
-    for (const auto& t : known_for) columns.push_back(features_.Column(t));
+    columns.reserve(declared_.size() + truth.size());
+    for (const auto& t : declared_) columns.push_back(features_.Column(t));
+    for (const auto& t : truth) columns.push_back(features_.Column(t));
+    std::vector<int64_t> datum_ts, runs;
+    std::vector<double> y;
     for (size_t i = 0; i < in.points.size(); ++i) {
       if (in.holdout[i]) continue;
       bool known = true;
       for (const auto& c : columns) known = known && std::isfinite(c(static_cast<int>(i)));
-      if (known) rows_.push_back(static_cast<int>(i));
+      if (!known) continue;
+      rows_.push_back(static_cast<int>(i));
+      datum_ts.push_back(in.points[i].datum_ts_ms);
+      runs.push_back(in.run[i]);
+      y.push_back(in.drift_mm[i]);
     }
-    std::vector<int64_t> datum_ts, runs;
-    for (int row : rows_) {
-      datum_ts.push_back(in.points[row].datum_ts_ms);
-      runs.push_back(in.run[row]);
-    }
+    y_ = Eigen::Map<const Eigen::VectorXd>(y.data(), static_cast<int>(y.size()));
     block_ = TimeBlocks(datum_ts, kDayMs, &blocks_);
     if (blocks_ < opt.min_blocks) block_ = TimeBlocks(runs, 1, &blocks_);
   }
 
-  // What `base` with `more` gains over `base` alone; fails when a term is
-  // unknown on a row or the rows cannot be fitted.
+  // What the declared model with `more` gains over it alone; fails when a
+  // term is unknown on a row or the rows cannot be fitted.
   StatusOr<PairedGain> Gain(const std::vector<EffectTerm>& more) {
-    const int n = static_cast<int>(rows_.size());
-    if (n < 10) return Status::Unprocessable("too few training rows");
+    if (rows_.size() < 10) return Status::Unprocessable("too few training rows");
     if (!before_) {
-      auto x = Matrix(base_);
-      if (!x.ok()) return x.status();
-      auto b = BlockCrossValidate(*x, Y(), block_, blocks_);
+      auto b = Validate(declared_);
       if (!b.ok()) return b.status();
       before_ = *b;
     }
-    std::vector<EffectTerm> with = base_;
+    std::vector<EffectTerm> with = declared_;
     with.insert(with.end(), more.begin(), more.end());
-    auto x = Matrix(with);
-    if (!x.ok()) return x.status();
-    auto after = BlockCrossValidate(*x, Y(), block_, blocks_);
+    auto after = Validate(with);
     if (!after.ok()) return after.status();
     return CompareBlocks(*before_, *after);
   }
 
  private:
-  Eigen::VectorXd Y() const {
-    Eigen::VectorXd y(static_cast<int>(rows_.size()));
-    for (size_t r = 0; r < rows_.size(); ++r) y(static_cast<int>(r)) = in_.drift_mm[rows_[r]];
-    return y;
-  }
-  StatusOr<Eigen::MatrixXd> Matrix(const std::vector<EffectTerm>& terms) {
+  StatusOr<BlockErrors> Validate(const std::vector<EffectTerm>& terms) {
     Eigen::MatrixXd x(static_cast<int>(rows_.size()), static_cast<int>(terms.size()));
     for (size_t c = 0; c < terms.size(); ++c) {
       const Eigen::VectorXd column = features_.Column(terms[c]);
@@ -199,13 +192,13 @@ class TruthValidation {
         x(static_cast<int>(r), static_cast<int>(c)) = v;
       }
     }
-    return x;
+    return BlockCrossValidate(x, y_, block_, blocks_);
   }
 
-  const EffectSearchInput& in_;
   FeatureBuilder features_;
-  std::vector<EffectTerm> base_;
+  std::vector<EffectTerm> declared_;
   std::vector<int> rows_;
+  Eigen::VectorXd y_;
   std::vector<int> block_;
   int blocks_ = 0;
   std::optional<BlockErrors> before_;
@@ -224,9 +217,7 @@ std::vector<EffectTerm> TrueTerms(const SimRecording& rec) {
 StatusOr<PairedGain> TrueEffectGain(const SimRecording& rec, const EffectSearchInput& in,
                                     const EffectSearchOptions& opt) {
   const std::vector<EffectTerm> truth = TrueTerms(rec);
-  std::vector<EffectTerm> all = in.declared;
-  all.insert(all.end(), truth.begin(), truth.end());
-  TruthValidation v(in, in.declared, all, opt);
+  TruthValidation v(in, truth, opt);
   return v.Gain(truth);
 }
 
@@ -234,9 +225,7 @@ StatusOr<RivalGain> BestRivalGain(const SimRecording& rec, const EffectSearchInp
                                   const EffectSearchOptions& opt) {
   const std::vector<EffectTerm> truth = TrueTerms(rec);
   if (truth.empty()) return Status::Unprocessable("nothing hidden");
-  std::vector<EffectTerm> all = in.declared;
-  all.insert(all.end(), truth.begin(), truth.end());
-  TruthValidation v(in, in.declared, all, opt);
+  TruthValidation v(in, truth, opt);
   std::optional<RivalGain> best;
   for (const EffectTerm& c : GenerateCandidates(in, opt)) {
     const bool of_truth = std::any_of(truth.begin(), truth.end(), [&](const EffectTerm& t) {

@@ -213,6 +213,37 @@ TEST(ShortRecording, QualifiedTermsAreOrderedByTheirFitOverRuns) {
   }
 }
 
+// The rival of a truth (sim/search_scoring.h, BestRivalGain): the best
+// single term of another kind or source, validated as the truth is. On two
+// days of the column machine the glycol's 75-min lag is outdone by a lag
+// of the coolant, which the same spindle warms (seed 5); the spindle
+// nose's 4-min lag of Tsp is not (seed 8). Nothing hidden: no rival.
+TEST(ShortRecording, TheRivalOfATruthIsAnotherSourcesBestTerm) {
+  const EffectSearchOptions options;
+  struct Expect {
+    std::string scenario;
+    uint64_t seed;
+    bool rival_as_good;
+  };
+  for (const Expect& e : {Expect{"declared_lag", 5, true}, Expect{"short_lag", 8, false}}) {
+    auto s = SearchStudyMachine('B', e.scenario, e.seed, 2, options);
+    ASSERT_TRUE(s.ok()) << s.status().message();
+    auto truth = TrueEffectGain(s->recording, s->input, options);
+    auto rival = BestRivalGain(s->recording, s->input, options);
+    ASSERT_TRUE(truth.ok() && rival.ok()) << e.scenario;
+    const EffectTerm true_term = TrueTerm(s->recording.hidden.at(0));
+    EXPECT_FALSE(rival->term.kind == true_term.kind && rival->term.source == true_term.source)
+        << rival->term.Name();
+    EXPECT_EQ(rival->gain.blocks, truth->blocks);
+    EXPECT_EQ(rival->gain.relative >= truth->relative, e.rival_as_good)
+        << e.scenario << ": " << rival->term.Name() << " " << rival->gain.relative << " against "
+        << truth->relative;
+  }
+  auto nothing = SearchStudyMachine('B', "", 201, 2, options);
+  ASSERT_TRUE(nothing.ok());
+  EXPECT_FALSE(BestRivalGain(nothing->recording, nothing->input, options).ok());
+}
+
 // A short continuous recording with every sensor declared as a static
 // model (docs/model.md §9-§10): four days of the column machine logged and
 // measured every 15 s, heating cycles as runs (fewer than 5 days: runs are
