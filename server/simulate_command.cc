@@ -350,11 +350,19 @@ int Simulate(const Args& a) {
   if (Status s = ParseSensorFaults(a.Get("fault"), days, &*hidden); !s.ok()) {
     return Fail(s.message());
   }
+  // The history ends now unless --end says when: a fixed end gives the
+  // same recording whatever the time of day it is made at.
+  int64_t end = NowUnixMs();
+  if (a.Has("end")) {
+    if (a.Has("live")) return Fail("--end: a live simulation runs from now on");
+    auto parsed = ParseRfc3339(a.Get("end"));
+    if (!parsed) return Fail("--end: not an RFC 3339 time ('" + a.Get("end") + "')");
+    end = *parsed;
+  }
   if (a.Has("live")) return SimulateLive(a, names, seed, days, *hidden);
   if (a.Has("out")) {
     const std::string dir = a.Get("out");
     std::filesystem::create_directories(dir);
-    const int64_t end = NowUnixMs();
     for (size_t i = 0; i < names.size(); ++i) {
       SimOptions o;
       o.machine = names[i];
@@ -389,7 +397,7 @@ int Simulate(const Args& a) {
   }
   auto app = OpenApp(a);
   if (!app.ok()) return Fail(app.status().message());
-  if (Status s = SimulateIntoApp(**app, names, days, seed, NowUnixMs(), *hidden); !s.ok())
+  if (Status s = SimulateIntoApp(**app, names, days, seed, end, *hidden); !s.ok())
     return Fail(s.message());
   std::printf("simulated %d days of %zu machine(s) into %s\n", days, names.size(),
               (*app)->storage().location().c_str());

@@ -477,10 +477,17 @@ def make_hidden_lag(dir):
     """A machine whose drift has an effect its declared model lacks, analysed
     with policy propose: an analysis with an effect and a candidate version.
     Beside it f1, whose declared coolant sensor steps +1 degC two thirds in,
-    and l1, whose coolant sensor comes loose then (half the air within a day)."""
+    and l1, whose coolant sensor comes loose then (half the air within a day).
+    l1's history ends at a fixed time: ending now, its last, partial day and
+    so its held-out runs changed with the time of day the test ran at, and
+    with them whether its model predicts them better. h1's ends now: a
+    model is served, and logged as served, on a machine that reports."""
     db = os.path.join(dir, "hidden.db")
-    subprocess.run([BIN, "simulate", "--db", db, "--create", "--machines", "h1,f1,l1", "--days", "20",
-                    "--hidden", "lag@h1", "--fault", "step:Tco@f1,lost_contact:Tco@l1"], check=True,
+    subprocess.run([BIN, "simulate", "--db", db, "--create", "--machines", "h1,f1", "--days", "20",
+                    "--hidden", "lag@h1", "--fault", "step:Tco@f1"], check=True,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    subprocess.run([BIN, "simulate", "--db", db, "--machines", "l1", "--seed", "3", "--days", "20",
+                    "--end", "2026-11-30T00:00:00Z", "--fault", "lost_contact:Tco@l1"], check=True,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     for machine, policy in (("h1", "propose"), ("f1", "off"), ("l1", "propose")):
         subprocess.run([BIN, "analyze", "--db", db, "--machine", machine, "--axis", "Y", "--policy", policy,

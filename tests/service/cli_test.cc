@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -77,6 +78,37 @@ TEST(CliTest, ASensorFaultNamesAKindAKnownSensorAndAMachine) {
     EXPECT_NE(out.find(said), std::string::npos) << out;
   }
   EXPECT_FALSE(std::filesystem::exists("/tmp/thermocomp-cli-never.db"));
+}
+
+// `simulate --end` fixes when the history ends (the same recording at any
+// time of day); it must be a time, and a live simulation has none.
+TEST(CliTest, ASimulatedHistoryEndsAtTheGivenTime) {
+  const std::string dir = "/tmp/thermocomp-cli-end-" + std::to_string(getpid());
+  ASSERT_EQ(RunThermocomp("simulate --machines m1 --days 2 --end 2026-03-04T12:00:00Z --out " + dir)
+                .first,
+            0);
+  FILE* f = std::fopen((dir + "/m1_temperatures.csv").c_str(), "r");
+  ASSERT_NE(f, nullptr);
+  char line[256];
+  std::string first, last;
+  while (std::fgets(line, sizeof line, f)) {
+    if (first.empty() && std::isdigit(static_cast<unsigned char>(line[0]))) first = line;
+    last = line;
+  }
+  std::fclose(f);
+  // From midnight two days before the end's day, minute by minute, to the end.
+  EXPECT_EQ(first.substr(0, 24), "2026-03-02T00:01:00.000Z") << first;
+  EXPECT_EQ(last.substr(0, 24), "2026-03-04T12:00:00.000Z") << last;
+  std::filesystem::remove_all(dir);
+
+  auto [code, out] =
+      RunThermocomp("simulate --db /tmp/thermocomp-cli-never.db --create --end yesterday");
+  EXPECT_EQ(code, 1);
+  EXPECT_NE(out.find("--end: not an RFC 3339 time ('yesterday')"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists("/tmp/thermocomp-cli-never.db"));
+  std::tie(code, out) = RunThermocomp("simulate --live --end 2026-03-04T12:00:00Z");
+  EXPECT_EQ(code, 1);
+  EXPECT_NE(out.find("--end: a live simulation runs from now on"), std::string::npos) << out;
 }
 
 // A fault given to `simulate` is in the readings the database keeps: the
