@@ -30,7 +30,9 @@
 // and run_vif_max over runs), THERMOCOMP_RUN_BUFFER the neighbours left
 // out beside a run (run_buffer), THERMOCOMP_RUN_ORDER_BY_FIT=0 the order
 // of qualified candidates over runs by their blocked error
-// (run_order_by_fit), for a comparison in the same build; the
+// (run_order_by_fit), THERMOCOMP_LOOKAHEAD the number of best candidates
+// whose follow-up is tried (lookahead; 1 switches it off), for a
+// comparison in the same build; the
 // truth is judged by the defaults either way.
 #include <chrono>
 #include <cstdio>
@@ -84,6 +86,7 @@ EffectSearchOptions SearchOptions() {
     o.run_t_checks_choice = std::atoi(check) != 0;
   if (const char* order = std::getenv("THERMOCOMP_RUN_ORDER_BY_FIT"))
     o.run_order_by_fit = std::atoi(order) != 0;
+  if (const char* v = std::getenv("THERMOCOMP_LOOKAHEAD")) o.lookahead = std::atoi(v);
   return o;
 }
 

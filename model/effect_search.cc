@@ -1012,6 +1012,12 @@ size_t Search::Lookahead(const Design& design, const std::vector<ScoredCandidate
     // the sensor it was to be followed by, extrapolating).
     double value = first.cv_rmse;
     for (const ScoredCandidate& next : Qualify(d, f, *base, candidates, &tried, nullptr)) {
+      // A path whose follow-up is the greedy choice itself puts that
+      // choice second behind what may be its stand-in (a sensor's square
+      // before its 4-min lag): the greedy order stays.
+      if (over_runs_ && opt_.lookahead_keeps_greedy && &first != &qualified[0] &&
+          next.term.Name() == qualified[0].term.Name())
+        break;
       if (ForwardFails(d, d_.With(d, next.term), next).empty()) {
         // The path counts only when its first step still qualifies with
         // the follow-up in; otherwise the first stood in for part of the
@@ -1356,6 +1362,21 @@ StatusOr<EffectSearchResult> Search::Run() {
       if (form && !qualified.empty()) {
         auto over_single = d_.Gain(d_.With(design, qualified[0].term), form->with);
         clearly = over_single.ok() && Qualifies(*over_single, opt_);
+      }
+      // And beside the single that predicts best, when the lookahead put
+      // another first (a sensor's square whose path leads on to its lag):
+      // on two days of family B a pair of lags of the column top
+      // otherwise came before the spindle sensor's 4-min lag, the truth,
+      // which alone predicted better than the pair.
+      if (clearly && qualified.size() > 1) {
+        auto best = std::min_element(qualified.begin(), qualified.end(),
+                                     [](const ScoredCandidate& a, const ScoredCandidate& b) {
+                                       return a.cv_rmse < b.cv_rmse;
+                                     });
+        if (best != qualified.begin()) {
+          auto over_best = d_.Gain(d_.With(design, best->term), form->with);
+          clearly = over_best.ok() && Qualifies(*over_best, opt_);
+        }
       }
       if (clearly) {
         const EffectTerm* second = form->second ? &*form->second : nullptr;

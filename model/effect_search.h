@@ -97,6 +97,9 @@ struct EffectSearchOptions {
   int cv_shortlist = 8;              // best candidates by F that are cross-validated
   double min_known_share = 0.8;      // a candidate unknown on more of the rows is not evaluable
   int min_runs_per_side = 3;         // an event needs this many training runs before and after
+  // Over runs, a path whose follow-up is the greedy choice itself does not
+  // count (docs/model.md §9 step 4).
+  bool lookahead_keeps_greedy = true;
   // Two candidates that qualify only together must explain this share.
   double masked_pair_gain = 0.1;
   // Validation.

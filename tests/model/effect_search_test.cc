@@ -192,9 +192,10 @@ struct Searched {
   std::string effects;  // the added effects' names, for the messages
 };
 
-Searched Study(const std::string& scenario, uint64_t seed, char family = 'A', int days = 0) {
+Searched Study(const std::string& scenario, uint64_t seed, char family = 'A', int days = 0,
+               const EffectSearchOptions& options = {}) {
   Searched out;
-  auto s = SearchStudyMachine(family, scenario, seed, days);
+  auto s = SearchStudyMachine(family, scenario, seed, days, options);
   EXPECT_TRUE(s.ok()) << s.status().message();
   if (!s.ok()) return out;
   out.result = std::move(s->result);
@@ -265,9 +266,14 @@ TEST(EffectSearchParsimony, ASensorsRateAndLagAreReadAsTheSensor) {
 // then the sensor itself was added, and revising the earlier choice found
 // Tgl best in the quadratic's place. Tgl returns as declared: not an
 // effect, not listed as dropped, and the sensor's error before is the
-// declared model's.
+// declared model's. The quadratic came first through the lookahead, its
+// path leading on to the sensor, the greedy choice; such a path no longer
+// counts (lookahead_keeps_greedy) and the sensor comes first, so the
+// path back is exercised with the rule off.
 TEST(EffectSearchParsimony, ADeclaredSensorARevisionPutsBackReturnsAsDeclared) {
-  const Searched s = Study("left_out_sensor", 3, 'D', 5);
+  EffectSearchOptions options;
+  options.lookahead_keeps_greedy = false;
+  const Searched s = Study("left_out_sensor", 3, 'D', 5, options);
   EXPECT_TRUE(s.score.AllNamed()) << s.effects;
   EXPECT_TRUE(s.score.extras.empty()) << s.effects;
   const auto& terms = s.result.terms;
@@ -281,6 +287,11 @@ TEST(EffectSearchParsimony, ADeclaredSensorARevisionPutsBackReturnsAsDeclared) {
       }));
   ASSERT_EQ(s.result.effects.size(), 1u) << s.effects;
   EXPECT_NEAR(s.result.effects[0].cv_rmse_before_mm, s.result.blocked_rmse_before_mm, 1e-9);
+  // With the rule on, the sensor is taken first and nothing is replaced.
+  const Searched direct = Study("left_out_sensor", 3, 'D', 5);
+  EXPECT_TRUE(direct.score.AllNamed()) << direct.effects;
+  EXPECT_TRUE(direct.score.extras.empty()) << direct.effects;
+  EXPECT_TRUE(direct.result.superseded.empty()) << direct.result.superseded.front().Name();
 }
 
 // Five days of the second family logged every 15 s, the spindle sensor

@@ -192,7 +192,7 @@ INSTANTIATE_TEST_SUITE_P(
     // read as Tsp, held-out 1.80 -> 1.42 um); B5 got 1 companion.
     ::testing::Values(ShortCase{"A2", 'A', 2, 16, kSinglesA, kFormsA, {0.75, 0.55, 0.33, 0.05, 1}},
                       ShortCase{"A5", 'A', 5, 16, kSinglesA, kFormsA, {0.85, 0.85, 0.85, 0.05, 1}},
-                      ShortCase{"B2", 'B', 2, 16, kSinglesB, kFormsB, {0.45, 0.18, 0.2, 0.05, 1}},
+                      ShortCase{"B2", 'B', 2, 16, kSinglesB, kFormsB, {0.49, 0.23, 0.23, 0.05, 1}},
                       ShortCase{"B5", 'B', 5, 16, kSinglesB, kFormsB, {0.74, 0.44, 0.35, 0.05, 1}},
                       ShortCase{"D2", 'D', 2, 8, kSinglesD, kFormsB, {0.42, 0.26, 0.25, 0.05, 1}},
                       ShortCase{"D5", 'D', 5, 4, kSinglesD, kFormsB, {0.95, 0.8, 0.35, 0.05, 1}}),
@@ -206,6 +206,22 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(ShortRecording, QualifiedTermsAreOrderedByTheirFitOverRuns) {
   for (uint64_t seed : {1, 5, 7}) {
     auto s = SearchStudyMachine('B', "cross_position", seed, 2);
+    ASSERT_TRUE(s.ok()) << s.status().message();
+    EXPECT_EQ(s->result.block_kind, "run");
+    EXPECT_TRUE(s->score.AllNamed()) << "seed " << seed << ": missed " << s->score.missed.front();
+    EXPECT_TRUE(s->score.extras.empty()) << "seed " << seed << ": " << s->score.extras.front();
+  }
+}
+
+// Over runs the best single term is not put behind its stand-in
+// (docs/model.md §9, "Lookahead"): the spindle nose's 4-min lag of Tsp on
+// two days of the column machine was passed over for a square of Tsp whose
+// path led on to that lag, and then for a pair of lags of the column top
+// that beat the square (seed 8); for a rate of the glycol sensor whose
+// path led on to Tsp (seed 14). Both are now named, and nothing else.
+TEST(ShortRecording, TheBestSingleTermIsNotPutBehindItsStandIn) {
+  for (uint64_t seed : {8, 14}) {
+    auto s = SearchStudyMachine('B', "short_lag", seed, 2);
     ASSERT_TRUE(s.ok()) << s.status().message();
     EXPECT_EQ(s->result.block_kind, "run");
     EXPECT_TRUE(s->score.AllNamed()) << "seed " << seed << ": missed " << s->score.missed.front();
