@@ -1363,11 +1363,12 @@ StatusOr<EffectSearchResult> Search::Run() {
         auto over_single = d_.Gain(d_.With(design, qualified[0].term), form->with);
         clearly = over_single.ok() && Qualifies(*over_single, opt_);
       }
-      // And beside the single that predicts best, when the lookahead put
-      // another first (a sensor's square whose path leads on to its lag):
-      // on two days of family B a pair of lags of the column top
-      // otherwise came before the spindle sensor's 4-min lag, the truth,
-      // which alone predicted better than the pair.
+      // And beside the single that predicts best, when another is first
+      // (over runs they are ordered by fit, and the lookahead may put a
+      // sensor's square first, its path leading on to its lag): on two
+      // days of family B a pair of lags of the column top otherwise came
+      // before the spindle sensor's 4-min lag, the truth, which alone
+      // predicted better than the pair.
       if (clearly && qualified.size() > 1) {
         auto best = std::min_element(qualified.begin(), qualified.end(),
                                      [](const ScoredCandidate& a, const ScoredCandidate& b) {
