@@ -34,6 +34,7 @@
 // whose follow-up is tried (lookahead; 1 switches it off), for a
 // comparison in the same build; the
 // truth is judged by the defaults either way.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -86,7 +87,7 @@ EffectSearchOptions SearchOptions() {
     o.run_t_checks_choice = std::atoi(check) != 0;
   if (const char* order = std::getenv("THERMOCOMP_RUN_ORDER_BY_FIT"))
     o.run_order_by_fit = std::atoi(order) != 0;
-  if (const char* v = std::getenv("THERMOCOMP_LOOKAHEAD")) o.lookahead = std::atoi(v);
+  if (const char* v = std::getenv("THERMOCOMP_LOOKAHEAD")) o.lookahead = std::max(1, std::atoi(v));
   return o;
 }
 

@@ -1012,13 +1012,14 @@ size_t Search::Lookahead(const Design& design, const std::vector<ScoredCandidate
     // the sensor it was to be followed by, extrapolating).
     double value = first.cv_rmse;
     for (const ScoredCandidate& next : Qualify(d, f, *base, candidates, &tried, nullptr)) {
-      // A path whose follow-up is the greedy choice itself puts that
-      // choice second behind what may be its stand-in (a sensor's square
-      // before its 4-min lag): the greedy order stays.
-      if (over_runs_ && opt_.lookahead_keeps_greedy && &first != &qualified[0] &&
-          next.term.Name() == qualified[0].term.Name())
-        break;
       if (ForwardFails(d, d_.With(d, next.term), next).empty()) {
+        // A path whose follow-up is the greedy choice itself puts that
+        // choice second behind what may be its stand-in (a rate of the
+        // glycol sensor before the spindle sensor): over runs it does not
+        // count.
+        if (over_runs_ && opt_.lookahead_keeps_greedy &&
+            next.term.Name() == qualified[0].term.Name())
+          break;
         // The path counts only when its first step still qualifies with
         // the follow-up in; otherwise the first stood in for part of the
         // follow-up's effect on the way (a coolant sensor taken before the
@@ -1367,8 +1368,8 @@ StatusOr<EffectSearchResult> Search::Run() {
       // (over runs they are ordered by fit, and the lookahead may put a
       // sensor's square first, its path leading on to its lag): on two
       // days of family B a pair of lags of the column top otherwise came
-      // before the spindle sensor's 4-min lag, the truth, which alone
-      // predicted better than the pair.
+      // before the spindle sensor's 5-min lag, the truth, though it did
+      // not predict clearly better than that lag alone.
       if (clearly && qualified.size() > 1) {
         auto best = std::min_element(qualified.begin(), qualified.end(),
                                      [](const ScoredCandidate& a, const ScoredCandidate& b) {

@@ -403,7 +403,7 @@ const std::vector<CommandSpec>& Commands() {
         {"policy", true},
         {"format", true}}},
       {"simulate",
-       "  simulate  [--machines a,b] [--days 14] [--seed 1] [--end RFC3339]\n"
+       "  simulate  [--machines a,b] [--days 14] [--seed 1] [--end RFC3339]  (not live; by now)\n"
        "            [--hidden EFFECT[@MACHINE],...]  (sensor, lag, position, trend, step, signal)\n"
        "            [--fault KIND:SENSOR[@MACHINE],...]  (drift, step, lost_contact; from 2/3 "
        "in)\n"

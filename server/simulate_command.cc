@@ -351,12 +351,17 @@ int Simulate(const Args& a) {
     return Fail(s.message());
   }
   // The history ends now unless --end says when: a fixed end gives the
-  // same recording whatever the time of day it is made at.
+  // same recording whatever the time of day it is made at. Checked before
+  // anything is written: ingest refuses data from the future or from
+  // before 2000, but only once the database and its machines exist.
   int64_t end = NowUnixMs();
   if (a.Has("end")) {
     if (a.Has("live")) return Fail("--end: a live simulation runs from now on");
     auto parsed = ParseRfc3339(a.Get("end"));
     if (!parsed) return Fail("--end: not an RFC 3339 time ('" + a.Get("end") + "')");
+    if (*parsed > end) return Fail("--end: in the future; a simulated history ends by now");
+    if (HistoryStartMs(*parsed, days) < kEarliestTsMs)
+      return Fail("--end: the history would begin before 2000-01-01");
     end = *parsed;
   }
   if (a.Has("live")) return SimulateLive(a, names, seed, days, *hidden);

@@ -480,7 +480,8 @@ def make_hidden_lag(dir):
     and l1, whose coolant sensor comes loose then (half the air within a day).
     l1's history ends at a fixed time: ending now, its last, partial day and
     so its held-out runs changed with the time of day the test ran at, and
-    with them whether its model predicts them better. h1's ends now: a
+    with them whether its model predicts them better. Its seed, 3, is the
+    one it had as the third machine of one simulation. h1's ends now: a
     model is served, and logged as served, on a machine that reports."""
     db = os.path.join(dir, "hidden.db")
     subprocess.run([BIN, "simulate", "--db", db, "--create", "--machines", "h1,f1", "--days", "20",

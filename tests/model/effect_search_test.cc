@@ -3,6 +3,8 @@
 // seeds, must be named (kind and sensor/axis, tau within a factor 1.5) and
 // bring the held-out RMSE within 1.3x the noise floor; with nothing hidden
 // the search must add nothing in at least 19 of 20 seeds.
+// Longer than most test files: each parsimony and form rule of the search
+// keeps the machine it was found on here, beside the studies it serves.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -291,6 +293,8 @@ TEST(EffectSearchParsimony, ADeclaredSensorARevisionPutsBackReturnsAsDeclared) {
   const Searched direct = Study("left_out_sensor", 3, 'D', 5);
   EXPECT_TRUE(direct.score.AllNamed()) << direct.effects;
   EXPECT_TRUE(direct.score.extras.empty()) << direct.effects;
+  ASSERT_FALSE(direct.result.effects.empty());
+  EXPECT_EQ(direct.result.effects[0].term.Name(), "Tsp") << direct.effects;
   EXPECT_TRUE(direct.result.superseded.empty()) << direct.result.superseded.front().Name();
 }
 

@@ -189,7 +189,9 @@ INSTANTIATE_TEST_SUITE_P(
     // With qualified terms ordered by their fit over runs and a declared
     // term replaced only when that predicts better, B2 rose from 43/103 to
     // 48/103 and its forms fell from 9/43 to 8/43 (a 4-min lag of Tsp now
-    // read as Tsp, held-out 1.80 -> 1.42 um); B5 got 1 companion.
+    // read as Tsp, held-out 1.80 -> 1.42 um); B5 got 1 companion. With the
+    // greedy choice kept before its stand-ins and a new form judged beside
+    // the best single term, B2 rose to 51/103, forms 10/43 (10 within).
     ::testing::Values(ShortCase{"A2", 'A', 2, 16, kSinglesA, kFormsA, {0.75, 0.55, 0.33, 0.05, 1}},
                       ShortCase{"A5", 'A', 5, 16, kSinglesA, kFormsA, {0.85, 0.85, 0.85, 0.05, 1}},
                       ShortCase{"B2", 'B', 2, 16, kSinglesB, kFormsB, {0.49, 0.23, 0.23, 0.05, 1}},
@@ -214,11 +216,12 @@ TEST(ShortRecording, QualifiedTermsAreOrderedByTheirFitOverRuns) {
 }
 
 // Over runs the best single term is not put behind its stand-in
-// (docs/model.md §9, "Lookahead"): the spindle nose's 4-min lag of Tsp on
-// two days of the column machine was passed over for a square of Tsp whose
-// path led on to that lag, and then for a pair of lags of the column top
-// that beat the square (seed 8); for a rate of the glycol sensor whose
-// path led on to Tsp (seed 14). Both are now named, and nothing else.
+// (docs/model.md §9 steps 4 and 5): on two days of the column machine the
+// spindle nose's 5-min lag of Tsp was passed over for a square of Tsp
+// whose path led on to that lag, and then for a pair of lags of the column
+// top that beat the square (seed 8); its 4-min lag, for a rate of the
+// glycol sensor whose path led on to Tsp (seed 14). Both are now named,
+// and nothing else.
 TEST(ShortRecording, TheBestSingleTermIsNotPutBehindItsStandIn) {
   for (uint64_t seed : {8, 14}) {
     auto s = SearchStudyMachine('B', "short_lag", seed, 2);

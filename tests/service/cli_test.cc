@@ -84,6 +84,7 @@ TEST(CliTest, ASensorFaultNamesAKindAKnownSensorAndAMachine) {
 // time of day); it must be a time, and a live simulation has none.
 TEST(CliTest, ASimulatedHistoryEndsAtTheGivenTime) {
   const std::string dir = "/tmp/thermocomp-cli-end-" + std::to_string(getpid());
+  std::filesystem::remove_all(dir);
   ASSERT_EQ(RunThermocomp("simulate --machines m1 --days 2 --end 2026-03-04T12:00:00Z --out " + dir)
                 .first,
             0);
@@ -106,6 +107,17 @@ TEST(CliTest, ASimulatedHistoryEndsAtTheGivenTime) {
   EXPECT_EQ(code, 1);
   EXPECT_NE(out.find("--end: not an RFC 3339 time ('yesterday')"), std::string::npos) << out;
   EXPECT_FALSE(std::filesystem::exists("/tmp/thermocomp-cli-never.db"));
+  // Times ingest would refuse are refused before the database is made.
+  const std::pair<const char*, const char*> refused[] = {
+      {"2999-01-01T00:00:00Z", "--end: in the future"},
+      {"2000-01-03T00:00:00Z", "--end: the history would begin before 2000-01-01"}};
+  for (const auto& [end, said] : refused) {
+    std::tie(code, out) = RunThermocomp(
+        std::string("simulate --db /tmp/thermocomp-cli-never.db --create --days 14 --end ") + end);
+    EXPECT_EQ(code, 1) << end;
+    EXPECT_NE(out.find(said), std::string::npos) << out;
+    EXPECT_FALSE(std::filesystem::exists("/tmp/thermocomp-cli-never.db")) << end;
+  }
   std::tie(code, out) = RunThermocomp("simulate --live --end 2026-03-04T12:00:00Z");
   EXPECT_EQ(code, 1);
   EXPECT_NE(out.find("--end: a live simulation runs from now on"), std::string::npos) << out;
