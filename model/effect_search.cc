@@ -1359,26 +1359,24 @@ StatusOr<EffectSearchResult> Search::Run() {
       // more) must predict better than it by a gain that qualifies: on five
       // days a pair of lags of the spindle's sensor otherwise stood in for
       // the coolant's one lag.
+      // It must beat the single put first and, when another is first
+      // (over runs they are ordered by fit, and the lookahead may put a
+      // sensor's square first, its path leading on to its lag), the
+      // single that predicts best: on two days of family B a pair of lags
+      // of the column top otherwise came before the spindle sensor's
+      // 5-min lag, the truth, though it did not predict clearly better
+      // than that lag alone.
+      auto beats = [&](const ScoredCandidate& single) {
+        auto over = d_.Gain(d_.With(design, single.term), form->with);
+        return over.ok() && Qualifies(*over, opt_);
+      };
       bool clearly = form.has_value();
       if (form && !qualified.empty()) {
-        auto over_single = d_.Gain(d_.With(design, qualified[0].term), form->with);
-        clearly = over_single.ok() && Qualifies(*over_single, opt_);
-      }
-      // And beside the single that predicts best, when another is first
-      // (over runs they are ordered by fit, and the lookahead may put a
-      // sensor's square first, its path leading on to its lag): on two
-      // days of family B a pair of lags of the column top otherwise came
-      // before the spindle sensor's 5-min lag, the truth, though it did
-      // not predict clearly better than that lag alone.
-      if (clearly && qualified.size() > 1) {
-        auto best = std::min_element(qualified.begin(), qualified.end(),
-                                     [](const ScoredCandidate& a, const ScoredCandidate& b) {
-                                       return a.cv_rmse < b.cv_rmse;
-                                     });
-        if (best != qualified.begin()) {
-          auto over_best = d_.Gain(d_.With(design, best->term), form->with);
-          clearly = over_best.ok() && Qualifies(*over_best, opt_);
-        }
+        const auto best = std::min_element(qualified.begin(), qualified.end(),
+                                           [](const ScoredCandidate& a, const ScoredCandidate& b) {
+                                             return a.cv_rmse < b.cv_rmse;
+                                           });
+        clearly = beats(qualified[0]) && (best == qualified.begin() || beats(*best));
       }
       if (clearly) {
         const EffectTerm* second = form->second ? &*form->second : nullptr;
