@@ -361,12 +361,21 @@ int RowAtOrAfter(const Design& d, const Hourly& h, int64_t ts) {
   return static_cast<int>(std::lower_bound(d.bin.begin(), d.bin.end(), bin) - d.bin.begin());
 }
 
-std::optional<Finding> StepFinding(const TermInputs& in, const Hourly& h, const Design& d, int s,
-                                   int64_t to, const SensorFaultOptions& o) {
-  const auto jump = LargestJump(in.sensor_raw[s], h.from_ms, to, o.step_window);
+// The sensor's largest raw jump in [from, to] when it is large enough to
+// be a step.
+std::optional<Jump> StepJump(const TermInputs& in, int s, int64_t from, int64_t to,
+                             const SensorFaultOptions& o) {
+  auto jump = LargestJump(in.sensor_raw[s], from, to, o.step_window);
   if (!jump || std::fabs(jump->size_c) < o.step_min_c || jump->spreads < o.step_min_spreads) {
     return std::nullopt;
   }
+  return jump;
+}
+
+std::optional<Finding> StepFinding(const TermInputs& in, const Hourly& h, const Design& d, int s,
+                                   int64_t to, const SensorFaultOptions& o) {
+  const auto jump = StepJump(in, s, h.from_ms, to, o);
+  if (!jump) return std::nullopt;
   const int k = RowAtOrAfter(d, h, jump->ts_ms);
   if (k <= 0 || k >= static_cast<int>(d.bin.size()) ||
       d.day[k] > d.day[d.day.size() - 1] - o.min_days_after) {
@@ -473,12 +482,15 @@ struct Examination {
 Examination Examine(const TermInputs& in, const Hourly& h, const std::vector<bool>& left_out,
                     int air, int64_t to, const SensorFaultOptions& o) {
   Examination x;
+  const bool slow =
+      !o.steps_only && static_cast<double>(to - h.from_ms) >= o.slow_min_days * kDayMs;
   for (int s = 0; s < static_cast<int>(in.sensors.size()); ++s) {
     if (left_out[s] || Coverage(h.mean[s]) < kMinSensorCoverage) continue;
     const auto design = BuildDesign(h, s, left_out, air, o);
     if (!design) continue;
     auto finding = StepFinding(in, h, *design, s, to, o);
-    if (!finding) finding = SlowFinding(h, *design, s, air >= 0 && air != s, o, &x.evidence);
+    if (!finding && slow)
+      finding = SlowFinding(h, *design, s, air >= 0 && air != s, o, &x.evidence);
     if (finding) x.found.push_back(*finding);
   }
   return x;
@@ -521,6 +533,17 @@ std::vector<SensorFault> FindSensorFaults(const TermInputs& inputs,
                                           int64_t to_ms, const SensorFaultOptions& options) {
   std::vector<SensorFault> faults;
   if (to_ms <= from_ms) return faults;
+  // Steps alone: nothing to report without a declared sensor's raw jump
+  // (a year's hourly regressions are most of the check's time).
+  if (options.steps_only) {
+    bool any = false;
+    for (const std::string& name : declared) {
+      const int s = inputs.SensorIndex(name);
+      any = any || (s >= 0 && s < static_cast<int>(inputs.sensor_raw.size()) &&
+                    StepJump(inputs, s, from_ms, to_ms, options).has_value());
+    }
+    if (!any) return faults;
+  }
   const Hourly hourly = Resample(inputs, from_ms, to_ms);
   const int air = AirSensor(inputs, options);
   std::vector<bool> left_out(inputs.sensors.size(), false);

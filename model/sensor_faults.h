@@ -29,7 +29,8 @@
 //    set for the maximum over all onsets (measured on both simulator
 //    families, no alarm in 100 clean machines). The departure must also
 //    persist: every third of the time after the onset keeps at least half
-//    of the fitted departure.
+//    of the fitted departure. Daily sums need days: a drift or lost
+//    contact is looked for over 16 days or more (slow_min_days).
 //  - A step is seen sharper in the raw series than in any mean: a jump of
 //    the level at one sample between two straight-line fits of 10 samples,
 //    far outside the sensor's own jumps (robust spread) and at least
@@ -85,6 +86,17 @@ struct SensorFaultOptions {
   // A settling lost contact has settled this many of its time constants
   // after its onset (e^-3: 5 % of its share still to come).
   double settled_taus = 3.0;
+  // Drifts and lost contacts are looked for only over a window of at
+  // least this many days: the residual's long-run spread comes from its
+  // daily sums, and over fewer days it is known too poorly for the bar
+  // (clean machines of both families got a false drift or lost contact on
+  // 12-43 % of 6- to 8-day recordings, 2-5 % of 12- to 16-day ones, 0-1 %
+  // from 18 days; docs/model.md §10). Steps, seen in the raw series, are
+  // looked for over any window.
+  double slow_min_days = 16.0;
+  // Look for steps only: the search's pass over the whole recording, the
+  // held-out runs' readings included (EffectSearch says why).
+  bool steps_only = false;
 };
 
 // The faults of the `declared` sensors in `inputs` (their raw series) over

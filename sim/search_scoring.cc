@@ -106,6 +106,15 @@ SearchScore ScoreSearch(const SimRecording& rec, const EffectSearchInput& in,
       }
     }
   }
+  // A sensor to check that is sound is a false finding too (a fault named
+  // with the wrong kind or onset is a miss of that fault, not counted
+  // twice).
+  for (const auto& f : r.sensor_faults) {
+    const bool of_a_fault = std::any_of(rec.hidden.begin(), rec.hidden.end(), [&](const auto& h) {
+      return !h.fault.empty() && h.source == f.sensor;
+    });
+    if (!of_a_fault) s.extras.push_back("fault of " + f.sensor);
+  }
   // Forms next to a named truth correct its form; with nothing named they
   // are plain false effects (counted as extras either way).
   if (s.named > 0) s.companions = unmatched_forms;

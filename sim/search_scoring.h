@@ -28,7 +28,7 @@ struct SearchScore {
   int hidden = 0;
   int named = 0;                        // hidden effects named right
   std::vector<std::string> missed;      // hidden effects not named
-  std::vector<std::string> extras;      // added effects that match none
+  std::vector<std::string> extras;      // added effects and sensor faults that match none
   std::vector<std::string> companions;  // of the extras, forms added next to a named truth
   double holdout_rmse_mm = 0;           // of the extended model
   double noise_floor_mm = 0;

@@ -18,17 +18,22 @@
 // This file takes about 1.8 min of CPU in a -O2 (RelWithDebInfo) build, the
 // search_quality_test binary as a whole about 4.
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <initializer_list>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "model/effect_search.h"
+#include "model/sensor_faults.h"
 #include "sim/column_machine.h"
 #include "sim/search_scoring.h"
+#include "sim/sensor_fault.h"
 
 namespace thermocomp {
 namespace {
@@ -262,6 +267,126 @@ TEST(ShortRecording, TheRivalOfATruthIsAnotherSourcesBestTerm) {
   auto nothing = SearchStudyMachine('B', "", 201, 2, options);
   ASSERT_TRUE(nothing.ok());
   EXPECT_FALSE(BestRivalGain(nothing->recording, nothing->input, options).ok());
+}
+
+// Sensor steps are looked for over the whole recording, the held-out
+// runs' readings included (docs/model.md §9, sensor faults). The studies
+// put a declared sensor's fault at 60 % of the recording: at five days
+// that is within a day of the training window's end, where a step was
+// never named (0 of 16 in either family). Named now with its onset, its
+// training points from there on left out, nothing added for it, and every
+// held-out run, which reads it, saying so.
+TEST(ShortRecording, AStepInTheNewestTrainingDayIsNamedFromTheWholeRecording) {
+  for (const auto& [family, seed] : {std::pair{'B', 1}, {'B', 3}, {'B', 7}, {'A', 5}}) {
+    auto s = SearchStudyMachine(family, "fault_step", seed, 5);
+    ASSERT_TRUE(s.ok()) << s.status().message();
+    const std::string name = std::string(1, family) + "5 seed " + std::to_string(seed);
+    EXPECT_TRUE(s->score.AllNamed()) << name;
+    EXPECT_TRUE(s->score.extras.empty()) << name << ": " << s->score.extras.front();
+    ASSERT_EQ(s->result.sensor_faults.size(), 1u) << name;
+    const SensorFault& f = s->result.sensor_faults[0];
+    EXPECT_EQ(f.kind, "step") << name;
+    EXPECT_GT(f.points_left_out, 0) << name;
+    ASSERT_FALSE(s->result.holdout_runs.empty());
+    for (const auto& run : s->result.holdout_runs) {
+      EXPECT_EQ(run.faulty_sensors, std::vector<std::string>{f.sensor}) << name;
+    }
+  }
+  // Over the studies' seeds, held as a floor (5 and 13 of 16 named today).
+  for (const auto& [family, at_least] : {std::pair{'A', 5}, {'B', 13}}) {
+    int named = 0;
+    for (uint64_t seed = 1; seed <= 16; ++seed) {
+      auto s = SearchStudyMachine(family, "fault_step", seed, 5);
+      ASSERT_TRUE(s.ok()) << s.status().message();
+      named += s->score.AllNamed();
+      EXPECT_TRUE(s->score.extras.empty()) << family << "5 seed " << seed;
+    }
+    EXPECT_GE(named, at_least) << family << "5";
+  }
+}
+
+// A step in the held-out runs alone: a sensor check judges readings, not
+// the model, so it is named and its runs marked, while the fit (which has
+// no point past the onset) is exactly the one without the fault.
+TEST(ShortRecording, AStepInTheHeldOutRunsIsNamedAndLeavesTheFitAlone) {
+  ColumnOptions o;
+  o.seed = 4;
+  o.start_ms = 1772323200000;  // 2026-03-01T00:00:00Z
+  o.days = 6;
+  const SimRecording sound = RecordColumnMachine(o);
+  const EffectSearchInput sound_in = ToSearchInput(sound, "Y", 0);
+  int64_t training_end = 0, end = 0;
+  for (size_t i = 0; i < sound_in.points.size(); ++i) {
+    end = std::max(end, sound_in.points[i].ts_ms);
+    if (!sound_in.holdout[i]) training_end = std::max(training_end, sound_in.points[i].ts_ms);
+  }
+  ASSERT_GT(end - training_end, 18 * 3'600'000);
+  SimRecording faulty = sound;
+  InjectedFault step;
+  step.sensor = "Tcol_top";
+  step.kind = InjectedFaultKind::kStep;
+  step.step_c = 1.0;
+  step.onset_ms = training_end + 2 * 3'600'000;
+  InjectSensorFault(&faulty, step);
+  const EffectSearchInput faulty_in = ToSearchInput(faulty, "Y", 0);
+
+  auto with = SearchEffects(faulty_in, EffectSearchOptions{});
+  auto without = SearchEffects(sound_in, EffectSearchOptions{});
+  ASSERT_TRUE(with.ok() && without.ok());
+  ASSERT_EQ(with->sensor_faults.size(), 1u);
+  const SensorFault& f = with->sensor_faults[0];
+  EXPECT_EQ(f.sensor, "Tcol_top");
+  EXPECT_EQ(f.kind, "step");
+  EXPECT_LE(std::llabs(f.onset_ms - step.onset_ms), 120'000);
+  EXPECT_EQ(f.points_left_out, 0);
+  EXPECT_TRUE(without->sensor_faults.empty());
+  EXPECT_EQ(with->terms, without->terms);
+  EXPECT_DOUBLE_EQ(with->blocked_rmse_before_mm, without->blocked_rmse_before_mm);
+  EXPECT_DOUBLE_EQ(with->blocked_rmse_after_mm, without->blocked_rmse_after_mm);
+  // Marked: the held-out runs with a point past the onset, and only those.
+  int marked = 0;
+  for (const auto& run : with->holdout_runs) {
+    bool reads = false;
+    for (size_t i = 0; i < faulty_in.points.size(); ++i) {
+      reads = reads || (faulty_in.run[i] == run.run && faulty_in.points[i].ts_ms >= f.onset_ms);
+    }
+    EXPECT_EQ(!run.faulty_sensors.empty(), reads) << "run " << run.run;
+    marked += reads;
+  }
+  EXPECT_GT(marked, 0);
+}
+
+// A drift or a lost contact is looked for only over 16 days or more
+// (SensorFaultOptions::slow_min_days): on 8-day machines with nothing
+// wrong, the check over the training window named a sound sensor on about
+// one in six (the residual's long-run spread from 7 daily sums is too
+// poorly known for its bar). Steps are still looked for.
+TEST(ShortRecording, ASlowSensorFaultIsNotLookedForOverAFewDays) {
+  int alarms_without_the_rule = 0;
+  for (char family : {'A', 'B'}) {
+    for (uint64_t seed = 2001; seed <= 2010; ++seed) {
+      auto s = SearchStudyMachine(family, "", seed, 8);
+      ASSERT_TRUE(s.ok()) << s.status().message();
+      EXPECT_TRUE(s->result.sensor_faults.empty())
+          << family << "8 seed " << seed << ": " << s->result.sensor_faults.front().reason;
+      std::vector<std::string> declared;
+      for (const EffectTerm& t : s->input.declared) {
+        if (t.kind == EffectKind::kSensor) declared.push_back(t.source);
+      }
+      int64_t from = INT64_MAX, to = INT64_MIN;
+      for (size_t i = 0; i < s->input.points.size(); ++i) {
+        if (s->input.holdout[i]) continue;
+        from = std::min(from, s->input.points[i].datum_ts_ms);
+        to = std::max(to, s->input.points[i].ts_ms);
+      }
+      SensorFaultOptions without_the_rule;
+      without_the_rule.slow_min_days = 0;
+      alarms_without_the_rule += static_cast<int>(
+          FindSensorFaults(s->input.inputs, declared, from, to, without_the_rule).size());
+    }
+  }
+  std::printf("without the rule: %d false alarms on 20 machines\n", alarms_without_the_rule);
+  EXPECT_GE(alarms_without_the_rule, 2);
 }
 
 // A short continuous recording with every sensor declared as a static

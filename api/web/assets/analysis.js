@@ -59,7 +59,7 @@
   function sensorFaults(list) {
     return [el("h2", {}, "Sensors to check"),
       el("p", {}, "These declared sensors read differently from their neighbours from the onset on: a sensor to check, not a thermal effect. " +
-        "Their readings from the onset on were left out of the search (unless that would have taken too large a share of the training points: points left out 0; or, for a lost contact, once it has settled: below); " +
+        "Their readings from the onset on were left out of the search (unless that would have taken too large a share of the training points, or the onset lies in the held-out runs: points left out 0; or, for a lost contact, once it has settled: below); " +
         "a held-out run that reads them past the onset is marked."),
       TC.table([{ label: "sensor" }, { label: "kind" }, { label: "since" }, { label: "departure °C", num: true },
         { label: "drift it caused µm", num: true }, { label: "points left out", num: true }, { label: "why" }],
