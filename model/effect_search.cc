@@ -15,6 +15,7 @@
 
 #include <boost/math/distributions/fisher_f.hpp>
 
+#include "core/time_units.h"
 #include "model/effect_design.h"
 #include "model/sensor_faults.h"
 #include "model/sensor_noise.h"
@@ -1275,7 +1276,10 @@ StatusOr<EffectSearchResult> Search::Run() {
     to_ms = std::max(to_ms, in_.points[i].ts_ms);
   }
   if (from_ms < to_ms) {
-    r.sensor_faults = FindSensorFaults(in_.inputs, declared_sensors, from_ms, to_ms);
+    const SensorFaultOptions check;
+    r.sensor_check = {FaultKindsLookedFor(from_ms, to_ms, check),
+                      static_cast<double>(to_ms - from_ms) / kDayMs, check.slow_min_days};
+    r.sensor_faults = FindSensorFaults(in_.inputs, declared_sensors, from_ms, to_ms, check);
     AddStepsOfTheWholeRecording(declared_sensors, from_ms, to_ms, r.sensor_faults);
   }
   if (Status s = d_.Prepare(r.sensor_faults); !s.ok()) return s;

@@ -221,6 +221,15 @@ struct SensorFault {
   bool accommodated = false;
 };
 
+// What the sensor-fault check looked for (model/sensor_faults.h): the
+// kinds over the training window, whose span may be too short for the
+// slow ones; steps are looked for over the whole recording as well.
+struct SensorCheck {
+  std::vector<std::string> kinds;  // step, and drift and lost_contact over slow_min_days
+  double training_days = 0;        // the training window's span
+  double slow_min_days = 0;        // from which drifts and lost contacts are looked for
+};
+
 // A candidate not added, and why.
 struct SetAside {
   ScoredCandidate candidate;
@@ -273,6 +282,7 @@ struct EffectSearchResult {
   std::vector<HeldOutError> holdout_runs;  // per held-out run, in time order
   HeldOutError holdout_total;
   std::vector<SensorFault> sensor_faults;
+  SensorCheck sensor_check;
   // What each validation block is, in block order: "2026-03-04" (a day),
   // "week of 2026-03-02" or "run 17" (EffectSearchInput::run index).
   std::vector<std::string> block_labels;

@@ -482,8 +482,7 @@ struct Examination {
 Examination Examine(const TermInputs& in, const Hourly& h, const std::vector<bool>& left_out,
                     int air, int64_t to, const SensorFaultOptions& o) {
   Examination x;
-  const bool slow =
-      !o.steps_only && static_cast<double>(to - h.from_ms) >= o.slow_min_days * kDayMs;
+  const bool slow = FaultKindsLookedFor(h.from_ms, to, o).size() > 1;
   for (int s = 0; s < static_cast<int>(in.sensors.size()); ++s) {
     if (left_out[s] || Coverage(h.mean[s]) < kMinSensorCoverage) continue;
     const auto design = BuildDesign(h, s, left_out, air, o);
@@ -526,6 +525,13 @@ std::vector<EffectTerm> FaultTerms(const SensorFault& fault) {
   if (fault.kind != "lost_contact" || fault.settled_ms <= 0 || fault.air.empty()) return {};
   return {EffectTerm::SensitivityChange(fault.sensor, fault.settled_ms, "sensor_fault"),
           EffectTerm::SensitivityChange(fault.air, fault.settled_ms, "sensor_fault")};
+}
+
+std::vector<std::string> FaultKindsLookedFor(int64_t from_ms, int64_t to_ms,
+                                             const SensorFaultOptions& options) {
+  if (options.steps_only || static_cast<double>(to_ms - from_ms) < options.slow_min_days * kDayMs)
+    return {"step"};
+  return {"step", "drift", "lost_contact"};
 }
 
 std::vector<SensorFault> FindSensorFaults(const TermInputs& inputs,

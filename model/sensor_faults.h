@@ -108,6 +108,11 @@ std::vector<SensorFault> FindSensorFaults(const TermInputs& inputs,
                                           const std::vector<std::string>& declared, int64_t from_ms,
                                           int64_t to_ms, const SensorFaultOptions& options = {});
 
+// The kinds FindSensorFaults looks for over [from_ms, to_ms]: "step", and
+// "drift" and "lost_contact" when the window spans slow_min_days.
+std::vector<std::string> FaultKindsLookedFor(int64_t from_ms, int64_t to_ms,
+                                             const SensorFaultOptions& options = {});
+
 // What a model reads a settled lost contact through from its settling on
 // (fault.settled_ms): the loose reading R = T + w (A - T) with w fixed is
 // (1 - w) T + w A, so a model of T reads R and A each with a coefficient of

@@ -153,6 +153,7 @@ AnalysisReport BuildAnalysisReport(const EffectSearchResult& r, const AnalysisCo
     out.holdout_errors = std::move(errors);
   }
   out.sensor_faults = r.sensor_faults;
+  if (!r.sensor_check.kinds.empty()) out.sensor_check = r.sensor_check;
   return out;
 }
 

@@ -120,6 +120,8 @@ struct AnalysisReport {
   // Declared sensors whose readings depart from their neighbours': to be
   // checked, not modelled; their readings from the onset were left out.
   std::vector<SensorFault> sensor_faults;
+  // What the check looked for; absent in reports stored before it existed.
+  std::optional<SensorCheck> sensor_check;
   std::optional<AnalysisModelOutcome> model;
 };
 

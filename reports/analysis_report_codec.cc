@@ -245,6 +245,12 @@ void CheckedToJson(const AnalysisReport& r, json& out) {
   json faults = json::array();
   for (const auto& f : r.sensor_faults) faults.push_back(SensorFaultToJson(f));
   out["sensor_faults"] = faults;
+  if (r.sensor_check) {
+    out["sensor_check"] = {
+        {"kinds", r.sensor_check->kinds},
+        {"training_days", FiniteOrNull(r.sensor_check->training_days)},
+        {"drift_and_lost_contact_from_days", FiniteOrNull(r.sensor_check->slow_min_days)}};
+  }
 }
 
 void CheckedFromJson(const json& j, AnalysisReport& r) {
@@ -258,6 +264,15 @@ void CheckedFromJson(const json& j, AnalysisReport& r) {
   }
   for (const auto& f : ArrayAt(j, "sensor_faults"))
     r.sensor_faults.push_back(SensorFaultFromJson(f));
+  if (const auto c = j.find("sensor_check"); c != j.end() && c->is_object()) {
+    SensorCheck check;
+    for (const auto& k : ArrayAt(*c, "kinds")) {
+      if (k.is_string()) check.kinds.push_back(k.get<std::string>());
+    }
+    check.training_days = NumberOr(*c, "training_days");
+    check.slow_min_days = NumberOr(*c, "drift_and_lost_contact_from_days");
+    r.sensor_check = std::move(check);
+  }
 }
 
 // "validation" ... "event_comparisons": how sure the analysis is.

@@ -188,16 +188,33 @@ std::string HeldOutMarkdown(const AnalysisReport& r) {
   return md + HeldOutRow("all held-out runs", r.holdout_errors->total) + "\n";
 }
 
+// What the sensor check could not look for: over too short a training
+// window only steps ("" when it looked for every kind, or is not known).
+std::string SensorCheckSentence(const AnalysisReport& r) {
+  if (!r.sensor_check) return "";
+  const auto& kinds = r.sensor_check->kinds;
+  if (std::find(kinds.begin(), kinds.end(), "drift") != kinds.end()) return "";
+  return "Only steps were looked for: drifts and lost contacts are looked for once the training "
+         "runs span " +
+         Fixed(r.sensor_check->slow_min_days, "%.0f") + " days (these span " +
+         Fixed(r.sensor_check->training_days, "%.1f") + " days).";
+}
+
 // A faulty sensor is reported for a person to check, apart from the effects.
 std::string SensorsMarkdown(const AnalysisReport& r, const PlantTime& time) {
-  if (r.sensor_faults.empty()) return "";
+  const std::string partial = SensorCheckSentence(r);
+  if (r.sensor_faults.empty()) {
+    return partial.empty() ? "" : "## Sensors to check\n\nNone found. " + partial + "\n\n";
+  }
   std::string md =
       "## Sensors to check\n\nThese declared sensors read differently from their neighbours "
       "from the onset on: a sensor to check, not a thermal effect. Their readings from the "
       "onset on were left out of the search (unless that would have taken too large a share "
       "of the training points, or the onset lies in the held-out runs: points left out 0; or, "
       "for a lost contact, once it has settled: below); a held-out run that reads them past "
-      "the onset is marked.\n\n"
+      "the onset is marked." +
+      (partial.empty() ? std::string() : " " + partial) +
+      "\n\n"
       "| sensor | kind | since | departure °C | drift it caused µm | points left out | why |\n"
       "|---|---|---|---|---|---|---|\n";
   for (const auto& f : r.sensor_faults) {

@@ -275,6 +275,14 @@ def open_access(d, s):
         open_page(d, s, f"/ui/machines/sim-1/axes/Y/analysis/{analyses[0]['id']}", "analysis")
         check(bool(d.find_elements(By.CSS_SELECTOR, "svg[aria-label]")), "analysis shows the error chart")
         report = s.api(f"/machines/sim-1/axes/Y/analysis/{analyses[0]['id']}")
+        # The demo's two weeks train on less than the 16 days drifts and
+        # lost contacts need: the page says only steps were looked for.
+        sc = report.get("sensor_check")
+        check(sc is not None and sc["kinds"] == ["step"] and sc["training_days"] < sc["drift_and_lost_contact_from_days"],
+              f"the demo's analysis says its sensor check looked for steps only ({sc})")
+        said = d.find_elements(By.ID, "sensor-check")
+        check(bool(said) and "Only steps were looked for" in said[0].text and f"span {sc['drift_and_lost_contact_from_days']:g} days" in said[0].text,
+              "the analysis page says only steps were looked for")
         outcome_pages.since_applied(d, report, check)
         if report["holdout_n"] > 0:
             analysis_details(d, report, "analysis-holdout-demo")

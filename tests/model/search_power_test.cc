@@ -369,6 +369,9 @@ TEST(ShortRecording, ASlowSensorFaultIsNotLookedForOverAFewDays) {
       ASSERT_TRUE(s.ok()) << s.status().message();
       EXPECT_TRUE(s->result.sensor_faults.empty())
           << family << "8 seed " << seed << ": " << s->result.sensor_faults.front().reason;
+      EXPECT_EQ(s->result.sensor_check.kinds, std::vector<std::string>{"step"});
+      EXPECT_GT(s->result.sensor_check.training_days, 5.0);
+      EXPECT_LT(s->result.sensor_check.training_days, s->result.sensor_check.slow_min_days);
       std::vector<std::string> declared;
       for (const EffectTerm& t : s->input.declared) {
         if (t.kind == EffectKind::kSensor) declared.push_back(t.source);

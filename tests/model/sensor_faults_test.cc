@@ -449,6 +449,8 @@ void ExpectLooseSensorNamedAndNotLearnt(char family, uint64_t seed, const std::s
   }
   EXPECT_EQ(FaultTerms(f).size(), 2u);
   EXPECT_LT(s->score.FloorRatio(), max_floor_ratio);
+  EXPECT_EQ(s->result.sensor_check.kinds,
+            (std::vector<std::string>{"step", "drift", "lost_contact"}));
 }
 
 // The column machine's Tcol_top comes loose on day 14 of 24 and reads

@@ -117,6 +117,7 @@ AnalysisReport FullReport() {
   r.sensor_faults = {{"Tbed", "lost_contact", *ParseRfc3339("2026-03-08T09:30:00.000Z"), -1.8,
                       0.0126, 57, "Tbed reads 1.8 degC below Tco and Tcb since 2026-03-08",
                       *ParseRfc3339("2026-03-10T09:30:00.000Z"), "Tair", true}};
+  r.sensor_check = SensorCheck{{"step", "drift", "lost_contact"}, 23.4, 16};
   r.model = AnalysisModelOutcome{3, "candidate", "effect analysis added 1 effect(s)"};
   return r;
 }
@@ -177,6 +178,33 @@ TEST(AnalysisReportCodec, EverySectionSurvivesJsonBothWays) {
   EXPECT_EQ(encoded["superseded_reasons"]["Tbed"],
             "replaced by lag(Tco,60min), which explains at least as well");
   EXPECT_EQ(decoded->superseded_reasons, FullReport().superseded_reasons);
+  // What the sensor check looked for.
+  EXPECT_EQ(encoded["sensor_check"]["kinds"], json({"step", "drift", "lost_contact"}));
+  EXPECT_DOUBLE_EQ(encoded["sensor_check"]["training_days"].get<double>(), 23.4);
+  EXPECT_EQ(encoded["sensor_check"]["drift_and_lost_contact_from_days"], 16);
+  ASSERT_TRUE(decoded->sensor_check);
+  EXPECT_EQ(decoded->sensor_check->kinds, FullReport().sensor_check->kinds);
+  EXPECT_DOUBLE_EQ(decoded->sensor_check->training_days, 23.4);
+  EXPECT_DOUBLE_EQ(decoded->sensor_check->slow_min_days, 16);
+}
+
+// Over a training span too short for drifts and lost contacts, the
+// renderings say that only steps were looked for, with or without a fault
+// found; with every kind looked for, nothing is said.
+TEST(AnalysisReportCodec, AStepsOnlySensorCheckIsSaid) {
+  const std::string said =
+      "Only steps were looked for: drifts and lost contacts are looked for "
+      "once the training runs span 16 days (these span 6.2 days).";
+  AnalysisReport r = FullReport();
+  EXPECT_EQ(AnalysisMarkdown(r).find("Only steps"), std::string::npos);
+  r.sensor_check = SensorCheck{{"step"}, 6.2, 16};
+  std::string md = AnalysisMarkdown(r);
+  EXPECT_NE(md.find("is marked. " + said + "\n"), std::string::npos) << md;
+  r.sensor_faults.clear();
+  md = AnalysisMarkdown(r);
+  EXPECT_NE(md.find("## Sensors to check\n\nNone found. " + said + "\n"), std::string::npos) << md;
+  r.sensor_check.reset();
+  EXPECT_EQ(AnalysisMarkdown(r).find("## Sensors to check"), std::string::npos);
 }
 
 TEST(AnalysisReportCodec, TheRenderingsShowEverySectionInMicrometres) {
@@ -219,9 +247,9 @@ TEST(AnalysisReportCodec, TheRenderingsShowEverySectionInMicrometres) {
 
 TEST(AnalysisReportCodec, AnOlderReportWithoutConfidenceSectionsStillReadsAndRenders) {
   json old = AnalysisReportToJson(FullReport());
-  for (const char* key :
-       {"validation", "sensor_noise_c", "filters", "set_aside", "ambiguous", "coefficient_changes",
-        "event_comparisons", "holdout_errors", "sensor_faults", "superseded_reasons"}) {
+  for (const char* key : {"validation", "sensor_noise_c", "filters", "set_aside", "ambiguous",
+                          "coefficient_changes", "event_comparisons", "holdout_errors",
+                          "sensor_faults", "sensor_check", "superseded_reasons"}) {
     old.erase(key);
   }
   old["closest_candidates"][0]["confidence"].erase("won");
@@ -234,6 +262,7 @@ TEST(AnalysisReportCodec, AnOlderReportWithoutConfidenceSectionsStillReadsAndRen
   EXPECT_FALSE(decoded->model);
   EXPECT_FALSE(decoded->holdout_errors);
   EXPECT_TRUE(decoded->sensor_faults.empty());
+  EXPECT_FALSE(decoded->sensor_check);
   EXPECT_TRUE(decoded->superseded_reasons.empty());
   EXPECT_TRUE(decoded->closest[0].confidence->won.empty());
   const std::string md = AnalysisMarkdown(*decoded);

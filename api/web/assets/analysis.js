@@ -56,11 +56,20 @@
     return TC.table(columns, [...h.runs.map((e) => row(e.run, e)), row(el("strong", {}, "all held-out runs"), h.total)], { id: "holdout-errors" });
   }
 
-  function sensorFaults(list) {
+  // What the sensor check could not look for over too short a training window ("" when it looked for every kind).
+  function sensorCheckSentence(c) {
+    if (!c || (c.kinds || []).includes("drift")) return "";
+    return "Only steps were looked for: drifts and lost contacts are looked for once the training runs span " + c.drift_and_lost_contact_from_days +
+      " days (these span " + Number(c.training_days).toFixed(1) + " days).";
+  }
+
+  function sensorFaults(list, check) {
+    const partial = sensorCheckSentence(check);
+    if (!list.length) return partial ? [el("h2", {}, "Sensors to check"), el("p", { id: "sensor-check" }, "None found. " + partial)] : [];
     return [el("h2", {}, "Sensors to check"),
       el("p", {}, "These declared sensors read differently from their neighbours from the onset on: a sensor to check, not a thermal effect. " +
         "Their readings from the onset on were left out of the search (unless that would have taken too large a share of the training points, or the onset lies in the held-out runs: points left out 0; or, for a lost contact, once it has settled: below); " +
-        "a held-out run that reads them past the onset is marked."),
+        "a held-out run that reads them past the onset is marked." + (partial ? " " + partial : "")),
       TC.table([{ label: "sensor" }, { label: "kind" }, { label: "since" }, { label: "departure °C", num: true },
         { label: "drift it caused µm", num: true }, { label: "points left out", num: true }, { label: "why" }],
       list.map((f) => [el("code", {}, f.sensor), f.kind.replaceAll("_", " "), time(f.onset),
@@ -166,7 +175,7 @@
     el("p", { class: "muted" }, "Other forms: ", el("a", { href: "/api/v1" + path + "/analysis/" + r.id + "?format=html" }, "HTML report"), " · ",
       el("a", { href: "/api/v1" + path + "/analysis/" + r.id + "?format=markdown" }, "Markdown")),
     message,
-    (r.sensor_faults || []).length ? sensorFaults(r.sensor_faults) : [],
+    sensorFaults(r.sensor_faults || [], r.sensor_check),
     el("h2", {}, "Effects added"),
     effects.length ? TC.table([{ label: "#" }, { label: "effect" }, { label: "coefficient" }, { label: "p (adj.)", num: true }, { label: "CV RMSE µm" },
       { label: "validated gain" }, { label: "blocks won" }, { label: "equally good" }, { label: "physical reading" }], effects, { id: "effects" })
