@@ -476,13 +476,18 @@ struct Examination {
   double evidence = 0;  // the largest slow-fault |t| / min_t, found or not
 };
 
+// Whether drifts and lost contacts are looked for over [from_ms, to_ms].
+bool LooksForSlowFaults(int64_t from_ms, int64_t to_ms, const SensorFaultOptions& o) {
+  return !o.steps_only && static_cast<double>(to_ms - from_ms) >= o.slow_min_days * kDayMs;
+}
+
 // Every sensor's fault with the `left_out` sensors left out of every
 // prediction. Undeclared sensors are examined too, so that a fault of
 // theirs is left out of the others' prediction instead of spoiling it.
 Examination Examine(const TermInputs& in, const Hourly& h, const std::vector<bool>& left_out,
                     int air, int64_t to, const SensorFaultOptions& o) {
   Examination x;
-  const bool slow = FaultKindsLookedFor(h.from_ms, to, o).size() > 1;
+  const bool slow = LooksForSlowFaults(h.from_ms, to, o);
   for (int s = 0; s < static_cast<int>(in.sensors.size()); ++s) {
     if (left_out[s] || Coverage(h.mean[s]) < kMinSensorCoverage) continue;
     const auto design = BuildDesign(h, s, left_out, air, o);
@@ -529,8 +534,7 @@ std::vector<EffectTerm> FaultTerms(const SensorFault& fault) {
 
 std::vector<std::string> FaultKindsLookedFor(int64_t from_ms, int64_t to_ms,
                                              const SensorFaultOptions& options) {
-  if (options.steps_only || static_cast<double>(to_ms - from_ms) < options.slow_min_days * kDayMs)
-    return {"step"};
+  if (!LooksForSlowFaults(from_ms, to_ms, options)) return {"step"};
   return {"step", "drift", "lost_contact"};
 }
 

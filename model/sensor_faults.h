@@ -95,7 +95,8 @@ struct SensorFaultOptions {
   // looked for over any window.
   double slow_min_days = 16.0;
   // Look for steps only: the search's pass over the whole recording, the
-  // held-out runs' readings included (EffectSearch says why).
+  // held-out runs' readings included (Search::AddStepsOfTheWholeRecording
+  // in model/effect_search.cc says why).
   bool steps_only = false;
 };
 
@@ -103,7 +104,8 @@ struct SensorFaultOptions {
 // [from_ms, to_ms]: sensor, kind, onset, size, reason and, for a lost
 // contact that settles, settled_ms and air filled in; effect_mm,
 // points_left_out and accommodated are the search's to fill. At most one
-// fault per sensor, strongest first.
+// fault per sensor, strongest first. Steps only when the window spans
+// less than slow_min_days, or with steps_only (FaultKindsLookedFor).
 std::vector<SensorFault> FindSensorFaults(const TermInputs& inputs,
                                           const std::vector<std::string>& declared, int64_t from_ms,
                                           int64_t to_ms, const SensorFaultOptions& options = {});

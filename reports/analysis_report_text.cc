@@ -212,9 +212,8 @@ std::string SensorsMarkdown(const AnalysisReport& r, const PlantTime& time) {
       "onset on were left out of the search (unless that would have taken too large a share "
       "of the training points, or the onset lies in the held-out runs: points left out 0; or, "
       "for a lost contact, once it has settled: below); a held-out run that reads them past "
-      "the onset is marked." +
-      (partial.empty() ? std::string() : " " + partial) +
-      "\n\n"
+      "the onset is marked.\n\n" +
+      (partial.empty() ? std::string() : partial + "\n\n") +
       "| sensor | kind | since | departure °C | drift it caused µm | points left out | why |\n"
       "|---|---|---|---|---|---|---|\n";
   for (const auto& f : r.sensor_faults) {

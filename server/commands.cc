@@ -406,7 +406,8 @@ const std::vector<CommandSpec>& Commands() {
        "  simulate  [--machines a,b] [--days 14] [--seed 1] [--end RFC3339]  (not live; by now)\n"
        "            [--hidden EFFECT[@MACHINE],...]  (sensor, lag, position, trend, step, signal)\n"
        "            [--fault KIND:SENSOR[@MACHINE],...]  (drift, step, lost_contact; from 2/3 "
-       "in)\n"
+       "in;\n"
+       "                                        drift and lost_contact found from --days 18)\n"
        "            (--out DIR | --db PATH [--create] | --live [--post URL | --dds [--dds-domain "
        "N]]\n"
        "                                        [--speed X] [--minutes N])\n",

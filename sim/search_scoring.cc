@@ -106,9 +106,9 @@ SearchScore ScoreSearch(const SimRecording& rec, const EffectSearchInput& in,
       }
     }
   }
-  // A sensor to check that is sound is a false finding too (a fault named
-  // with the wrong kind or onset is a miss of that fault, not counted
-  // twice).
+  // A sensor to check that is sound is a false finding too (a faulty
+  // sensor named with an onset more than a day off is a miss of that
+  // fault, not counted twice).
   for (const auto& f : r.sensor_faults) {
     const bool of_a_fault = std::any_of(rec.hidden.begin(), rec.hidden.end(), [&](const auto& h) {
       return !h.fault.empty() && h.source == f.sensor;

@@ -22,7 +22,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <initializer_list>
+#include <map>
 #include <ostream>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -277,29 +279,27 @@ TEST(ShortRecording, TheRivalOfATruthIsAnotherSourcesBestTerm) {
 // training points from there on left out, nothing added for it, and every
 // held-out run, which reads it, saying so.
 TEST(ShortRecording, AStepInTheNewestTrainingDayIsNamedFromTheWholeRecording) {
-  for (const auto& [family, seed] : {std::pair{'B', 1}, {'B', 3}, {'B', 7}, {'A', 5}}) {
-    auto s = SearchStudyMachine(family, "fault_step", seed, 5);
-    ASSERT_TRUE(s.ok()) << s.status().message();
-    const std::string name = std::string(1, family) + "5 seed " + std::to_string(seed);
-    EXPECT_TRUE(s->score.AllNamed()) << name;
-    EXPECT_TRUE(s->score.extras.empty()) << name << ": " << s->score.extras.front();
-    ASSERT_EQ(s->result.sensor_faults.size(), 1u) << name;
-    const SensorFault& f = s->result.sensor_faults[0];
-    EXPECT_EQ(f.kind, "step") << name;
-    EXPECT_GT(f.points_left_out, 0) << name;
-    ASSERT_FALSE(s->result.holdout_runs.empty());
-    for (const auto& run : s->result.holdout_runs) {
-      EXPECT_EQ(run.faulty_sensors, std::vector<std::string>{f.sensor}) << name;
-    }
-  }
-  // Over the studies' seeds, held as a floor (5 and 13 of 16 named today).
+  // Looked at closely on these seeds; over all 16 held as a floor (5 and
+  // 13 named today).
+  const std::map<char, std::set<uint64_t>> closely = {{'A', {5}}, {'B', {1, 3, 7}}};
   for (const auto& [family, at_least] : {std::pair{'A', 5}, {'B', 13}}) {
     int named = 0;
     for (uint64_t seed = 1; seed <= 16; ++seed) {
       auto s = SearchStudyMachine(family, "fault_step", seed, 5);
       ASSERT_TRUE(s.ok()) << s.status().message();
+      const std::string name = std::string(1, family) + "5 seed " + std::to_string(seed);
       named += s->score.AllNamed();
-      EXPECT_TRUE(s->score.extras.empty()) << family << "5 seed " << seed;
+      EXPECT_TRUE(s->score.extras.empty()) << name << ": " << s->score.extras.front();
+      if (!closely.at(family).count(seed)) continue;
+      EXPECT_TRUE(s->score.AllNamed()) << name;
+      ASSERT_EQ(s->result.sensor_faults.size(), 1u) << name;
+      const SensorFault& f = s->result.sensor_faults[0];
+      EXPECT_EQ(f.kind, "step") << name;
+      EXPECT_GT(f.points_left_out, 0) << name;
+      ASSERT_FALSE(s->result.holdout_runs.empty());
+      for (const auto& run : s->result.holdout_runs) {
+        EXPECT_EQ(run.faulty_sensors, std::vector<std::string>{f.sensor}) << name;
+      }
     }
     EXPECT_GE(named, at_least) << family << "5";
   }
@@ -362,7 +362,7 @@ TEST(ShortRecording, AStepInTheHeldOutRunsIsNamedAndLeavesTheFitAlone) {
 // one in six (the residual's long-run spread from 7 daily sums is too
 // poorly known for its bar). Steps are still looked for.
 TEST(ShortRecording, ASlowSensorFaultIsNotLookedForOverAFewDays) {
-  int alarms_without_the_rule = 0;
+  int machines_alarmed_without_the_rule = 0;
   for (char family : {'A', 'B'}) {
     for (uint64_t seed = 2001; seed <= 2010; ++seed) {
       auto s = SearchStudyMachine(family, "", seed, 8);
@@ -384,12 +384,11 @@ TEST(ShortRecording, ASlowSensorFaultIsNotLookedForOverAFewDays) {
       }
       SensorFaultOptions without_the_rule;
       without_the_rule.slow_min_days = 0;
-      alarms_without_the_rule += static_cast<int>(
-          FindSensorFaults(s->input.inputs, declared, from, to, without_the_rule).size());
+      machines_alarmed_without_the_rule +=
+          !FindSensorFaults(s->input.inputs, declared, from, to, without_the_rule).empty();
     }
   }
-  std::printf("without the rule: %d false alarms on 20 machines\n", alarms_without_the_rule);
-  EXPECT_GE(alarms_without_the_rule, 2);
+  EXPECT_GE(machines_alarmed_without_the_rule, 2);
 }
 
 // A short continuous recording with every sensor declared as a static

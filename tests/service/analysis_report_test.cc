@@ -199,7 +199,7 @@ TEST(AnalysisReportCodec, AStepsOnlySensorCheckIsSaid) {
   EXPECT_EQ(AnalysisMarkdown(r).find("Only steps"), std::string::npos);
   r.sensor_check = SensorCheck{{"step"}, 6.2, 16};
   std::string md = AnalysisMarkdown(r);
-  EXPECT_NE(md.find("is marked. " + said + "\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("is marked.\n\n" + said + "\n\n| sensor |"), std::string::npos) << md;
   r.sensor_faults.clear();
   md = AnalysisMarkdown(r);
   EXPECT_NE(md.find("## Sensors to check\n\nNone found. " + said + "\n"), std::string::npos) << md;

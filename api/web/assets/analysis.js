@@ -58,7 +58,7 @@
 
   // What the sensor check could not look for over too short a training window ("" when it looked for every kind).
   function sensorCheckSentence(c) {
-    if (!c || (c.kinds || []).includes("drift")) return "";
+    if (!c || (c.kinds || []).includes("drift") || c.training_days === null) return "";
     return "Only steps were looked for: drifts and lost contacts are looked for once the training runs span " + c.drift_and_lost_contact_from_days +
       " days (these span " + Number(c.training_days).toFixed(1) + " days).";
   }
@@ -69,7 +69,8 @@
     return [el("h2", {}, "Sensors to check"),
       el("p", {}, "These declared sensors read differently from their neighbours from the onset on: a sensor to check, not a thermal effect. " +
         "Their readings from the onset on were left out of the search (unless that would have taken too large a share of the training points, or the onset lies in the held-out runs: points left out 0; or, for a lost contact, once it has settled: below); " +
-        "a held-out run that reads them past the onset is marked." + (partial ? " " + partial : "")),
+        "a held-out run that reads them past the onset is marked."),
+      ...(partial ? [el("p", { id: "sensor-check" }, partial)] : []),
       TC.table([{ label: "sensor" }, { label: "kind" }, { label: "since" }, { label: "departure °C", num: true },
         { label: "drift it caused µm", num: true }, { label: "points left out", num: true }, { label: "why" }],
       list.map((f) => [el("code", {}, f.sensor), f.kind.replaceAll("_", " "), time(f.onset),
