@@ -545,7 +545,7 @@ std::vector<SensorFault> FindSensorFaults(const TermInputs& inputs,
   if (to_ms <= from_ms) return faults;
   // Steps alone: nothing to report without a declared sensor's raw jump
   // (a year's hourly regressions are most of the check's time).
-  if (options.steps_only) {
+  if (!LooksForSlowFaults(from_ms, to_ms, options)) {
     bool any = false;
     for (const std::string& name : declared) {
       const int s = inputs.SensorIndex(name);

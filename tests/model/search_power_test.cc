@@ -339,6 +339,7 @@ TEST(ShortRecording, AStepInTheHeldOutRunsIsNamedAndLeavesTheFitAlone) {
   EXPECT_EQ(f.kind, "step");
   EXPECT_LE(std::llabs(f.onset_ms - step.onset_ms), 120'000);
   EXPECT_EQ(f.points_left_out, 0);
+  EXPECT_NE(f.reason.find("Its onset lies in the held-out runs."), std::string::npos) << f.reason;
   EXPECT_TRUE(without->sensor_faults.empty());
   EXPECT_EQ(with->terms, without->terms);
   EXPECT_DOUBLE_EQ(with->blocked_rmse_before_mm, without->blocked_rmse_before_mm);
@@ -389,6 +390,45 @@ TEST(ShortRecording, ASlowSensorFaultIsNotLookedForOverAFewDays) {
     }
   }
   EXPECT_GE(machines_alarmed_without_the_rule, 2);
+}
+
+// A sound sensor reported as faulty is a false finding in the studies'
+// scoring (sim/search_scoring.h), as an added effect that names no truth
+// is; a faulty one named is not.
+TEST(ShortRecording, ASoundSensorReportedFaultyIsScoredAFalseEffect) {
+  auto s = SearchStudyMachine('B', "", 201, 5);
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  ASSERT_TRUE(s->score.extras.empty());
+  EffectSearchResult r = s->result;
+  SensorFault sound;
+  sound.sensor = "Tcol_top";
+  sound.kind = "step";
+  sound.onset_ms = s->input.points.back().ts_ms;
+  r.sensor_faults.push_back(sound);
+  EXPECT_EQ(ScoreSearch(s->recording, s->input, s->true_drift, r).extras,
+            std::vector<std::string>{"fault of Tcol_top"});
+  auto faulty = SearchStudyMachine('B', "fault_step", 1, 5);
+  ASSERT_TRUE(faulty.ok());
+  EXPECT_TRUE(faulty->score.AllNamed());
+  EXPECT_TRUE(faulty->score.extras.empty());
+}
+
+// Without a declared sensor nothing is checked, and the result does not
+// say that steps were.
+TEST(ShortRecording, NoSensorCheckWithoutADeclaredSensor) {
+  ColumnOptions o;
+  o.seed = 2;
+  o.start_ms = 1772323200000;  // 2026-03-01T00:00:00Z
+  o.days = 5;
+  SimRecording rec = RecordColumnMachine(o);
+  for (auto& axis : rec.machine.axes) axis.inputs.clear();
+  auto r = SearchEffects(ToSearchInput(rec, "Y", 0), EffectSearchOptions{});
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  EXPECT_TRUE(r->sensor_check.kinds.empty());
+  EXPECT_TRUE(r->sensor_faults.empty());
+  auto declared = SearchStudyMachine('B', "", 201, 5);
+  ASSERT_TRUE(declared.ok());
+  EXPECT_EQ(declared->result.sensor_check.kinds, std::vector<std::string>{"step"});
 }
 
 // A short continuous recording with every sensor declared as a static
